@@ -1,0 +1,225 @@
+//! Running a compute kernel over a slice, chunked to the adapter's limits.
+
+use std::time::Instant;
+
+use bytemuck::Pod;
+use wgpu::util::DeviceExt;
+
+use crate::timing::PassTimer;
+use crate::{Gpu, GpuTiming, HarnessError, TimingSource};
+
+/// Invocations per workgroup that [`Gpu::compute_map`] assumes: kernels declare
+/// `@workgroup_size(64)`.
+pub const WORKGROUP_SIZE: u32 = 64;
+
+/// A compiled kernel and its explicit bind group layout.
+struct Kernel {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl Gpu {
+    fn kernel(&self, wgsl: &str, entry_point: &str) -> Result<Kernel, HarnessError> {
+        self.scoped(|| {
+            let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(entry_point),
+                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+            });
+            let uniform = wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            };
+            let layout = self.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("gpu-harness compute_map"),
+                entries: &[uniform, storage_entry(1, true), storage_entry(2, false)],
+            });
+            let pipeline_layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("gpu-harness compute_map"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+            let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry_point),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry_point),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            Kernel { pipeline, layout }
+        })
+    }
+
+    /// The most elements of the larger of `I` and `O` that one dispatch may handle: the
+    /// storage-binding and buffer-size limits, and the 2-D dispatch limit.
+    pub fn max_elements_per_dispatch(&self, input_size: usize, output_size: usize) -> u64 {
+        let limits = self.limits();
+        let element = input_size.max(output_size).max(1) as u64;
+        let binding = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        let groups = u64::from(limits.max_compute_workgroups_per_dimension);
+        (binding / element).min(groups * groups * u64::from(WORKGROUP_SIZE))
+    }
+
+    /// Runs `entry_point` of `wgsl` once per element of `inputs` (see the crate's kernel
+    /// convention) and returns one `O` per input. `uniforms` are bound at binding 0 (a
+    /// 16-byte zero block when empty).
+    ///
+    /// Inputs larger than one storage binding are processed in chunks. Zero-sized element
+    /// types and uniforms above the adapter's limit are errors, never panics.
+    pub fn compute_map<I: Pod, O: Pod>(
+        &self,
+        wgsl: &str,
+        entry_point: &str,
+        uniforms: &[u8],
+        inputs: &[I],
+    ) -> Result<Vec<O>, HarnessError> {
+        self.compute_map_timed(wgsl, entry_point, uniforms, inputs).map(|(outputs, _)| outputs)
+    }
+
+    /// [`compute_map`](Self::compute_map), also returning the GPU time of the dispatches
+    /// (summed over chunks; uploads and readback excluded when timestamps are available).
+    pub fn compute_map_timed<I: Pod, O: Pod>(
+        &self,
+        wgsl: &str,
+        entry_point: &str,
+        uniforms: &[u8],
+        inputs: &[I],
+    ) -> Result<(Vec<O>, GpuTiming), HarnessError> {
+        self.compute_map_in_chunks(wgsl, entry_point, uniforms, inputs, u64::MAX)
+    }
+
+    /// [`compute_map_timed`](Self::compute_map_timed) with at most `max_chunk_elements`
+    /// elements per dispatch (further bounded by the adapter's limits), to bound memory
+    /// use or to exercise chunk boundaries. Kernels see chunk-local indices.
+    pub fn compute_map_in_chunks<I: Pod, O: Pod>(
+        &self,
+        wgsl: &str,
+        entry_point: &str,
+        uniforms: &[u8],
+        inputs: &[I],
+        max_chunk_elements: u64,
+    ) -> Result<(Vec<O>, GpuTiming), HarnessError> {
+        let (input_size, output_size) = (size_of::<I>(), size_of::<O>());
+        if input_size == 0 || output_size == 0 {
+            return Err(HarnessError::InvalidRequest("compute_map needs non-zero-sized element types".into()));
+        }
+        let limits = self.limits();
+        if uniforms.len() as u64 > limits.max_uniform_buffer_binding_size {
+            return Err(HarnessError::TooLarge {
+                what: "uniform block size in bytes".into(),
+                requested: uniforms.len() as u64,
+                limit: limits.max_uniform_buffer_binding_size,
+            });
+        }
+        let chunk_len = self.max_elements_per_dispatch(input_size, output_size).min(max_chunk_elements);
+        if max_chunk_elements == 0 {
+            return Err(HarnessError::InvalidRequest("chunks must hold at least one element".into()));
+        }
+        if chunk_len == 0 {
+            return Err(HarnessError::TooLarge {
+                what: "element size in bytes".into(),
+                requested: input_size.max(output_size) as u64,
+                limit: limits.max_storage_buffer_binding_size,
+            });
+        }
+        let kernel = self.kernel(wgsl, entry_point)?;
+        let mut uniform_bytes = uniforms.to_vec();
+        uniform_bytes.resize(uniform_bytes.len().next_multiple_of(16).max(16), 0);
+        let uniform_buffer = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("gpu-harness uniforms"),
+            contents: &uniform_bytes,
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let mut outputs = Vec::with_capacity(inputs.len());
+        let mut seconds = 0.0;
+        let timer = PassTimer::new(self);
+        let chunk_len = usize::try_from(chunk_len).unwrap_or(usize::MAX);
+        for chunk in inputs.chunks(chunk_len) {
+            let (bytes, chunk_seconds) =
+                self.dispatch_chunk(&kernel, &uniform_buffer, chunk, output_size, timer.as_ref())?;
+            outputs.extend(bytemuck::pod_collect_to_vec::<u8, O>(&bytes));
+            seconds += chunk_seconds;
+        }
+        let source = if timer.is_some() { TimingSource::Timestamps } else { TimingSource::WallClock };
+        Ok((outputs, GpuTiming { seconds, source }))
+    }
+
+    fn dispatch_chunk<I: Pod>(
+        &self,
+        kernel: &Kernel,
+        uniform_buffer: &wgpu::Buffer,
+        chunk: &[I],
+        output_size: usize,
+        timer: Option<&PassTimer>,
+    ) -> Result<(Vec<u8>, f64), HarnessError> {
+        let output_bytes = (chunk.len() * output_size) as u64;
+        let groups = (chunk.len() as u64).div_ceil(u64::from(WORKGROUP_SIZE));
+        let max_groups = u64::from(self.limits().max_compute_workgroups_per_dimension);
+        let groups_x = groups.min(max_groups) as u32;
+        let groups_y = groups.div_ceil(u64::from(groups_x)) as u32;
+        let (output, started) = self.scoped(|| {
+            let input = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("gpu-harness input"),
+                contents: bytemuck::cast_slice(chunk),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+            let output = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("gpu-harness output"),
+                size: output_bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("gpu-harness compute_map"),
+                layout: &kernel.layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: uniform_buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: input.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 2, resource: output.as_entire_binding() },
+                ],
+            });
+            let mut encoder = self.device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("gpu-harness compute_map"),
+                    timestamp_writes: timer.map(PassTimer::compute_writes),
+                });
+                pass.set_pipeline(&kernel.pipeline);
+                pass.set_bind_group(0, &bind_group, &[]);
+                pass.dispatch_workgroups(groups_x, groups_y, 1);
+            }
+            if let Some(timer) = timer {
+                timer.resolve(&mut encoder);
+            }
+            let started = Instant::now();
+            self.queue.submit([encoder.finish()]);
+            (output, started)
+        })?;
+        self.wait()?;
+        let wall = started.elapsed().as_secs_f64();
+        let seconds = match timer {
+            Some(timer) => timer.read_seconds(self)?,
+            None => wall,
+        };
+        Ok((self.read_buffer(&output, output_bytes)?, seconds))
+    }
+}

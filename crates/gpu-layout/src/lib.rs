@@ -1,0 +1,163 @@
+//! Describe GPU-facing data once, in Rust, so that its WGSL twin can be generated.
+//!
+//! An algorithm crate declares its GPU structs with [`gpu_struct!`] and lists its
+//! constants with [`gpu_const!`]. The macro emits an ordinary `#[repr(C)]`,
+//! [`bytemuck::Pod`] struct *and* a [`GpuStruct`] description of it: field names,
+//! Rust byte offsets (`core::mem::offset_of!`) and WGSL types. The `wgsl-gen` crate turns
+//! that description into WGSL declarations, and checks with naga that the WGSL layout of
+//! every generated struct equals the Rust layout, field by field.
+//!
+//! This crate is `no_std` and has no dependency besides glam and bytemuck, so algorithm
+//! crates can use it without pulling in a shader compiler.
+//!
+//! ```
+//! use gpu_layout::{GpuStruct, WgslType, gpu_struct};
+//! use glam::{UVec4, Vec2};
+//!
+//! gpu_struct! {
+//!     /// Four indices and two weights.
+//!     pub struct Sample {
+//!         /// Indices.
+//!         pub indices: UVec4,
+//!         /// Weights.
+//!         pub weights: Vec2,
+//!         /// Explicit padding to the 16-byte WGSL struct alignment.
+//!         pub padding: Vec2,
+//!     }
+//! }
+//!
+//! assert_eq!(Sample::WGSL_NAME, "Sample");
+//! assert_eq!(Sample::FIELDS[1].offset, 16);
+//! assert_eq!((Sample::FIELDS[0].ty)(), WgslType::Vector(4, gpu_layout::Scalar::U32));
+//! ```
+//!
+//! # Why there is no `vec3`
+//!
+//! [`WgslTyped`] is deliberately not implemented for 3-component vectors: a WGSL
+//! `vec3<f32>` is 12 bytes but 16-byte aligned in storage and uniform buffers, the classic
+//! trap where Rust and WGSL silently disagree. Store a `Vec4` (or a `Vec3` plus an explicit
+//! scalar) instead.
+//!
+//! # Features
+//!
+//! - `std` (default): enables `std` in glam. The crate itself never needs it.
+#![no_std]
+
+mod wgsl_type;
+
+pub use wgsl_type::{Scalar, WgslType, WgslTyped};
+
+/// One field of a [`GpuStruct`]: its name, Rust byte offset and WGSL type.
+#[derive(Clone, Copy, Debug)]
+pub struct GpuField {
+    /// Field name, identical in Rust and WGSL.
+    pub name: &'static str,
+    /// Byte offset of the field in the Rust struct (`core::mem::offset_of!`).
+    pub offset: usize,
+    /// Byte size of the field's Rust type (`core::mem::size_of`).
+    pub size: usize,
+    /// The field's WGSL type (a function so that array element types can be nested).
+    pub ty: fn() -> WgslType,
+}
+
+/// A `#[repr(C)]` struct that is shared with WGSL. Implemented by [`gpu_struct!`].
+pub trait GpuStruct: bytemuck::Pod {
+    /// The struct's name in WGSL (the Rust identifier).
+    const WGSL_NAME: &'static str;
+    /// The fields, in declaration order.
+    const FIELDS: &'static [GpuField];
+}
+
+/// The value of a constant shared with WGSL.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum GpuConstValue {
+    /// A `u32` constant.
+    U32(u32),
+    /// An `i32` constant.
+    I32(i32),
+    /// An `f32` constant; emitted as an exact hexadecimal float literal.
+    F32(f32),
+    /// A `vec3<f32>` constant (a value, not a storage layout, so `vec3` is safe here).
+    Vec3F32([f32; 3]),
+}
+
+/// A named constant shared with WGSL. Build it with [`gpu_const!`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GpuConst {
+    /// Constant name, identical in Rust and WGSL.
+    pub name: &'static str,
+    /// Its value, read from the Rust constant itself.
+    pub value: GpuConstValue,
+}
+
+/// Describes a Rust `const` for WGSL generation: `gpu_const!(NAME: u32)`, or
+/// `gpu_const!(NAME: u32 as "WGSL_NAME")` to give it a (prefixed) WGSL name, since WGSL has
+/// a single global namespace.
+///
+/// The type must be `u32`, `i32`, `f32` or `Vec3` (glam) and must match the constant's Rust type (a
+/// mismatch does not compile).
+///
+/// ```
+/// const LIMIT: u32 = 7;
+/// let c = gpu_layout::gpu_const!(LIMIT: u32);
+/// assert_eq!(c.name, "LIMIT");
+/// assert_eq!(c.value, gpu_layout::GpuConstValue::U32(7));
+/// let c = gpu_layout::gpu_const!(LIMIT: u32 as "MY_LIMIT");
+/// assert_eq!(c.name, "MY_LIMIT");
+/// ```
+#[macro_export]
+macro_rules! gpu_const {
+    ($name:ident : $ty:ident as $wgsl:literal) => {
+        $crate::GpuConst { name: $wgsl, ..$crate::gpu_const!($name: $ty) }
+    };
+    ($name:ident : u32) => {
+        $crate::GpuConst { name: stringify!($name), value: $crate::GpuConstValue::U32($name) }
+    };
+    ($name:ident : i32) => {
+        $crate::GpuConst { name: stringify!($name), value: $crate::GpuConstValue::I32($name) }
+    };
+    ($name:ident : f32) => {
+        $crate::GpuConst { name: stringify!($name), value: $crate::GpuConstValue::F32($name) }
+    };
+    ($name:ident : Vec3) => {
+        $crate::GpuConst {
+            name: stringify!($name),
+            value: $crate::GpuConstValue::Vec3F32([$name.x, $name.y, $name.z]),
+        }
+    };
+}
+
+/// Declares a `#[repr(C)]`, `Pod` struct and its [`GpuStruct`] description.
+///
+/// Field types must implement [`WgslTyped`] (scalars, glam 2- and 4-vectors, arrays of
+/// them). The struct derives `Clone, Copy, Debug, PartialEq, Pod, Zeroable`; `Pod` rejects
+/// implicit padding at compile time, so every padding byte is an explicit field. The
+/// caller's crate must depend on `bytemuck` (with its `derive` feature).
+#[macro_export]
+macro_rules! gpu_struct {
+    (
+        $(#[$attr:meta])*
+        $vis:vis struct $name:ident {
+            $( $(#[$field_attr:meta])* $field_vis:vis $field:ident : $ty:ty ),* $(,)?
+        }
+    ) => {
+        $(#[$attr])*
+        #[repr(C)]
+        #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+        $vis struct $name {
+            $( $(#[$field_attr])* $field_vis $field: $ty ),*
+        }
+
+        impl $crate::GpuStruct for $name {
+            const WGSL_NAME: &'static str = stringify!($name);
+            const FIELDS: &'static [$crate::GpuField] = &[
+                $( $crate::GpuField {
+                    name: stringify!($field),
+                    offset: ::core::mem::offset_of!($name, $field),
+                    size: ::core::mem::size_of::<$ty>(),
+                    ty: <$ty as $crate::WgslTyped>::wgsl_type,
+                } ),*
+            ];
+        }
+    };
+}

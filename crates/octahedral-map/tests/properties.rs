@@ -1,0 +1,56 @@
+//! Property tests of the view layout against brute force.
+
+use glam::{DVec3, Vec3};
+use octahedral_map::{OctahedralViews, canonical_direction};
+use proptest::prelude::*;
+
+/// Largest dot product between `direction` and any of `views`' directions, by brute force.
+fn brute_force_best_dot(views: OctahedralViews, direction: DVec3) -> f64 {
+    (0..views.view_count())
+        .map(|i| views.view_direction_f64(i).unwrap().dot(direction))
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// Any finite or special f32, biased towards the cases Listing 1 finds hard.
+fn component() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        6 => -1.0_f32..=1.0,
+        1 => Just(0.0_f32),
+        1 => Just(-0.0_f32),
+        1 => any::<f32>(),
+        1 => prop_oneof![Just(f32::NAN), Just(f32::INFINITY), Just(f32::NEG_INFINITY), Just(f32::MIN_POSITIVE), Just(f32::MAX)],
+    ]
+}
+
+fn direction() -> impl Strategy<Value = Vec3> {
+    (component(), component(), component()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(4000))]
+
+    #[test]
+    fn indices_and_weights_are_in_range(n in 1_u32..=64, d in direction()) {
+        let views = OctahedralViews::new(n).unwrap();
+        let sample = views.sample(d);
+        for index in sample.indices.to_array() {
+            prop_assert!(index < views.view_count());
+        }
+        prop_assert!(sample.alpha.cmpge(glam::Vec2::ZERO).all() && sample.alpha.cmplt(glam::Vec2::ONE).all());
+        let weights = sample.weights();
+        for w in weights {
+            prop_assert!((0.0..=1.0).contains(&w));
+        }
+        prop_assert!((weights.iter().sum::<f32>() - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_nearest_view_is_one_of_the_four(n in 1_u32..=40, d in direction()) {
+        let views = OctahedralViews::new(n).unwrap();
+        let unit = canonical_direction(d).as_dvec3().normalize();
+        let best = brute_force_best_dot(views, unit);
+        let ours = views.view_direction_f64(views.nearest_view(d)).unwrap().dot(unit);
+        // Equal up to f64 rounding: equator views exist twice, so compare by direction.
+        prop_assert!(ours >= best - 1e-12, "n={} d={:?}: ours {} brute force {}", n, d, ours, best);
+    }
+}

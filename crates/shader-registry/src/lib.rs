@@ -1,0 +1,98 @@
+//! The project's WGSL modules and where each piece comes from.
+//!
+//! Every algorithm crate with a WGSL twin has one [`ShaderModule`] here:
+//!
+//! - its **generated** declarations, `shaders/generated/<name>.wgsl`, written by
+//!   `cargo xtask codegen` from the crate's [`gpu_layout`] structs and constants;
+//! - its **hand-written** library, `shaders/<name>.wgsl`, the WGSL twin of the crate's
+//!   functions;
+//! - its **kernels**, `shaders/kernels/*.wgsl`, entry points used by the GPU tests and
+//!   benchmarks.
+//!
+//! The sources are embedded with `include_str!`, so binaries need no repository at run
+//! time. The crate's tests parse and validate every composed module with naga, check that
+//! the naga layout of each generated struct equals its Rust layout, and check that the
+//! committed generated files are fresh.
+//!
+//! ```
+//! let module = shader_registry::module("octahedral_map").unwrap();
+//! let shader = module.with_kernel("octahedral_map_differential").unwrap();
+//! assert!(shader.source().contains("fn octahedral_view_sample"));
+//! ```
+
+use gpu_layout::GpuConst;
+use wgsl_gen::{ComposedShader, GenerateError, StructDecl, generate_declarations};
+
+/// A WGSL source file of the repository.
+#[derive(Clone, Copy, Debug)]
+pub struct WgslFile {
+    /// Path relative to the workspace root.
+    pub path: &'static str,
+    /// Contents, embedded at build time.
+    pub source: &'static str,
+}
+
+/// One WGSL module: generated declarations, hand-written library and kernels.
+#[derive(Clone, Copy, Debug)]
+pub struct ShaderModule {
+    /// Module name (the crate name with underscores).
+    pub name: &'static str,
+    /// The committed generated declarations.
+    pub generated: WgslFile,
+    /// The hand-written library.
+    pub library: WgslFile,
+    /// Kernels that compose with the library.
+    pub kernels: &'static [WgslFile],
+    /// The Rust structs that the generated file declares.
+    pub structs: fn() -> Vec<StructDecl>,
+    /// The Rust constants that the generated file declares.
+    pub constants: &'static [GpuConst],
+}
+
+macro_rules! wgsl_file {
+    ($path:literal) => {
+        WgslFile { path: $path, source: include_str!(concat!("../../../", $path)) }
+    };
+}
+
+static MODULES: &[ShaderModule] = &[ShaderModule {
+    name: "octahedral_map",
+    generated: wgsl_file!("shaders/generated/octahedral_map.wgsl"),
+    library: wgsl_file!("shaders/octahedral_map.wgsl"),
+    kernels: &[wgsl_file!("shaders/kernels/octahedral_map_differential.wgsl")],
+    structs: || {
+        vec![StructDecl::of::<octahedral_map::ViewSample>(), StructDecl::of::<octahedral_map::OctahedralUniforms>()]
+    },
+    constants: octahedral_map::gpu::WGSL_CONSTANTS,
+}];
+
+/// All modules.
+pub fn modules() -> &'static [ShaderModule] {
+    MODULES
+}
+
+/// The module called `name`.
+pub fn module(name: &str) -> Option<&'static ShaderModule> {
+    MODULES.iter().find(|m| m.name == name)
+}
+
+impl ShaderModule {
+    /// The generated declarations as the Rust source says they should be now.
+    pub fn generate(&self) -> Result<String, GenerateError> {
+        generate_declarations(self.name, &(self.structs)(), self.constants)
+    }
+
+    /// The committed generated declarations followed by the library.
+    pub fn library_shader(&self) -> ComposedShader {
+        ComposedShader::new(self.library.path)
+            .with_part(self.generated.path, self.generated.source)
+            .with_part(self.library.path, self.library.source)
+    }
+
+    /// The library composed with the kernel file whose stem is `kernel`
+    /// (`shaders/kernels/<kernel>.wgsl`).
+    pub fn with_kernel(&self, kernel: &str) -> Option<ComposedShader> {
+        let file = self.kernels.iter().find(|k| k.path.rsplit('/').next() == Some(&format!("{kernel}.wgsl")))?;
+        Some(self.library_shader().with_part(file.path, file.source))
+    }
+}

@@ -1,0 +1,82 @@
+//! Shared helpers of the GPU integration tests: the device, and direction sets that
+//! cover every special case of the algorithms' inputs.
+
+use std::sync::OnceLock;
+
+use glam::Vec3;
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+
+/// The process-wide GPU, created once; prints the adapter so that test logs name it.
+///
+/// # Panics
+///
+/// When no adapter exists (the message says to install `mesa-vulkan-drivers`): these
+/// tests exist to run on a GPU.
+pub fn gpu() -> &'static gpu_harness::Gpu {
+    static GPU: OnceLock<gpu_harness::Gpu> = OnceLock::new();
+    GPU.get_or_init(|| {
+        let gpu = gpu_harness::Gpu::new().unwrap_or_else(|e| panic!("{e}"));
+        println!("adapter: {}", gpu.describe());
+        gpu
+    })
+}
+
+/// `count` directions uniform on the sphere, from a fixed seed.
+pub fn random_unit_directions(count: usize, seed: u64) -> Vec<Vec3> {
+    let mut rng = SmallRng::seed_from_u64(seed);
+    (0..count)
+        .map(|_| {
+            let z: f32 = rng.random_range(-1.0..=1.0);
+            let phi: f32 = rng.random_range(0.0..std::f32::consts::TAU);
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            Vec3::new(r * phi.cos(), r * phi.sin(), z)
+        })
+        .collect()
+}
+
+/// Directions that stress a direction → view mapping: zero, signed zeros, NaN, ±∞,
+/// subnormals, huge and tiny magnitudes, axes, poles, the equator (z = ±0), diagonals,
+/// and unnormalized copies of random directions.
+pub fn special_directions() -> Vec<Vec3> {
+    let values = [
+        0.0_f32,
+        -0.0,
+        1.0,
+        -1.0,
+        0.5,
+        -0.25,
+        f32::NAN,
+        -f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::MIN_POSITIVE,
+        -f32::MIN_POSITIVE,
+        f32::from_bits(1),
+        f32::from_bits(0x0040_0000),
+        f32::MAX,
+        f32::MIN,
+        1e-30,
+        3e30,
+    ];
+    let mut directions = Vec::new();
+    for &x in &values {
+        for &y in &values {
+            for &z in &values {
+                directions.push(Vec3::new(x, y, z));
+            }
+        }
+    }
+    // The equator, with both signed zeros, at many azimuths.
+    for i in 0..720 {
+        let (s, c) = (i as f32 * 0.5).to_radians().sin_cos();
+        directions.push(Vec3::new(c, s, 0.0));
+        directions.push(Vec3::new(c, s, -0.0));
+    }
+    // Unnormalized directions of every magnitude.
+    for (i, d) in random_unit_directions(2_000, 7).into_iter().enumerate() {
+        let scale = 10.0_f32.powi(i as i32 % 76 - 38);
+        directions.push(d * scale);
+    }
+    directions
+}

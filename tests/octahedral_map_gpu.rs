@@ -1,0 +1,84 @@
+//! CPU = GPU differential tests of `shaders/octahedral_map.wgsl` against the
+//! `octahedral-map` crate.
+
+use glam::{Vec3, Vec4};
+use integration_tests::{gpu, random_unit_directions, special_directions};
+use octahedral_map::{MAX_SUBDIVISIONS, OctahedralUniforms, OctahedralViews, ViewSample};
+
+const SUBDIVISIONS: [u32; 8] = [1, 2, 3, 8, 10, 12, 33, 256];
+
+fn kernel_source() -> String {
+    let module = shader_registry::module("octahedral_map").expect("module is registered");
+    module.with_kernel("octahedral_map_differential").expect("kernel is registered").source().to_owned()
+}
+
+fn test_directions(n: u32) -> Vec<Vec3> {
+    let views = OctahedralViews::new(n).unwrap();
+    let mut directions = special_directions();
+    // Exactly the stored view directions, and points on cell edges between them.
+    for index in 0..views.view_count().min(20_000) {
+        let d = views.view_direction(index).unwrap();
+        directions.push(d);
+        let next = views.view_direction((index + 1) % views.view_count()).unwrap();
+        directions.push((d + next) * 0.5);
+    }
+    directions.extend(random_unit_directions(100_000, u64::from(n)));
+    directions
+}
+
+fn uniforms(n: u32) -> Vec<u8> {
+    let uniforms = OctahedralUniforms::new(OctahedralViews::new(n).unwrap());
+    bytemuck::bytes_of(&uniforms).to_vec()
+}
+
+#[test]
+fn view_samples_match_the_cpu_reference() {
+    let source = kernel_source();
+    for n in SUBDIVISIONS {
+        let views = OctahedralViews::new(n).unwrap();
+        let directions = test_directions(n);
+        assert!(directions.len() >= 100_000);
+        let inputs: Vec<Vec4> = directions.iter().map(|d| d.extend(0.0)).collect();
+        let gpu_samples: Vec<ViewSample> = gpu().compute_map(&source, "view_samples", &uniforms(n), &inputs).unwrap();
+        let gpu_weights: Vec<[f32; 4]> = gpu().compute_map(&source, "view_weights", &uniforms(n), &inputs).unwrap();
+        let mut index_mismatches = Vec::new();
+        let mut worst_weight_error = 0.0_f32;
+        for ((d, gpu_sample), gpu_weight) in directions.iter().zip(&gpu_samples).zip(&gpu_weights) {
+            let cpu = views.sample(*d);
+            if cpu.indices != gpu_sample.indices {
+                index_mismatches.push((*d, cpu.indices, gpu_sample.indices));
+            }
+            let alpha_error = (cpu.alpha - gpu_sample.alpha).abs().max_element();
+            let weight_error =
+                cpu.weights().iter().zip(gpu_weight).map(|(a, b)| (a - b).abs()).fold(alpha_error, f32::max);
+            worst_weight_error = worst_weight_error.max(weight_error);
+        }
+        assert!(
+            index_mismatches.is_empty(),
+            "n={n}: {} of {} directions get other indices on the GPU, e.g. {:?}",
+            index_mismatches.len(),
+            directions.len(),
+            &index_mismatches[..index_mismatches.len().min(5)]
+        );
+        assert!(worst_weight_error <= 1e-6, "n={n}: weights differ by {worst_weight_error}");
+        println!("n={n}: {} directions, indices equal, max weight difference {worst_weight_error:e}", directions.len());
+    }
+}
+
+#[test]
+fn view_directions_match_the_cpu_reference() {
+    let source = kernel_source();
+    for n in SUBDIVISIONS.into_iter().chain([MAX_SUBDIVISIONS]) {
+        let views = OctahedralViews::new(n).unwrap();
+        let count = views.view_count();
+        let mut indices: Vec<u32> = (0..count.min(50_000)).collect();
+        indices.extend((0..50_000_u32).map(|i| i.wrapping_mul(2_654_435_761) % count));
+        indices.extend([count - 1, count, count + 1, u32::MAX]);
+        let gpu_directions: Vec<Vec4> = gpu().compute_map(&source, "view_directions", &uniforms(n), &indices).unwrap();
+        for (index, gpu_direction) in indices.iter().zip(&gpu_directions) {
+            let cpu = views.view_direction(*index).unwrap_or(Vec3::ZERO);
+            let error = (cpu - gpu_direction.truncate()).abs().max_element();
+            assert!(error <= 1e-6, "n={n} view {index}: CPU {cpu} GPU {gpu_direction}");
+        }
+    }
+}

@@ -1,0 +1,107 @@
+//! Project automation, in matklad's `cargo xtask` pattern (`.cargo/config.toml` aliases
+//! `cargo xtask` to `cargo run --package xtask --`).
+//!
+//! - `cargo xtask test`: `cargo test --workspace`, then `test-gpu`.
+//! - `cargo xtask test-gpu`: the GPU integration tests in `tests/` on the adapter chosen
+//!   by `GPU_ADAPTER` (printed first).
+//! - `cargo xtask bench [ARGS]`: the criterion benchmarks in `benches/`.
+//! - `cargo xtask codegen`: rewrite `shaders/generated/` from the Rust declarations.
+//! - `cargo xtask showcase [OUT_DIR]`: the report of what exists so far (default
+//!   `target/showcase`).
+
+mod showcase;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn cargo(args: &[&str]) -> Result<(), String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    println!("$ cargo {}", args.join(" "));
+    let status = Command::new(&cargo)
+        .args(args)
+        .current_dir(workspace_root())
+        .status()
+        .map_err(|e| format!("cannot run {cargo}: {e}"))?;
+    if status.success() { Ok(()) } else { Err(format!("`cargo {}` failed ({status})", args.join(" "))) }
+}
+
+fn codegen() -> Result<(), String> {
+    for module in shader_registry::modules() {
+        let text = module.generate().map_err(|e| format!("{}: {e}", module.generated.path))?;
+        let path = workspace_root().join(module.generated.path);
+        let unchanged = std::fs::read_to_string(&path).is_ok_and(|old| old == text);
+        if !unchanged {
+            std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        }
+        println!("{} {}", if unchanged { "unchanged" } else { "wrote    " }, module.generated.path);
+    }
+    Ok(())
+}
+
+fn test_gpu() -> Result<(), String> {
+    match gpu_harness::Gpu::new() {
+        Ok(gpu) => println!("GPU tests on adapter: {}", gpu.describe()),
+        Err(e) => return Err(e.to_string()),
+    }
+    cargo(&["test", "--package", "integration-tests", "--features", "gpu", "--", "--show-output"])
+}
+
+fn run(args: &[String]) -> Result<(), String> {
+    let rest: Vec<&str> = args.iter().skip(1).map(String::as_str).collect();
+    match args.first().map(String::as_str) {
+        Some("test") => {
+            cargo(&["test", "--workspace"])?;
+            test_gpu()
+        }
+        Some("test-gpu") => test_gpu(),
+        Some("bench") => {
+            let mut command = vec!["bench", "--package", "benches"];
+            if !rest.is_empty() {
+                command.push("--");
+                command.extend(rest);
+            }
+            cargo(&command)
+        }
+        Some("codegen") => codegen(),
+        Some("showcase") => {
+            let out = rest.first().map_or_else(|| workspace_root().join("target/showcase"), PathBuf::from);
+            showcase::run(&out)
+        }
+        _ => Err("usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR]>".into()),
+    }
+}
+
+/// Mesa's Vulkan drivers complain on every device creation when `XDG_RUNTIME_DIR` is not
+/// a usable directory. Without it, re-run this xtask with one under `target/`.
+fn rerun_with_runtime_dir(args: &[String]) -> Option<ExitCode> {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|dir| Path::new(&dir).is_dir()) {
+        return None;
+    }
+    let dir = workspace_root().join("target/xdg-runtime");
+    std::fs::create_dir_all(&dir).ok()?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700)).ok()?;
+    }
+    let status = Command::new(std::env::current_exe().ok()?).args(args).env("XDG_RUNTIME_DIR", &dir).status().ok()?;
+    Some(status.code().map_or(ExitCode::FAILURE, |code| ExitCode::from(code as u8)))
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if let Some(code) = rerun_with_runtime_dir(&args) {
+        return code;
+    }
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("xtask: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

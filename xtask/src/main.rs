@@ -47,7 +47,9 @@ fn test_gpu() -> Result<(), String> {
         Ok(gpu) => println!("GPU tests on adapter: {}", gpu.describe()),
         Err(e) => return Err(e.to_string()),
     }
-    cargo(&["test", "--package", "integration-tests", "--features", "gpu", "--", "--show-output"])
+    // `--workspace` keeps the same feature unification as `cargo test --workspace`, so
+    // nothing is rebuilt; the glob selects the GPU test targets of `tests/`.
+    cargo(&["test", "--workspace", "--features", "integration-tests/gpu", "--test", "*_gpu", "--", "--show-output"])
 }
 
 fn run(args: &[String]) -> Result<(), String> {

@@ -192,6 +192,29 @@ mod tests {
     }
 
     #[test]
+    fn inputs_without_a_direction_use_the_fallback() {
+        let views = OctahedralViews::new(8).unwrap();
+        let fallback = views.sample(crate::FALLBACK_DIRECTION);
+        for d in [Vec3::ZERO, Vec3::NAN, Vec3::new(1.0, f32::NAN, 0.0), Vec3::splat(f32::from_bits(3))] {
+            assert_eq!(views.sample(d), fallback, "{d}");
+        }
+        // Infinite components keep their direction.
+        assert_eq!(views.sample(Vec3::new(f32::INFINITY, 1.0, 0.0)), views.sample(Vec3::X));
+        assert_eq!(
+            views.sample(Vec3::new(0.0, f32::NEG_INFINITY, f32::INFINITY)),
+            views.sample(Vec3::new(0.0, -1.0, 1.0))
+        );
+        // Huge and tiny finite inputs keep theirs too (exact power-of-two scaling gives
+        // bit-identical samples; other factors round the input itself).
+        let d = Vec3::new(0.3, -0.7, 0.2);
+        assert_eq!(views.sample(d * 2.0_f32.powi(120)), views.sample(d));
+        assert_eq!(views.sample(d * 2.0_f32.powi(-120)), views.sample(d));
+        let scaled = views.sample(d * 1e37);
+        assert_eq!(scaled.indices, views.sample(d).indices);
+        assert!((scaled.alpha - views.sample(d).alpha).abs().max_element() < 1e-5);
+    }
+
+    #[test]
     fn axes_poles_and_equator() {
         let views = OctahedralViews::new(8).unwrap();
         // +x is the corner (n-1, n-1) of the lower square.

@@ -26,8 +26,29 @@ fn direction() -> impl Strategy<Value = Vec3> {
     (component(), component(), component()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
 }
 
+/// A direction close to a stored view, an equator view or a cell edge: where the nearest
+/// view changes.
+fn near_a_view() -> impl Strategy<Value = (u32, Vec3)> {
+    (1_u32..=40, any::<u32>(), -1.0_f32..=1.0, -1.0_f32..=1.0, -1.0_f32..=1.0, 1e-7_f32..0.3).prop_map(
+        |(n, index, x, y, z, offset)| {
+            let views = OctahedralViews::new(n).unwrap();
+            let view = views.view_direction(index % views.view_count()).unwrap();
+            (n, view + Vec3::new(x, y, z) * offset)
+        },
+    )
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(4000))]
+
+    #[test]
+    fn the_nearest_view_is_one_of_the_four_near_views((n, d) in near_a_view()) {
+        let views = OctahedralViews::new(n).unwrap();
+        let unit = canonical_direction(d).as_dvec3().normalize();
+        let best = brute_force_best_dot(views, unit);
+        let ours = views.view_direction_f64(views.nearest_view(d)).unwrap().dot(unit);
+        prop_assert!(ours >= best - 1e-12, "n={} d={:?}: ours {} brute force {}", n, d, ours, best);
+    }
 
     #[test]
     fn indices_and_weights_are_in_range(n in 1_u32..=64, d in direction()) {

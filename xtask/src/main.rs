@@ -53,7 +53,10 @@ fn test_gpu() -> Result<(), String> {
 }
 
 fn run(args: &[String]) -> Result<(), String> {
-    let rest: Vec<&str> = args.iter().skip(1).map(String::as_str).collect();
+    let mut rest: Vec<&str> = args.iter().skip(1).map(String::as_str).collect();
+    if rest.first() == Some(&"--") {
+        rest.remove(0);
+    }
     match args.first().map(String::as_str) {
         Some("test") => {
             cargo(&["test", "--workspace"])?;

@@ -84,7 +84,7 @@ impl ShaderModule {
 
     /// The committed generated declarations followed by the library.
     pub fn library_shader(&self) -> ComposedShader {
-        ComposedShader::new(self.library.path)
+        ComposedShader::new(format!("{}.composed", self.name))
             .with_part(self.generated.path, self.generated.source)
             .with_part(self.library.path, self.library.source)
     }

@@ -55,16 +55,28 @@ macro_rules! wgsl_file {
     };
 }
 
-static MODULES: &[ShaderModule] = &[ShaderModule {
-    name: "octahedral_map",
-    generated: wgsl_file!("shaders/generated/octahedral_map.wgsl"),
-    library: wgsl_file!("shaders/octahedral_map.wgsl"),
-    kernels: &[wgsl_file!("shaders/kernels/octahedral_map_differential.wgsl")],
-    structs: || {
-        vec![StructDecl::of::<octahedral_map::ViewSample>(), StructDecl::of::<octahedral_map::OctahedralUniforms>()]
+static MODULES: &[ShaderModule] = &[
+    ShaderModule {
+        name: "octahedral_map",
+        generated: wgsl_file!("shaders/generated/octahedral_map.wgsl"),
+        library: wgsl_file!("shaders/octahedral_map.wgsl"),
+        kernels: &[wgsl_file!("shaders/kernels/octahedral_map_differential.wgsl")],
+        structs: || {
+            vec![StructDecl::of::<octahedral_map::ViewSample>(), StructDecl::of::<octahedral_map::OctahedralUniforms>()]
+        },
+        constants: octahedral_map::gpu::WGSL_CONSTANTS,
     },
-    constants: octahedral_map::gpu::WGSL_CONSTANTS,
-}];
+    ShaderModule {
+        name: "quadric_fit",
+        generated: wgsl_file!("shaders/generated/quadric_fit.wgsl"),
+        library: wgsl_file!("shaders/quadric_fit.wgsl"),
+        kernels: &[wgsl_file!("shaders/kernels/quadric_fit_differential.wgsl")],
+        structs: || {
+            vec![StructDecl::of::<quadric_fit::GpuQuadric>(), StructDecl::of::<quadric_fit::gpu::QuadricRayQuery>()]
+        },
+        constants: quadric_fit::gpu::WGSL_CONSTANTS,
+    },
+];
 
 /// All modules.
 pub fn modules() -> &'static [ShaderModule] {

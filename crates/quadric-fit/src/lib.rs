@@ -1,0 +1,55 @@
+//! Quadric surfaces for directional distance maps, after Mehra & Kumar, *Accurate and
+//! Efficient Rendering of Detail using Directional Distance Maps* (eq. 1–2, §3.1,
+//! Algorithm 3.2, Appendix B).
+//!
+//! Inside a voxel that the mesostructure crosses, the surface is stored as a quadric
+//! `Ax² + By² + Cz² + Dxy + Eyz + Fzx + Gx + Hy + Iz + J = 0` (eq. 1), either fitted to
+//! surface samples by least squares (eq. 2) or built exactly from a triangle or bilinear
+//! patch through the voxel's edge points (Appendix B). The tracer intersects rays with it
+//! analytically (Algorithm 3.2).
+//!
+//! ```
+//! use glam::{DVec3, Vec3};
+//! use quadric_fit::{GpuQuadric, bilinear_quadric, first_hit};
+//!
+//! // A twisted quad across the unit voxel.
+//! let quadric = bilinear_quadric(
+//!     DVec3::new(0.0, 0.0, 0.2),
+//!     DVec3::new(1.0, 0.0, 0.6),
+//!     DVec3::new(1.0, 1.0, 0.3),
+//!     DVec3::new(0.0, 1.0, 0.7),
+//! )
+//! .unwrap();
+//! let gpu = GpuQuadric::from_quadric(&quadric);
+//! let t = first_hit(&gpu, Vec3::new(0.5, 0.5, 1.0), Vec3::NEG_Z, 0.0, 1.0).unwrap();
+//! // The patch's centre is at z = (0.2 + 0.6 + 0.3 + 0.7) / 4 = 0.45.
+//! assert!((t - 0.55).abs() < 1e-5);
+//! ```
+//!
+//! # Modules
+//!
+//! - [`quadric`]: the quadric of eq. 1 in double precision: value, gradient, frames.
+//! - [`fit`]: least-squares fit (eq. 2) in a normalized frame, with a plane fallback.
+//! - [`patch`]: triangle and bilinear patches as quadrics (Appendix B).
+//! - [`intersect`]: single-precision ray intersection and normal, the WGSL twin's reference.
+//! - [`eigen`]: symmetric eigen-decomposition (Jacobi) without `std`.
+//! - [`gpu`]: the GPU layout of a quadric.
+//!
+//! # Features
+//!
+//! - `std` (default): enables `std` in the dependencies. The crate is `#![no_std]` and
+//!   allocates nothing; `cargo check -p quadric-fit --no-default-features` builds it.
+#![no_std]
+
+pub mod eigen;
+pub mod fit;
+pub mod gpu;
+pub mod intersect;
+pub mod patch;
+pub mod quadric;
+
+pub use fit::{FitKind, QuadricFit, fit_plane, fit_quadric};
+pub use gpu::GpuQuadric;
+pub use intersect::{first_hit, normal};
+pub use patch::{bilinear_quadric, triangle_quadric};
+pub use quadric::Quadric;

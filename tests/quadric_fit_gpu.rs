@@ -1,0 +1,182 @@
+//! CPU = GPU differential tests of `shaders/quadric_fit.wgsl` against `quadric-fit`'s
+//! single-precision intersection, with a double-precision reference deciding which
+//! queries are well conditioned.
+
+use glam::{DVec3, Vec3, Vec4};
+use integration_tests::{gpu, random_unit_directions};
+use quadric_fit::gpu::QuadricRayQuery;
+use quadric_fit::{GpuQuadric, Quadric, bilinear_quadric, first_hit, normal};
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+
+fn kernel_source() -> String {
+    let module = shader_registry::module("quadric_fit").expect("module is registered");
+    module.with_kernel("quadric_fit_differential").expect("kernel is registered").source().to_owned()
+}
+
+/// Quadrics of every kind: random, spheres, cylinders, cones, planes, near-planes and
+/// bilinear patches, in voxel-local coordinates.
+fn quadrics(rng: &mut SmallRng, count: usize) -> Vec<GpuQuadric> {
+    let mut out = Vec::with_capacity(count);
+    while out.len() < count {
+        let r = |rng: &mut SmallRng| rng.random_range(-1.0..1.0);
+        let c = rng.random_range(0.2..0.8);
+        let quadric = match out.len() % 6 {
+            0 => Quadric::new(std::array::from_fn(|_| r(rng))),
+            1 => Quadric::new([1.0, 1.0, 1.0, 0.0, 0.0, 0.0, -2.0 * c, -2.0 * c, -2.0 * c, 3.0 * c * c - 0.09]),
+            2 => Quadric::new([1.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0, -1.0, 0.0, 0.5 - 0.04]),
+            3 => Quadric::new([1.0, 1.0, -1.0, 0.0, 0.0, 0.0, -1.0, -1.0, 2.0 * c, 0.5 - c * c]),
+            4 => Quadric::plane(DVec3::new(r(rng), r(rng), r(rng)), r(rng)).map(|q| {
+                let mut k = q.coefficients;
+                k[0] = 1e-7 * r(rng);
+                Quadric { coefficients: k }
+            }),
+            _ => bilinear_quadric(
+                DVec3::new(0.0, 0.0, rng.random()),
+                DVec3::new(1.0, 0.0, rng.random()),
+                DVec3::new(1.0, 1.0, rng.random()),
+                DVec3::new(0.0, 1.0, rng.random()),
+            ),
+        };
+        if let Some(q) = quadric {
+            out.push(GpuQuadric::from_quadric(&q.normalized()));
+        }
+    }
+    out
+}
+
+fn queries() -> Vec<QuadricRayQuery> {
+    let mut rng = SmallRng::seed_from_u64(11);
+    let quadrics = quadrics(&mut rng, 1024);
+    let directions = random_unit_directions(120_000, 5);
+    let mut queries: Vec<QuadricRayQuery> = directions
+        .iter()
+        .enumerate()
+        .map(|(i, &d)| {
+            let origin =
+                Vec3::new(rng.random_range(-0.5..1.5), rng.random_range(-0.5..1.5), rng.random_range(-0.5..1.5));
+            let (t_min, t_max) = match i % 10 {
+                0 => (0.5, 0.25), // empty range
+                1 => (-1.0, 1.0),
+                _ => (0.0, rng.random_range(0.1..3.0)),
+            };
+            QuadricRayQuery::new(&quadrics[i % quadrics.len()], origin, d, t_min, t_max)
+        })
+        .collect();
+    // Rays inside a plane, tangent to a sphere, and through a cone's apex.
+    let plane = GpuQuadric::from_quadric(&Quadric::plane(DVec3::Z, -0.5).unwrap());
+    let sphere = GpuQuadric::from_quadric(&Quadric::new([1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.25]).unwrap());
+    let cone = GpuQuadric::from_quadric(&Quadric::new([1.0, 1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]).unwrap());
+    queries.push(QuadricRayQuery::new(&plane, Vec3::new(0.0, 0.0, 0.5), Vec3::X, 0.0, 2.0));
+    queries.push(QuadricRayQuery::new(&sphere, Vec3::new(-1.0, 0.5, 0.0), Vec3::X, 0.0, 2.0));
+    queries.push(QuadricRayQuery::new(&cone, Vec3::new(0.0, 0.0, -1.0), Vec3::Z, 0.0, 2.0));
+    queries
+}
+
+/// Double-precision roots of the query's quadratic and the error bound of a
+/// single-precision evaluation at each root (`δt ≈ δP / |P'(t)|`).
+struct Reference {
+    roots: Vec<(f64, f64)>,
+    tangent: bool,
+}
+
+fn reference(query: &QuadricRayQuery) -> Reference {
+    let k = query.quadric().coefficients().map(f64::from);
+    let (o, r) = (query.origin.truncate().as_dvec3(), query.direction.truncate().as_dvec3());
+    let quadratic_terms = |p: DVec3| {
+        [k[0] * p.x * p.x, k[1] * p.y * p.y, k[2] * p.z * p.z, k[3] * p.x * p.y, k[4] * p.y * p.z, k[5] * p.z * p.x]
+    };
+    let alpha: f64 = quadratic_terms(r).iter().sum();
+    let alpha_abs: f64 = quadratic_terms(r).iter().map(|x| x.abs()).sum();
+    let grad = [
+        [2.0 * k[0] * o.x, k[3] * o.y, k[5] * o.z, k[6]],
+        [k[3] * o.x, 2.0 * k[1] * o.y, k[4] * o.z, k[7]],
+        [k[5] * o.x, k[4] * o.y, 2.0 * k[2] * o.z, k[8]],
+    ];
+    let beta: f64 = (0..3).map(|i| grad[i].iter().sum::<f64>() * r[i]).sum();
+    let beta_abs: f64 = (0..3).map(|i| grad[i].iter().map(|x| x.abs()).sum::<f64>() * r[i].abs()).sum();
+    let mut gamma_terms = quadratic_terms(o).to_vec();
+    gamma_terms.extend([k[6] * o.x, k[7] * o.y, k[8] * o.z, k[9]]);
+    let gamma: f64 = gamma_terms.iter().sum();
+    let gamma_abs: f64 = gamma_terms.iter().map(|x| x.abs()).sum();
+    let eps = 32.0 * f64::from(f32::EPSILON);
+    let disc = beta * beta - 4.0 * alpha * gamma;
+    let disc_error = eps * (beta_abs * beta_abs + 4.0 * alpha_abs * gamma_abs);
+    let mut roots = Vec::new();
+    let bound_at = |t: f64| {
+        let slope = (2.0 * alpha * t + beta).abs();
+        eps * (alpha_abs * t * t + beta_abs * t.abs() + gamma_abs) / slope.max(1e-30)
+    };
+    if alpha.abs() <= eps * alpha_abs.max(1e-30) && beta != 0.0 {
+        roots.push(-gamma / beta);
+    } else if disc >= 0.0 && alpha != 0.0 {
+        let s = disc.sqrt();
+        let q = -0.5 * (beta + s.copysign(beta));
+        if q != 0.0 {
+            roots.push(gamma / q);
+        }
+        roots.push(q / alpha);
+    }
+    Reference { roots: roots.into_iter().map(|t| (t, bound_at(t))).collect(), tangent: disc.abs() <= disc_error }
+}
+
+#[test]
+fn first_hits_match_the_cpu_reference() {
+    let queries = queries();
+    let results: Vec<Vec4> = gpu().compute_map(&kernel_source(), "first_hits", &[], &queries).unwrap();
+    let (mut hits, mut ill_conditioned, mut worst_ratio) = (0, 0, 0.0_f64);
+    for (query, result) in queries.iter().zip(&results) {
+        let (t_min, t_max) = (query.ij_t_range.z, query.ij_t_range.w);
+        let cpu = first_hit(&query.quadric(), query.origin.truncate(), query.direction.truncate(), t_min, t_max);
+        let gpu_hit = (result.y == 1.0).then_some(result.x);
+        let reference = reference(query);
+        // Ill-conditioned: a root within its error bound of the range ends, or a
+        // (near-)tangent ray. There the answer legitimately depends on rounding.
+        let near_an_end = reference
+            .roots
+            .iter()
+            .any(|&(t, e)| (t - f64::from(t_min)).abs() <= e || (t - f64::from(t_max)).abs() <= e);
+        if t_min <= t_max && (near_an_end || reference.tangent) {
+            ill_conditioned += 1;
+            continue;
+        }
+        match (cpu, gpu_hit) {
+            (Some(a), Some(b)) => {
+                hits += 1;
+                let bound =
+                    reference.roots.iter().find(|(t, _)| (t - f64::from(a)).abs() <= 1e-3).map_or(1e-6, |r| r.1);
+                let difference = f64::from((a - b).abs());
+                assert!(difference <= 2.0 * bound + 1e-7, "{query:?}: CPU t={a}, GPU t={b}, bound {bound}");
+                worst_ratio = worst_ratio.max(difference / (bound + 1e-7));
+            }
+            (None, None) => {}
+            (cpu, gpu) => panic!("{query:?}: CPU {cpu:?}, GPU {gpu:?} (well-conditioned)"),
+        }
+    }
+    assert!(hits > queries.len() / 10, "only {hits} hits: the test set is too easy");
+    assert!(ill_conditioned < queries.len() / 100, "{ill_conditioned} ill-conditioned queries of {}", queries.len());
+    println!(
+        "{} queries: {hits} hits agree, misses agree, {ill_conditioned} ill-conditioned skipped; \
+         worst |t_cpu - t_gpu| = {worst_ratio:.3} of the rounding bound",
+        queries.len()
+    );
+}
+
+#[test]
+fn normals_match_the_cpu_reference() {
+    let queries = queries();
+    let results: Vec<Vec4> = gpu().compute_map(&kernel_source(), "normals", &[], &queries).unwrap();
+    let mut worst = 0.0_f32;
+    for (query, result) in queries.iter().zip(&results) {
+        let q = query.quadric();
+        let gradient_length = quadric_fit::intersect::gradient(&q, query.origin.truncate()).length();
+        let cpu = normal(&q, query.origin.truncate());
+        if gradient_length < 1e-4 {
+            continue; // direction of a vanishing gradient is pure rounding
+        }
+        let error = (cpu - result.truncate()).abs().max_element();
+        assert!(error <= 1e-5, "{query:?}: CPU {cpu} GPU {result}");
+        worst = worst.max(error);
+    }
+    println!("normals: max component difference {worst:e}");
+}

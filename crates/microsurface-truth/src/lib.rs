@@ -1,0 +1,38 @@
+//! Ground truth for the view- and light-dependent mean attribute of a rough surface
+//! (Heitz & Neyret 2012, §5.5 and Fig. 9), by exact ray casting of periodic height fields.
+//!
+//! A height field is a periodic grid of heights, interpolated piecewise linearly (two
+//! triangles per cell), so that ray intersection is exact and the slopes whose statistics
+//! Smith's model uses are exactly the surface's slopes. Orthographic rays with uniformly
+//! distributed entry points sample the projected surface uniformly; averaging the
+//! attribute at the first hit (and, with a light, only over hits whose shadow ray escapes)
+//! gives the pixel's mean attribute that eq. 17 models.
+//!
+//! This is a std crate beside the algorithm crates: it depends on none of them, and
+//! `smith-micro`'s models are compared with it by callers (the xtask experiment and the
+//! tests).
+//!
+//! ```
+//! use microsurface_truth::{Spectrum, SurfaceStatistics, VisibleAverage, generate_gaussian};
+//!
+//! let field = generate_gaussian(64, Spectrum::Gaussian { wavelength: 16.0 }, 0.4, 7).unwrap();
+//! let stats = SurfaceStatistics::measure(&field);
+//! assert!((stats.slope_sigma.x - 0.4).abs() < 0.1);
+//! // Mean height of what a camera 60° off the normal sees: above the mean height.
+//! let truth = VisibleAverage::new(&field, 4_000, 1);
+//! let view = glam::DVec3::new(60_f64.to_radians().sin(), 0.0, 60_f64.to_radians().cos());
+//! let seen = truth.mean_attribute(view, None, |h| h - stats.mean_height).unwrap();
+//! assert!(seen.mean > 0.0);
+//! ```
+
+mod experiment;
+mod generate;
+mod heightfield;
+mod raycast;
+mod statistics;
+
+pub use experiment::{AttributeEstimate, VisibleAverage};
+pub use generate::{Spectrum, generate_cellular, generate_gaussian, generate_ridged};
+pub use heightfield::{HeightField, HeightFieldError};
+pub use raycast::{first_hit, is_lit};
+pub use statistics::SurfaceStatistics;

@@ -1,0 +1,146 @@
+//! Exact ray casting of a piecewise-linear periodic height field (2-D DDA over cells, two
+//! triangles per cell, a cell skipped when the ray stays above its highest corner).
+
+use glam::DVec3;
+
+use crate::heightfield::HeightField;
+
+/// Safety bound on the cells one ray may cross (the ray has left the field's height range
+/// long before in any sensible query).
+const MAX_CELLS: usize = 10_000_000;
+
+/// Intersection parameter of the ray `o + t d` (with `o` in cell-local coordinates
+/// `(u, v)` measured from the cell's corner) with the plane `z = a + b u + c v`.
+fn plane_hit(o: DVec3, d: DVec3, a: f64, b: f64, c: f64) -> Option<f64> {
+    let denominator = d.z - b * d.x - c * d.y;
+    (denominator != 0.0).then(|| (a + b * o.x + c * o.y - o.z) / denominator)
+}
+
+/// Smallest `t` in `[t0, t1]` where the ray meets cell `(i, j)`'s two triangles; `o` is in
+/// cell-local coordinates.
+fn cell_hit(field: &HeightField, i: i64, j: i64, o: DVec3, d: DVec3, t0: f64, t1: f64) -> Option<f64> {
+    let (h00, h10, h01, h11) =
+        (field.height(i, j), field.height(i + 1, j), field.height(i, j + 1), field.height(i + 1, j + 1));
+    let mut best: Option<f64> = None;
+    // Lower triangle (v ≤ u): z = h00 + (h10 - h00) u + (h11 - h10) v.
+    // Upper triangle (v ≥ u): z = h00 + (h11 - h01) u + (h01 - h00) v.
+    let triangles = [(h10 - h00, h11 - h10, true), (h11 - h01, h01 - h00, false)];
+    for (b, c, lower) in triangles {
+        let Some(t) = plane_hit(o, d, h00, b, c) else { continue };
+        if t < t0 || t > t1 {
+            continue;
+        }
+        let (u, v) = (o.x + t * d.x, o.y + t * d.y);
+        let slack = 1e-9;
+        let inside = if lower { v <= u + slack } else { v >= u - slack };
+        if inside && best.is_none_or(|b| t < b) {
+            best = Some(t);
+        }
+    }
+    best
+}
+
+/// Walks the cells under the ray `origin + t direction` for `t ≥ t_start` and returns the
+/// first intersection parameter, or `None` once the ray rises above the field (for
+/// upward rays) or after [`MAX_CELLS`].
+fn march(field: &HeightField, origin: DVec3, direction: DVec3, t_start: f64) -> Option<f64> {
+    let d = direction;
+    let step = |x: f64| if x > 0.0 { 1_i64 } else { -1 };
+    let start = origin + t_start * d;
+    let (mut i, mut j) = (start.x.floor() as i64, start.y.floor() as i64);
+    let next_boundary = |p: f64, cell: i64, dir: f64| {
+        if dir > 0.0 {
+            (cell as f64 + 1.0 - p) / dir
+        } else if dir < 0.0 {
+            (cell as f64 - p) / dir
+        } else {
+            f64::INFINITY
+        }
+    };
+    let mut t_next_x = t_start + next_boundary(start.x, i, d.x);
+    let mut t_next_y = t_start + next_boundary(start.y, j, d.y);
+    let (t_delta_x, t_delta_y) = (1.0 / d.x.abs(), 1.0 / d.y.abs());
+    let mut t0 = t_start;
+    for _ in 0..MAX_CELLS {
+        let t1 = t_next_x.min(t_next_y);
+        let z_low = (origin.z + t0 * d.z).min(origin.z + t1.min(1e300) * d.z);
+        if d.z > 0.0 && origin.z + t0 * d.z > field.max_height() {
+            return None;
+        }
+        if z_low <= field.cell_max(i, j) {
+            let local = DVec3::new(origin.x - i as f64, origin.y - j as f64, origin.z);
+            if let Some(t) = cell_hit(field, i, j, local, d, t0, t1) {
+                return Some(t);
+            }
+        }
+        if t1.is_infinite() {
+            return None; // vertical ray that left its cell's height range
+        }
+        if t_next_x < t_next_y {
+            i += step(d.x);
+            t_next_x += t_delta_x;
+        } else {
+            j += step(d.y);
+            t_next_y += t_delta_y;
+        }
+        t0 = t1;
+    }
+    None
+}
+
+/// The first point where a downward ray along `direction` (`direction.z < 0`), entering
+/// above the field at horizontal position `(x, y)`, meets the surface.
+pub fn first_hit(field: &HeightField, x: f64, y: f64, direction: DVec3) -> Option<DVec3> {
+    if !(direction.z < 0.0) || !direction.is_finite() {
+        return None;
+    }
+    let origin = DVec3::new(x, y, field.max_height() + 1.0);
+    march(field, origin, direction, 0.0).map(|t| origin + t * direction)
+}
+
+/// Whether `point` on the surface sees the light in direction `light` (`light.z > 0`):
+/// the shadow ray escapes above the field without meeting it.
+pub fn is_lit(field: &HeightField, point: DVec3, light: DVec3) -> bool {
+    if !(light.z > 0.0) {
+        return false;
+    }
+    // Skip the surface the point lies on; 1e-7 cells is far below any feature size.
+    march(field, point, light, 1e-7).is_none()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_flat_field_is_hit_at_its_height() {
+        let field = HeightField::new(4, vec![0.5; 16]).unwrap();
+        let d = DVec3::new(0.6, 0.3, -0.2).normalize();
+        let hit = first_hit(&field, 1.3, 2.7, d).unwrap();
+        assert!((hit.z - 0.5).abs() < 1e-12);
+        assert!(is_lit(&field, hit, DVec3::new(0.1, 0.0, 1.0).normalize()));
+    }
+
+    #[test]
+    fn hits_lie_on_the_interpolated_surface() {
+        let heights: Vec<f64> = (0..64).map(|k| ((k * 7919) % 13) as f64 * 0.3).collect();
+        let field = HeightField::new(8, heights).unwrap();
+        for k in 0..200 {
+            let a = f64::from(k) * 0.37;
+            let d = DVec3::new(a.cos(), a.sin(), -0.3 - f64::from(k % 5) * 0.2).normalize();
+            let hit = first_hit(&field, f64::from(k) * 0.11, f64::from(k) * 0.23, d).unwrap();
+            assert!((hit.z - field.interpolate(hit.x, hit.y)).abs() < 1e-9, "ray {k}");
+        }
+    }
+
+    #[test]
+    fn a_wall_casts_a_shadow() {
+        // A ridge of height 4 along x = 4; points just east of it are shadowed from the west.
+        let size = 8;
+        let heights = (0..size * size).map(|k| if k % size == 4 { 4.0 } else { 0.0 }).collect();
+        let field = HeightField::new(size, heights).unwrap();
+        let west_low = DVec3::new(-1.0, 0.0, 0.3).normalize();
+        assert!(!is_lit(&field, DVec3::new(5.5, 2.0, 0.0), west_low));
+        assert!(is_lit(&field, DVec3::new(5.5, 2.0, 0.0), DVec3::new(1.0, 0.0, 1.0).normalize()));
+    }
+}

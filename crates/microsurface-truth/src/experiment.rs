@@ -48,7 +48,7 @@ impl<'a> VisibleAverage<'a> {
         light: Option<DVec3>,
         attribute: impl Fn(f64) -> f64 + Sync,
     ) -> Option<AttributeEstimate> {
-        if !(view.z > 0.0) {
+        if view.z.is_nan() || view.z <= 0.0 {
             return None;
         }
         let direction = -view.normalize();

@@ -96,7 +96,7 @@ fn sum_of_sinusoids(size: usize, frequencies: &[(i64, i64, f64, f64)]) -> Vec<f6
     heights
 }
 
-/// Scales `heights` so that the RMS slope (root mean square of σ_nx and σ_ny) is
+/// Scales `heights` so that the RMS slope (root mean square of `σ_nx` and `σ_ny`) is
 /// `slope_sigma`.
 fn with_slope_sigma(size: usize, heights: Vec<f64>, slope_sigma: f64) -> Result<HeightField, HeightFieldError> {
     let field = HeightField::new(size, heights)?;

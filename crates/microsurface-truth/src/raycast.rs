@@ -91,7 +91,7 @@ fn march(field: &HeightField, origin: DVec3, direction: DVec3, t_start: f64) -> 
 /// The first point where a downward ray along `direction` (`direction.z < 0`), entering
 /// above the field at horizontal position `(x, y)`, meets the surface.
 pub fn first_hit(field: &HeightField, x: f64, y: f64, direction: DVec3) -> Option<DVec3> {
-    if !(direction.z < 0.0) || !direction.is_finite() {
+    if !direction.is_finite() || direction.z >= 0.0 {
         return None;
     }
     let origin = DVec3::new(x, y, field.max_height() + 1.0);
@@ -101,7 +101,7 @@ pub fn first_hit(field: &HeightField, x: f64, y: f64, direction: DVec3) -> Optio
 /// Whether `point` on the surface sees the light in direction `light` (`light.z > 0`):
 /// the shadow ray escapes above the field without meeting it.
 pub fn is_lit(field: &HeightField, point: DVec3, light: DVec3) -> bool {
-    if !(light.z > 0.0) {
+    if light.z.is_nan() || light.z <= 0.0 {
         return false;
     }
     // Skip the surface the point lies on; 1e-7 cells is far below any feature size.
@@ -123,7 +123,7 @@ mod tests {
 
     #[test]
     fn hits_lie_on_the_interpolated_surface() {
-        let heights: Vec<f64> = (0..64).map(|k| ((k * 7919) % 13) as f64 * 0.3).collect();
+        let heights: Vec<f64> = (0..64).map(|k| f64::from((k * 7919) % 13) * 0.3).collect();
         let field = HeightField::new(8, heights).unwrap();
         for k in 0..200 {
             let a = f64::from(k) * 0.37;

@@ -9,7 +9,7 @@ use crate::heightfield::HeightField;
 pub struct SurfaceStatistics {
     /// Mean vertex height.
     pub mean_height: f64,
-    /// Standard deviation σ_h of vertex heights.
+    /// Standard deviation `σ_h` of vertex heights.
     pub height_sigma: f64,
     /// Standard deviations `(σ_nx, σ_ny)` of the slopes along x and y: the slopes of the
     /// piecewise-linear surface are exactly the forward differences of the grid.

@@ -55,16 +55,26 @@ macro_rules! wgsl_file {
     };
 }
 
-static MODULES: &[ShaderModule] = &[ShaderModule {
-    name: "octahedral_map",
-    generated: wgsl_file!("shaders/generated/octahedral_map.wgsl"),
-    library: wgsl_file!("shaders/octahedral_map.wgsl"),
-    kernels: &[wgsl_file!("shaders/kernels/octahedral_map_differential.wgsl")],
-    structs: || {
-        vec![StructDecl::of::<octahedral_map::ViewSample>(), StructDecl::of::<octahedral_map::OctahedralUniforms>()]
+static MODULES: &[ShaderModule] = &[
+    ShaderModule {
+        name: "octahedral_map",
+        generated: wgsl_file!("shaders/generated/octahedral_map.wgsl"),
+        library: wgsl_file!("shaders/octahedral_map.wgsl"),
+        kernels: &[wgsl_file!("shaders/kernels/octahedral_map_differential.wgsl")],
+        structs: || {
+            vec![StructDecl::of::<octahedral_map::ViewSample>(), StructDecl::of::<octahedral_map::OctahedralUniforms>()]
+        },
+        constants: octahedral_map::gpu::WGSL_CONSTANTS,
     },
-    constants: octahedral_map::gpu::WGSL_CONSTANTS,
-}];
+    ShaderModule {
+        name: "abuffer_mask",
+        generated: wgsl_file!("shaders/generated/abuffer_mask.wgsl"),
+        library: wgsl_file!("shaders/abuffer_mask.wgsl"),
+        kernels: &[wgsl_file!("shaders/kernels/abuffer_mask_differential.wgsl")],
+        structs: || vec![StructDecl::of::<abuffer_mask::MaskTableUniforms>()],
+        constants: abuffer_mask::gpu::WGSL_CONSTANTS,
+    },
+];
 
 /// All modules.
 pub fn modules() -> &'static [ShaderModule] {

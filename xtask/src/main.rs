@@ -8,7 +8,10 @@
 //! - `cargo xtask codegen`: rewrite `shaders/generated/` from the Rust declarations.
 //! - `cargo xtask showcase [OUT_DIR]`: the report of what exists so far (default
 //!   `target/showcase`).
+//! - `cargo xtask abuffer-chart [OUT_DIR]`: coverage error of the A-buffer mask tables
+//!   against N (default `target/showcase`).
 
+mod abuffer_chart;
 mod showcase;
 
 use std::path::{Path, PathBuf};
@@ -76,7 +79,14 @@ fn run(args: &[String]) -> Result<(), String> {
             let out = rest.first().map_or_else(|| workspace_root().join("target/showcase"), PathBuf::from);
             showcase::run(&out)
         }
-        _ => Err("usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR]>".into()),
+        Some("abuffer-chart") => {
+            let out = rest.first().map_or_else(|| workspace_root().join("target/showcase"), PathBuf::from);
+            abuffer_chart::run(&out)
+        }
+        _ => Err(
+            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | abuffer-chart [OUT_DIR]>"
+                .into(),
+        ),
     }
 }
 

@@ -76,6 +76,14 @@ static MODULES: &[ShaderModule] = &[
         },
         constants: quadric_fit::gpu::WGSL_CONSTANTS,
     },
+    ShaderModule {
+        name: "abuffer_mask",
+        generated: wgsl_file!("shaders/generated/abuffer_mask.wgsl"),
+        library: wgsl_file!("shaders/abuffer_mask.wgsl"),
+        kernels: &[wgsl_file!("shaders/kernels/abuffer_mask_differential.wgsl")],
+        structs: || vec![StructDecl::of::<abuffer_mask::MaskTableUniforms>()],
+        constants: abuffer_mask::gpu::WGSL_CONSTANTS,
+    },
 ];
 
 /// All modules.

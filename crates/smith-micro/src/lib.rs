@@ -1,0 +1,74 @@
+//! Smith masking of Gaussian microsurfaces and the view- and light-dependent mean
+//! attribute, after Heitz & Neyret, *Representing Appearance and Pre-filtering Subpixel
+//! Data in Sparse Voxel Octrees* (HPG 2012), eqs. 4–6, 13, 17 and §5.5.
+//!
+//! A pre-filtered voxel stores a Gaussian microsurface: heights `N(0, σ_h²)`, slopes
+//! `N(0, σ_nx²)` and `N(0, σ_ny²)`, and attributes correlated with height,
+//! `a(h) = ā + a_s (2g(h) − 1)`. Smith's masking function Λ (eq. 6) gives the probability
+//! `g(h)^Λ(v)` that a point at height `h` is seen from `v` (eq. 4); integrating the
+//! attribute against the visibility from the eye and the light gives the closed form
+//! `ā(v, l) = ā + a_s Λ/(Λ + 2)`, `Λ = Λ(v) + Λ(l)` (eq. 17), used in the shading of
+//! eq. 13.
+//!
+//! ```
+//! use glam::Vec3;
+//! use smith_micro::{HeightCorrelatedAttribute, SlopeDeviation};
+//!
+//! // Grooves along x: flat along x, rough along y (Fig. 5 of the paper).
+//! let slopes = SlopeDeviation::new(0.0, 0.5).unwrap();
+//! let green = HeightCorrelatedAttribute { mean: 0.5, height_correlation: 0.4 };
+//!
+//! // Normal incidence sees the mean; grazing light across the grooves only lights the
+//! // bumps, so the visible attribute tends to ā + a_s.
+//! let at_normal = smith_micro::visible_mean_attribute_for_directions(green, Vec3::Z, Vec3::Z, slopes);
+//! assert_eq!(at_normal, Some(0.5));
+//! let across = Vec3::new(0.0, 1.0, 0.01);
+//! let grazing = smith_micro::visible_mean_attribute_for_directions(green, Vec3::Z, across, slopes).unwrap();
+//! assert!(grazing > 0.85 && grazing < 0.9);
+//! // Along the grooves nothing changes.
+//! let along = Vec3::new(1.0, 0.0, 0.01);
+//! assert_eq!(smith_micro::visible_mean_attribute_for_directions(green, Vec3::Z, along, slopes), Some(0.5));
+//!
+//! // Below the horizon a direction sees nothing of the surface: no Λ.
+//! assert_eq!(smith_micro::smith_lambda_direction(Vec3::new(0.0, 1.0, -0.1), slopes), None);
+//! ```
+//!
+//! # Modules
+//!
+//! - [`erf`]: `erf`, `erfc`, `erfcx` in one approximation (Numerical Recipes' Chebyshev
+//!   fit), written so that a WGSL twin can evaluate the same formulas.
+//! - [`masking`]: Λ (eq. 6) from `ν`, from `(μ, σ)` and from a direction over
+//!   anisotropic slopes; Smith's mean visibility `1/(1+Λ)`.
+//! - [`height`]: the height CDF `g(h)` (eq. 5), the visibility `g(h)^Λ` (eq. 4) and the
+//!   attribute `a(h)` of H5bis.
+//! - [`attribute`]: the mean visible attribute `ā(v, l)` (eq. 17).
+//! - [`shading`]: the NDF ⊗ BRDF convolution of §5.5 and the shading of eq. 13.
+//!
+//! Every function documents its result for every input in a table: normal incidence,
+//! grazing, below the horizon, `σ = 0`, extreme anisotropy, NaN and ±∞. No function
+//! panics, and none returns NaN; geometrically meaningless input gives `None`.
+//!
+//! # Features
+//!
+//! - `std` (default): enables `std` in the dependencies. The crate is `#![no_std]` and
+//!   needs no allocator; `cargo check -p smith-micro --no-default-features` builds it
+//!   without `std`.
+#![no_std]
+
+#[cfg(all(test, feature = "std"))]
+extern crate std;
+
+pub mod attribute;
+pub mod erf;
+pub mod height;
+pub mod masking;
+pub mod shading;
+
+pub use attribute::{HeightCorrelatedAttribute, visible_mean_attribute, visible_mean_attribute_for_directions};
+pub use erf::{erf, erfc, erfcx};
+pub use height::{attribute_at_height, height_cdf, height_visibility, log_height_cdf};
+pub use masking::{
+    SlopeDeviation, mean_visibility, nu_of_direction, projected_slope_deviation, smith_lambda, smith_lambda_direction,
+    smith_lambda_from_nu,
+};
+pub use shading::{FilteredSurface, convolved_slope_deviation, gaussian_slope_ndf, shade};

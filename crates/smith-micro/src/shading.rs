@@ -1,0 +1,170 @@
+//! The convolved BRDF lobe (§5.5) and the shading of eq. 13.
+//!
+//! §5.5 represents both the NDF of the filtered surface (slope variance `σ_n²`) and the
+//! microfacet BRDF (`σ_np²`) as Gaussian slope distributions, so their convolution is
+//! the Gaussian of variance `σ_n² + σ_np²` ([`convolved_slope_deviation`]). The lobe is
+//! the Gaussian-slope (Beckmann) NDF
+//!
+//! `D(m) = exp(−(s_x²/2σ_x² + s_y²/2σ_y²)) / (2π σ_x σ_y m_z⁴)`, `s = −(m_x, m_y)/m_z`.
+//!
+//! [`shade`] evaluates eq. 13, `L = Ē ā(v, l) ρ̄(v, l) ⟨n̄·l⟩ V̄(l)`, with
+//! `ρ̄ = D(h) V̄(v) / (4 ⟨n̄·v⟩ ⟨n̄·l⟩)` the microfacet specular lobe of the convolved
+//! slopes at the half vector `h` (no Fresnel factor: under eq. 1 the colour is the
+//! attribute), `V̄(d) = 1/(1 + Λ(d))` Smith's mean visibility and `ā(v, l)` eq. 17. Hence
+//! `L = Ē ā(v, l) D(h) V̄(v) V̄(l) / (4 ⟨n̄·v⟩)`. Masking (Λ) uses the surface slopes
+//! `σ_n` stored in the voxel, as eq. 6 does; the lobe uses the convolved ones.
+//!
+//! | input | result |
+//! |---|---|
+//! | light below the horizon or grazing (`l_z ≤ 0`) | `Some(0)`: unlit |
+//! | view below the horizon or grazing (`v_z ≤ 0`) | `None`: no projected area is seen |
+//! | zero or non-finite direction | `None` |
+//! | convolved `σ_x` or `σ_y` = 0 | `None`: the lobe is a Dirac |
+//! | `D` overflows f32 (`σ_x σ_y m_z⁴ ≲ 10⁻³⁹`) | `None` (numerically a Dirac) |
+//! | negative or non-finite `Ē`, non-finite attribute | `None` |
+
+use glam::Vec3;
+
+use crate::attribute::{HeightCorrelatedAttribute, visible_mean_attribute};
+use crate::erf::{flush_subnormal, is_finite_bits};
+use crate::masking::{SlopeDeviation, canonical_direction, mean_visibility, smith_lambda_direction};
+
+/// The slopes of the surface's NDF convolved with the BRDF's microfacet slopes (§5.5):
+/// `√(σ_n² + σ_np²)` per axis.
+///
+/// WGSL twin: `smith_convolved_slope_deviation`.
+pub fn convolved_slope_deviation(surface: SlopeDeviation, brdf: SlopeDeviation) -> SlopeDeviation {
+    SlopeDeviation { x: libm::hypotf(surface.x, brdf.x), y: libm::hypotf(surface.y, brdf.y) }
+}
+
+/// The Gaussian-slope NDF `D(m)` of a microfacet normal `m` (need not be normalized) in
+/// the mean-normal frame: `Some(0)` for `m_z ≤ 0`, `None` for a zero or non-finite `m`
+/// and for the Dirac cases of the module's table.
+///
+/// WGSL twin: `smith_gaussian_slope_ndf`.
+pub fn gaussian_slope_ndf(normal: Vec3, slopes: SlopeDeviation) -> Option<f32> {
+    let m = canonical_direction(normal)?;
+    if slopes.x == 0.0 || slopes.y == 0.0 {
+        return None;
+    }
+    if m.z <= 0.0 {
+        return Some(0.0);
+    }
+    let m = m / m.length();
+    let (slope_x, slope_y) = (m.x / (m.z * slopes.x), m.y / (m.z * slopes.y));
+    let exponent = 0.5 * (slope_x * slope_x + slope_y * slope_y);
+    let gaussian = flush_subnormal(libm::expf(-exponent));
+    if gaussian == 0.0 {
+        return Some(0.0);
+    }
+    let z_squared = m.z * m.z;
+    let denominator = flush_subnormal(core::f32::consts::TAU * slopes.x * slopes.y * (z_squared * z_squared));
+    if denominator == 0.0 {
+        return None;
+    }
+    let density = gaussian / denominator;
+    is_finite_bits(density).then_some(flush_subnormal(density))
+}
+
+/// The statistics of a pre-filtered surface element that eq. 13 needs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilteredSurface {
+    /// `σ_nx, σ_ny`: the slopes of the filtered surface (masking, eq. 6, and the NDF).
+    pub slopes: SlopeDeviation,
+    /// `σ_npx, σ_npy`: the microfacet slopes of the BRDF (§5.5).
+    pub brdf_slopes: SlopeDeviation,
+    /// `ā, a_s` of the attribute (H5bis).
+    pub attribute: HeightCorrelatedAttribute,
+}
+
+/// Eq. 13: the radiance reflected towards `view` from `light` (both in the mean-normal
+/// frame, need not be normalized) by `surface`, lit with radiance `light_radiance`
+/// (`Ē`). See the module's table for every special case.
+///
+/// WGSL twin: `smith_shade`.
+pub fn shade(view: Vec3, light: Vec3, surface: FilteredSurface, light_radiance: f32) -> Option<f32> {
+    if !is_finite_bits(light_radiance) || light_radiance < 0.0 {
+        return None;
+    }
+    let v = canonical_direction(view)?;
+    let l = canonical_direction(light)?;
+    if v.z <= 0.0 {
+        return None;
+    }
+    if l.z <= 0.0 {
+        return Some(0.0);
+    }
+    let lambda_view = smith_lambda_direction(v, surface.slopes)?;
+    let lambda_light = smith_lambda_direction(l, surface.slopes)?;
+    let attribute = visible_mean_attribute(surface.attribute, lambda_view, lambda_light)?;
+    let (v, l) = (v / v.length(), l / l.length());
+    let lobe = gaussian_slope_ndf(v + l, convolved_slope_deviation(surface.slopes, surface.brdf_slopes))?;
+    let visibility = mean_visibility(lambda_view)? * mean_visibility(lambda_light)?;
+    let radiance = light_radiance * attribute * (lobe * visibility / (4.0 * v.z));
+    is_finite_bits(radiance).then_some(flush_subnormal(radiance))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ndf_integrates_to_one_over_projected_area() {
+        // ∫ D(m) m_z dω = 1 for a normalized NDF (midpoint rule in θ, φ).
+        for slopes in [SlopeDeviation::new(0.3, 0.3).unwrap(), SlopeDeviation::new(0.1, 0.5).unwrap()] {
+            let (steps_theta, steps_phi) = (2000, 400);
+            let mut total = 0.0_f64;
+            for i in 0..steps_theta {
+                let theta = (f64::from(i) + 0.5) / f64::from(steps_theta) * core::f64::consts::FRAC_PI_2;
+                for j in 0..steps_phi {
+                    let phi = (f64::from(j) + 0.5) / f64::from(steps_phi) * core::f64::consts::TAU;
+                    let m = Vec3::new(
+                        (libm::sin(theta) * libm::cos(phi)) as f32,
+                        (libm::sin(theta) * libm::sin(phi)) as f32,
+                        libm::cos(theta) as f32,
+                    );
+                    let d = f64::from(gaussian_slope_ndf(m, slopes).unwrap());
+                    total += d * libm::cos(theta) * libm::sin(theta);
+                }
+            }
+            total *=
+                core::f64::consts::FRAC_PI_2 / f64::from(steps_theta) * core::f64::consts::TAU / f64::from(steps_phi);
+            assert!((total - 1.0).abs() < 1e-3, "{slopes:?}: {total}");
+        }
+    }
+
+    #[test]
+    fn convolution_adds_variances() {
+        let c =
+            convolved_slope_deviation(SlopeDeviation::new(0.3, 0.0).unwrap(), SlopeDeviation::new(0.4, 0.2).unwrap());
+        assert!((c.x - 0.5).abs() < 1e-7 && (c.y - 0.2).abs() < 1e-7);
+    }
+
+    #[test]
+    fn special_inputs_have_defined_results() {
+        let surface = FilteredSurface {
+            slopes: SlopeDeviation::new(0.2, 0.4).unwrap(),
+            brdf_slopes: SlopeDeviation::isotropic(0.1).unwrap(),
+            attribute: HeightCorrelatedAttribute { mean: 0.6, height_correlation: 0.2 },
+        };
+        let normal_incidence = shade(Vec3::Z, Vec3::Z, surface, 1.0).unwrap();
+        // At v = l = n: D(n) / 4 · ā with Λ = 0.
+        let expected = 0.6 / (core::f32::consts::TAU * 0.2_f32.hypot(0.1) * 0.4_f32.hypot(0.1)) / 4.0;
+        assert!((normal_incidence - expected).abs() < 1e-6 * expected);
+        assert_eq!(shade(Vec3::Z, Vec3::new(1.0, 0.0, -0.1), surface, 1.0), Some(0.0));
+        assert_eq!(shade(Vec3::Z, Vec3::X, surface, 1.0), Some(0.0));
+        assert_eq!(shade(Vec3::new(1.0, 0.0, -0.1), Vec3::Z, surface, 1.0), None);
+        assert_eq!(shade(Vec3::X, Vec3::Z, surface, 1.0), None);
+        assert_eq!(shade(Vec3::Z, Vec3::Z, surface, -1.0), None);
+        assert_eq!(shade(Vec3::Z, Vec3::Z, surface, f32::NAN), None);
+        assert_eq!(shade(Vec3::ZERO, Vec3::Z, surface, 1.0), None);
+        let mirror = FilteredSurface {
+            slopes: SlopeDeviation::isotropic(0.0).unwrap(),
+            brdf_slopes: SlopeDeviation::isotropic(0.0).unwrap(),
+            ..surface
+        };
+        assert_eq!(shade(Vec3::Z, Vec3::Z, mirror, 1.0), None);
+        assert_eq!(gaussian_slope_ndf(Vec3::new(1.0, 0.0, -1.0), surface.slopes), Some(0.0));
+        assert_eq!(gaussian_slope_ndf(Vec3::Z, SlopeDeviation::isotropic(1e-25).unwrap()), None);
+    }
+}

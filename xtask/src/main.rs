@@ -6,12 +6,16 @@
 //!   by `GPU_ADAPTER` (printed first).
 //! - `cargo xtask bench [ARGS]`: the criterion benchmarks in `benches/`.
 //! - `cargo xtask codegen`: rewrite `shaders/generated/` from the Rust declarations.
+//! - `cargo xtask fig9 [OUT_DIR] [--height-map PNG] [--quick]`: the ray-traced ground truth
+//!   of Heitz & Neyret's Fig. 9 against eq. 17 and MIP-mapping (default `target/fig9`).
 //! - `cargo xtask showcase [OUT_DIR]`: the report of what exists so far (default
 //!   `target/showcase`).
 //! - `cargo xtask abuffer-chart [OUT_DIR]`: coverage error of the A-buffer mask tables
 //!   against N (default `target/showcase`).
 
 mod abuffer_chart;
+mod chart;
+mod fig9;
 mod showcase;
 
 use std::path::{Path, PathBuf};
@@ -75,6 +79,7 @@ fn run(args: &[String]) -> Result<(), String> {
             cargo(&command)
         }
         Some("codegen") => codegen(),
+        Some("fig9") => fig9::run(&rest, workspace_root().join("target/fig9")),
         Some("showcase") => {
             let out = rest.first().map_or_else(|| workspace_root().join("target/showcase"), PathBuf::from);
             showcase::run(&out)
@@ -84,7 +89,7 @@ fn run(args: &[String]) -> Result<(), String> {
             abuffer_chart::run(&out)
         }
         _ => Err(
-            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | abuffer-chart [OUT_DIR]>"
+            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] | abuffer-chart [OUT_DIR]>"
                 .into(),
         ),
     }

@@ -8,9 +8,8 @@
 //! attribute at the first hit (and, with a light, only over hits whose shadow ray escapes)
 //! gives the pixel's mean attribute that eq. 17 models.
 //!
-//! This is a std crate beside the algorithm crates: it depends on none of them, and
-//! `smith-micro`'s models are compared with it by callers (the xtask experiment and the
-//! tests).
+//! This is a std crate beside the algorithm crates; [`comparison`] measures `smith-micro`'s
+//! eq. 17 (and plain MIP-mapping) against the ground truth, as Fig. 9 of the paper does.
 //!
 //! ```
 //! use microsurface_truth::{Spectrum, SurfaceStatistics, VisibleAverage, generate_gaussian};
@@ -25,6 +24,7 @@
 //! assert!(seen.mean > 0.0);
 //! ```
 
+pub mod comparison;
 mod experiment;
 mod generate;
 mod heightfield;

@@ -1,0 +1,115 @@
+//! Fig. 9 of the paper, measured: ground truth against eq. 17 and MIP-mapping over view
+//! angles, for one height field.
+//!
+//! The attribute is `a(h) = s(h) = 2g(h) − 1` (H5bis, `g` of eq. 5 with the measured `σ_h`
+//! about the measured mean height). Any channel `a_c(h) = b_c + k_c s(h)` is an affine
+//! image of it, so errors expressed as a fraction of the attribute's range (`2|k_c|`) are
+//! the same for every channel: `|Δ E[s]| / 2`.
+//!
+//! The stored parameters are computed as the paper's pre-computation does (§5.2):
+//! `ā = mean(a)`, `a_s = ∫ s·a / ∫ s²` (here exactly 1), so eq. 17 predicts
+//! `E[s] = ā + a_s Λ/(Λ + 2)` with `Λ = Λ(v) + Λ(l)`, and MIP-mapping predicts `ā`.
+
+use glam::{DVec3, Vec3};
+use smith_micro::{HeightCorrelatedAttribute, SlopeDeviation};
+
+use crate::experiment::VisibleAverage;
+use crate::heightfield::HeightField;
+use crate::statistics::SurfaceStatistics;
+
+/// One view angle of the comparison.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AngleComparison {
+    /// Angle between the view direction and the mean normal, degrees.
+    pub view_angle_deg: f64,
+    /// Ground truth `E[s]` over visible (and lit) points.
+    pub truth: f64,
+    /// Monte-Carlo standard error of `truth`.
+    pub truth_standard_error: f64,
+    /// Eq. 17 as published.
+    pub eq17: f64,
+    /// Plain MIP-mapping: the constant mean attribute.
+    pub mip: f64,
+    /// `Λ(v) + Λ(l)` from the measured slope deviations.
+    pub lambda: f64,
+}
+
+impl AngleComparison {
+    /// Eq. 17's error as a fraction of the attribute range.
+    pub fn eq17_error(&self) -> f64 {
+        (self.eq17 - self.truth).abs() / 2.0
+    }
+
+    /// MIP-mapping's error as a fraction of the attribute range.
+    pub fn mip_error(&self) -> f64 {
+        (self.mip - self.truth).abs() / 2.0
+    }
+}
+
+/// Settings of one sweep.
+#[derive(Clone, Copy, Debug)]
+pub struct Sweep {
+    /// View angles, degrees.
+    pub angles_deg: &'static [f64],
+    /// View azimuth, radians.
+    pub view_azimuth: f64,
+    /// Light direction (toward the light); `None` for view-dependency only (Fig. 9).
+    pub light: Option<DVec3>,
+    /// Rays per angle.
+    pub rays: usize,
+    /// Seed of the ray positions.
+    pub seed: u64,
+}
+
+/// `s(h) = 2g(h) − 1` about the measured mean height (eq. 5 and H5bis).
+pub fn attribute_s(stats: &SurfaceStatistics, height: f64) -> f64 {
+    let h = (height - stats.mean_height) as f32;
+    smith_micro::height_cdf(h, stats.height_sigma as f32).map_or(0.0, |g| 2.0 * f64::from(g) - 1.0)
+}
+
+/// The measured slope deviations as `smith-micro` takes them.
+pub fn slope_deviation(stats: &SurfaceStatistics) -> Option<SlopeDeviation> {
+    SlopeDeviation::new(stats.slope_sigma.x as f32, stats.slope_sigma.y as f32)
+}
+
+/// Runs `sweep` on `field`: ground truth, eq. 17 and MIP-mapping at every angle.
+/// Returns `None` when the statistics are degenerate (a flat field).
+pub fn compare(field: &HeightField, sweep: &Sweep) -> Option<Vec<AngleComparison>> {
+    let stats = SurfaceStatistics::measure(field);
+    let slopes = slope_deviation(&stats)?;
+    let samples: Vec<f64> = field.heights().iter().map(|&h| attribute_s(&stats, h)).collect();
+    let mean = samples.iter().sum::<f64>() / samples.len() as f64;
+    // With a = s, the projection a_s = ∫ s·a / ∫ s² is exactly 1.
+    let stored = HeightCorrelatedAttribute { mean: mean as f32, height_correlation: 1.0 };
+    let lambda_light = match sweep.light {
+        Some(l) => smith_micro::smith_lambda_direction(l.as_vec3(), slopes)?,
+        None => 0.0,
+    };
+    let truth = VisibleAverage::new(field, sweep.rays, sweep.seed);
+    let mut rows = Vec::with_capacity(sweep.angles_deg.len());
+    for &angle in sweep.angles_deg {
+        let (theta, phi) = (angle.to_radians(), sweep.view_azimuth);
+        let view = DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+        let lambda_view =
+            smith_micro::smith_lambda_direction(Vec3::new(view.x as f32, view.y as f32, view.z as f32), slopes)?;
+        let eq17 = smith_micro::visible_mean_attribute(stored, lambda_view, lambda_light)?;
+        let estimate = truth.mean_attribute(view, sweep.light, |h| attribute_s(&stats, h))?;
+        rows.push(AngleComparison {
+            view_angle_deg: angle,
+            truth: estimate.mean,
+            truth_standard_error: estimate.standard_error,
+            eq17: f64::from(eq17),
+            mip: mean,
+            lambda: f64::from(lambda_view + lambda_light),
+        });
+    }
+    Some(rows)
+}
+
+/// The largest eq. 17 and MIP errors (fractions of the range) over rows with
+/// `view_angle_deg` in `[low, high]`.
+pub fn max_errors(rows: &[AngleComparison], low: f64, high: f64) -> (f64, f64) {
+    rows.iter()
+        .filter(|r| (low..=high).contains(&r.view_angle_deg))
+        .fold((0.0, 0.0), |(e, m), r| (e.max(r.eq17_error()), m.max(r.mip_error())))
+}

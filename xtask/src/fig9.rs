@@ -1,0 +1,225 @@
+//! `cargo xtask fig9 [OUT_DIR] [--height-map PNG] [--quick]`: the ground-truth experiment
+//! of Heitz & Neyret 2012, Fig. 9 — the mean attribute seen at each view angle, ray traced
+//! on Gaussian and non-Gaussian height fields, against eq. 17 and MIP-mapping (CSV + PNG).
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use microsurface_truth::comparison::{AngleComparison, Sweep, compare, max_errors};
+use microsurface_truth::{
+    HeightField, Spectrum, SurfaceStatistics, generate_cellular, generate_gaussian, generate_ridged,
+};
+use plotters::prelude::*;
+
+use crate::chart::{drawing_error, render_png};
+
+/// RMS slope of every generated surface: Λ spans 0 … 20 over 0° … 89°.
+const SLOPE_SIGMA: f64 = 0.5;
+const ALL_ANGLES: [f64; 90] = {
+    let mut a = [0.0; 90];
+    let mut i = 0;
+    while i < 90 {
+        a[i] = i as f64;
+        i += 1;
+    }
+    a
+};
+const LIGHT_ANGLES: [f64; 18] =
+    [0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0, 85.0];
+/// The light of the view-and-light sweep: 60° from the normal, azimuth 90° from the view's.
+fn light() -> DVec3 {
+    let t = 60_f64.to_radians();
+    DVec3::new(0.0, t.sin(), t.cos())
+}
+/// Channels `a_c(h) = base + amplitude · s(h)` of the RGB curves.
+const CHANNELS: [(&str, RGBColor, f64, f64); 3] = [
+    ("R", RGBColor(200, 30, 30), 0.55, 0.35),
+    ("G", RGBColor(30, 150, 30), 0.45, -0.25),
+    ("B", RGBColor(30, 60, 200), 0.35, 0.15),
+];
+
+struct Surface {
+    name: String,
+    gaussian: bool,
+    field: HeightField,
+}
+
+fn surfaces(size: usize, height_map: Option<&Path>) -> Result<Vec<Surface>, String> {
+    let e = |e: microsurface_truth::HeightFieldError| e.to_string();
+    let mut list = vec![
+        Surface {
+            name: "gaussian_correlation".into(),
+            gaussian: true,
+            field: generate_gaussian(size, Spectrum::Gaussian { wavelength: 16.0 }, SLOPE_SIGMA, 1).map_err(e)?,
+        },
+        Surface {
+            name: "fbm_power_law".into(),
+            gaussian: true,
+            field: generate_gaussian(
+                size,
+                Spectrum::PowerLaw { min_wavelength: 8.0, max_wavelength: size as f64 / 4.0, exponent: 3.0 },
+                SLOPE_SIGMA,
+                2,
+            )
+            .map_err(e)?,
+        },
+        Surface {
+            name: "band_pass".into(),
+            gaussian: true,
+            field: generate_gaussian(size, Spectrum::BandPass { wavelength: 24.0, width: 0.1 }, SLOPE_SIGMA, 3)
+                .map_err(e)?,
+        },
+        Surface {
+            name: "cellular".into(),
+            gaussian: false,
+            field: generate_cellular(size, size / 8, SLOPE_SIGMA, 4).map_err(e)?,
+        },
+        Surface {
+            name: "ridged".into(),
+            gaussian: false,
+            field: generate_ridged(size, 16.0, SLOPE_SIGMA, 5).map_err(e)?,
+        },
+    ];
+    if let Some(path) = height_map {
+        let field = HeightField::from_image(path, 16.0).map_err(e)?;
+        let name = path.file_stem().map_or("height_map".into(), |s| s.to_string_lossy().into_owned());
+        list.push(Surface { name, gaussian: false, field });
+    }
+    Ok(list)
+}
+
+fn write_csv(path: &Path, rows: &[(String, &'static str, AngleComparison)]) -> Result<(), String> {
+    let mut csv = String::from(
+        "surface,sweep,view_angle_deg,lambda,truth_s,truth_standard_error,eq17_s,mip_s,eq17_error,mip_error\n",
+    );
+    for (surface, sweep, r) in rows {
+        csv += &format!(
+            "{surface},{sweep},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}\n",
+            r.view_angle_deg,
+            r.lambda,
+            r.truth,
+            r.truth_standard_error,
+            r.eq17,
+            r.mip,
+            r.eq17_error(),
+            r.mip_error()
+        );
+    }
+    std::fs::write(path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
+fn draw(path: &Path, title: &str, rows: &[AngleComparison]) -> Result<(), String> {
+    render_png(path, (1200, 800), |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, ("sans-serif", 26))
+            .margin(20)
+            .x_label_area_size(50)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0.0_f64..90.0, 0.0_f64..1.0)
+            .map_err(drawing_error)?;
+        chart
+            .configure_mesh()
+            .x_desc("view angle from the mean normal (degrees)")
+            .y_desc("mean attribute seen")
+            .label_style(("sans-serif", 18))
+            .draw()
+            .map_err(drawing_error)?;
+        for (name, color, base, amplitude) in CHANNELS {
+            let channel = |s: f64| base + amplitude * s;
+            let truth: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.truth))).collect();
+            let eq17: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.eq17))).collect();
+            let mip: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.mip))).collect();
+            chart
+                .draw_series(LineSeries::new(truth, color.stroke_width(3)))
+                .map_err(drawing_error)?
+                .label(format!("{name}: ray-traced ground truth"))
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], color.stroke_width(3)));
+            chart
+                .draw_series(DashedLineSeries::new(eq17, 10, 6, color.stroke_width(2)))
+                .map_err(drawing_error)?
+                .label(format!("{name}: eq. 17"))
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 8, y)], color.stroke_width(2)));
+            chart
+                .draw_series(DashedLineSeries::new(mip, 2, 6, color.mix(0.6).stroke_width(2)))
+                .map_err(drawing_error)?
+                .label(format!("{name}: MIP-mapping"))
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 3, y)], color.stroke_width(2)));
+        }
+        chart
+            .configure_series_labels()
+            .label_font(("sans-serif", 16))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperLeft)
+            .draw()
+            .map_err(drawing_error)
+    })
+}
+
+fn percent(x: f64) -> String {
+    format!("{:.2}%", 100.0 * x)
+}
+
+/// Runs the experiment and writes `fig9.csv` and one PNG per surface and sweep into `out`.
+pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
+    let mut out = default_out;
+    let (mut height_map, mut quick) = (None, false);
+    let mut iter = args.iter();
+    while let Some(&arg) = iter.next() {
+        match arg {
+            "--height-map" => height_map = Some(PathBuf::from(iter.next().ok_or("--height-map needs a PNG path")?)),
+            "--quick" => quick = true,
+            _ => out = PathBuf::from(arg),
+        }
+    }
+    std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
+    let (size, rays) = if quick { (512, 40_000) } else { (1024, 200_000) };
+    println!("Fig. 9 ground truth: {size}² periodic fields, {rays} rays per view angle, RMS slope {SLOPE_SIGMA}");
+    println!("errors are fractions of the attribute range; max over view angles in each range\n");
+    println!(
+        "{:<22} {:>6} {:>7} {:>7} | {:>9} {:>9} {:>9} | {:>9} {:>11}",
+        "surface", "σ_h", "skew", "kurt", "eq17 0-70", "70-85", "85-89", "MIP 0-85", "light 0-85"
+    );
+    let mut csv_rows = Vec::new();
+    for surface in surfaces(size, height_map.as_deref())? {
+        let stats = SurfaceStatistics::measure(&surface.field);
+        let view_sweep = Sweep { angles_deg: &ALL_ANGLES, view_azimuth: 0.0, light: None, rays, seed: 17 };
+        let light_sweep =
+            Sweep { angles_deg: &LIGHT_ANGLES, view_azimuth: 0.0, light: Some(light()), rays: rays / 2, seed: 23 };
+        let view = compare(&surface.field, &view_sweep).ok_or(format!("{}: degenerate surface", surface.name))?;
+        let lit = compare(&surface.field, &light_sweep).ok_or(format!("{}: degenerate surface", surface.name))?;
+        let (low, _) = max_errors(&view, 0.0, 70.0);
+        let (mid, _) = max_errors(&view, 70.0, 85.0);
+        let (high, _) = max_errors(&view, 85.0, 89.0);
+        let (_, mip) = max_errors(&view, 0.0, 85.0);
+        let (light_error, _) = max_errors(&lit, 0.0, 85.0);
+        println!(
+            "{:<22} {:>6.2} {:>7.3} {:>7.3} | {:>9} {:>9} {:>9} | {:>9} {:>11}{}",
+            surface.name,
+            stats.height_sigma,
+            stats.height_skewness,
+            stats.height_excess_kurtosis,
+            percent(low),
+            percent(mid),
+            percent(high),
+            percent(mip),
+            percent(light_error),
+            if surface.gaussian { "" } else { "  (non-Gaussian)" }
+        );
+        draw(
+            &out.join(format!("fig9_{}_view.png", surface.name)),
+            &format!("{}: view only (Fig. 9)", surface.name),
+            &view,
+        )?;
+        draw(
+            &out.join(format!("fig9_{}_light.png", surface.name)),
+            &format!("{}: view and light (light at 60°, azimuth 90°)", surface.name),
+            &lit,
+        )?;
+        csv_rows.extend(view.into_iter().map(|r| (surface.name.clone(), "view", r)));
+        csv_rows.extend(lit.into_iter().map(|r| (surface.name.clone(), "view_and_light", r)));
+    }
+    write_csv(&out.join("fig9.csv"), &csv_rows)?;
+    println!("\nwrote {}", out.display());
+    Ok(())
+}

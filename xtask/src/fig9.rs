@@ -1,6 +1,7 @@
-//! `cargo xtask fig9 [OUT_DIR] [--height-map PNG] [--quick]`: the ground-truth experiment
+//! `cargo xtask fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra]`: the ground-truth experiment
 //! of Heitz & Neyret 2012, Fig. 9 — the mean attribute seen at each view angle, ray traced
 //! on Gaussian and non-Gaussian height fields, against eq. 17 and MIP-mapping (CSV + PNG).
+//! `--spectra` adds a sweep over spectra of the Λ correction eq. 17 would need.
 
 use std::path::{Path, PathBuf};
 
@@ -156,6 +157,42 @@ fn draw(path: &Path, title: &str, rows: &[AngleComparison]) -> Result<(), String
     })
 }
 
+/// View angles of the spectral sweep (where Λ matters and Monte-Carlo noise does not
+/// dominate the inverted Λ).
+const SWEEP_ANGLES: [f64; 8] = [65.0, 70.0, 75.0, 78.0, 81.0, 84.0, 86.0, 88.0];
+
+/// For Gaussian surfaces of many spectra, the factor `Λ_needed / Λ` that would make eq. 17
+/// match the ground truth (`Λ_needed = 2x/(1-x)`, `x = E[s] - ā`), printed against Rice's
+/// spectral width `α`: whether a correction of Λ can depend on Λ (and `α`) alone.
+fn spectral_sweep(size: usize, rays: usize) -> Result<(), String> {
+    let spectra = [
+        ("band-pass 24, width 0.05", Spectrum::BandPass { wavelength: 24.0, width: 0.05 }),
+        ("band-pass 24, width 0.2", Spectrum::BandPass { wavelength: 24.0, width: 0.2 }),
+        ("band-pass 24, width 0.35", Spectrum::BandPass { wavelength: 24.0, width: 0.35 }),
+        ("Gaussian, ℓ = 16", Spectrum::Gaussian { wavelength: 16.0 }),
+        ("Gaussian, ℓ = 8", Spectrum::Gaussian { wavelength: 8.0 }),
+        ("power law β=3, 8-32", Spectrum::PowerLaw { min_wavelength: 8.0, max_wavelength: 32.0, exponent: 3.0 }),
+        ("power law β=3, 8-128", Spectrum::PowerLaw { min_wavelength: 8.0, max_wavelength: 128.0, exponent: 3.0 }),
+        ("power law β=4, 8-128", Spectrum::PowerLaw { min_wavelength: 8.0, max_wavelength: 128.0, exponent: 4.0 }),
+        ("power law β=2.5, 6-128", Spectrum::PowerLaw { min_wavelength: 6.0, max_wavelength: 128.0, exponent: 2.5 }),
+    ];
+    println!("\nΛ_needed / Λ for eq. 17 to match the ground truth, per spectrum (columns: view angle, Λ):");
+    for (name, spectrum) in spectra {
+        let field = generate_gaussian(size, spectrum, SLOPE_SIGMA, 11).map_err(|e| e.to_string())?;
+        let stats = SurfaceStatistics::measure(&field);
+        let alpha = stats.spectral_width_x().unwrap_or(f64::NAN);
+        let sweep = Sweep { angles_deg: &SWEEP_ANGLES, view_azimuth: 0.0, light: None, rays, seed: 5 };
+        let rows = compare(&field, &sweep).ok_or(format!("{name}: degenerate surface"))?;
+        let mut line = format!("  {name:<24} α = {alpha:5.2} |");
+        for r in rows {
+            let x = r.truth - r.mip;
+            line += &format!(" {:.0}°/{:.2}: {:.3}", r.view_angle_deg, r.lambda, 2.0 * x / (1.0 - x) / r.lambda);
+        }
+        println!("{line}");
+    }
+    Ok(())
+}
+
 fn percent(x: f64) -> String {
     format!("{:.2}%", 100.0 * x)
 }
@@ -163,12 +200,13 @@ fn percent(x: f64) -> String {
 /// Runs the experiment and writes `fig9.csv` and one PNG per surface and sweep into `out`.
 pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
     let mut out = default_out;
-    let (mut height_map, mut quick) = (None, false);
+    let (mut height_map, mut quick, mut spectra) = (None, false, false);
     let mut iter = args.iter();
     while let Some(&arg) = iter.next() {
         match arg {
             "--height-map" => height_map = Some(PathBuf::from(iter.next().ok_or("--height-map needs a PNG path")?)),
             "--quick" => quick = true,
+            "--spectra" => spectra = true,
             _ => out = PathBuf::from(arg),
         }
     }
@@ -220,6 +258,9 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
         csv_rows.extend(lit.into_iter().map(|r| (surface.name.clone(), "view_and_light", r)));
     }
     write_csv(&out.join("fig9.csv"), &csv_rows)?;
+    if spectra {
+        spectral_sweep(size / 2, rays / 3)?;
+    }
     println!("\nwrote {}", out.display());
     Ok(())
 }

@@ -89,7 +89,7 @@ fn run(args: &[String]) -> Result<(), String> {
             abuffer_chart::run(&out)
         }
         _ => Err(
-            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] | abuffer-chart [OUT_DIR]>"
+            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR]>"
                 .into(),
         ),
     }

@@ -16,6 +16,9 @@ pub struct SurfaceStatistics {
     pub slope_sigma: DVec2,
     /// Mean of the slopes along x and y (zero for a periodic field, up to rounding).
     pub mean_slope: DVec2,
+    /// Standard deviations of the second derivatives `∂²h/∂x²`, `∂²h/∂y²` (central second
+    /// differences): the fourth spectral moments along x and y.
+    pub curvature_sigma: DVec2,
     /// Excess kurtosis of the heights (0 for a Gaussian): how non-Gaussian the surface is.
     pub height_excess_kurtosis: f64,
     /// Skewness of the heights (0 for a Gaussian).
@@ -32,13 +35,19 @@ impl SurfaceStatistics {
         let moment = |k: i32| heights.iter().map(|h| (h - mean_height).powi(k)).sum::<f64>() / count;
         let variance = moment(2);
         let (mut sx, mut sy, mut sxx, mut syy) = (0.0, 0.0, 0.0, 0.0);
+        let (mut kxx, mut kyy) = (0.0, 0.0);
         for j in 0..n {
             for i in 0..n {
-                let dx = field.height(i + 1, j) - field.height(i, j);
-                let dy = field.height(i, j + 1) - field.height(i, j);
+                let h = field.height(i, j);
+                let dx = field.height(i + 1, j) - h;
+                let dy = field.height(i, j + 1) - h;
                 (sx, sy, sxx, syy) = (sx + dx, sy + dy, sxx + dx * dx, syy + dy * dy);
+                let cx = field.height(i + 1, j) - 2.0 * h + field.height(i - 1, j);
+                let cy = field.height(i, j + 1) - 2.0 * h + field.height(i, j - 1);
+                (kxx, kyy) = (kxx + cx * cx, kyy + cy * cy);
             }
         }
+        let curvature_sigma = DVec2::new((kxx / count).sqrt(), (kyy / count).sqrt());
         let mean_slope = DVec2::new(sx / count, sy / count);
         let slope_sigma = DVec2::new(
             (sxx / count - mean_slope.x * mean_slope.x).max(0.0).sqrt(),
@@ -54,9 +63,18 @@ impl SurfaceStatistics {
             height_sigma: variance.sqrt(),
             slope_sigma,
             mean_slope,
+            curvature_sigma,
             height_excess_kurtosis: kurtosis,
             height_skewness: skewness,
         }
+    }
+
+    /// Rice's spectral-width parameter along x, `α = m0 m4 / m2² = σ_h² σ_κx² / σ_nx⁴ ≥ 1`:
+    /// near 1 for a narrow band of wavelengths, 3 for a Gaussian spectrum, large for
+    /// broadband (fBm-like) surfaces. `None` for a flat field.
+    pub fn spectral_width_x(&self) -> Option<f64> {
+        let m2 = self.slope_sigma.x.powi(2);
+        (m2 > 0.0).then(|| self.height_sigma.powi(2) * self.curvature_sigma.x.powi(2) / (m2 * m2))
     }
 
     /// The slope standard deviation in the azimuth of `direction` (its xy projection):

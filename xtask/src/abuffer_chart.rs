@@ -6,6 +6,8 @@ use std::path::Path;
 use abuffer_mask::{CoverageErrorStats, MaskTable, coverage_error};
 use plotters::prelude::*;
 
+use crate::chart::{drawing_error, render_png};
+
 /// A chart series: its label, colour and points.
 type Series = (&'static str, RGBColor, Vec<(f64, f64)>);
 
@@ -32,14 +34,9 @@ fn write_csv(path: &Path, stats: &[(CoverageErrorStats, f32)]) -> Result<(), Str
 
 fn draw_chart(path: &Path, stats: &[(CoverageErrorStats, f32)]) -> Result<(), String> {
     const SIZE: (u32, u32) = (1200, 800);
-    plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
-        .map_err(|_| "the bundled font is invalid".to_owned())?;
-    let mut pixels = vec![0_u8; (SIZE.0 * SIZE.1 * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut pixels, SIZE).into_drawing_area();
-        let e = |e: DrawingAreaErrorKind<_>| format!("chart drawing failed: {e:?}");
-        root.fill(&WHITE).map_err(e)?;
-        let mut chart = ChartBuilder::on(&root)
+    render_png(path, SIZE, |root| {
+        let e = drawing_error;
+        let mut chart = ChartBuilder::on(root)
             .caption("A-buffer masks: |mask coverage − exact area| vs N (256 × 256 (θ, v) table)", ("sans-serif", 28))
             .margin(20)
             .x_label_area_size(50)
@@ -76,10 +73,8 @@ fn draw_chart(path: &Path, stats: &[(CoverageErrorStats, f32)]) -> Result<(), St
             .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(e)?;
-        root.present().map_err(e)?;
-    }
-    let image = image::RgbImage::from_raw(SIZE.0, SIZE.1, pixels).ok_or("chart buffer has the wrong size")?;
-    image.save(path).map_err(|e| format!("cannot write {}: {e}", path.display()))
+        Ok(())
+    })
 }
 
 /// Writes `abuffer_coverage_error.png` and `.csv` into `out`.

@@ -7,6 +7,8 @@ use octahedral_map::validity::angle_between;
 use octahedral_map::{OctahedralViews, max_neighbour_angle, min_subdivisions_for_texels, validity_half_angle};
 use plotters::prelude::*;
 
+use crate::chart::{drawing_error, render_png};
+
 use glam::DVec3;
 
 /// Directions sampled per `n` (a spherical Fibonacci lattice): 16 per view, within these
@@ -82,15 +84,10 @@ fn write_csv(path: &Path, stats: &[ErrorStats]) -> Result<(), String> {
 
 fn draw_chart(path: &Path, stats: &[ErrorStats]) -> Result<(), String> {
     const SIZE: (u32, u32) = (1200, 800);
-    plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
-        .map_err(|_| "the bundled font is invalid".to_owned())?;
-    let mut pixels = vec![0_u8; (SIZE.0 * SIZE.1 * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut pixels, SIZE).into_drawing_area();
-        let e = |e: DrawingAreaErrorKind<_>| format!("chart drawing failed: {e:?}");
-        root.fill(&WHITE).map_err(e)?;
+    render_png(path, SIZE, |root| {
+        let e = drawing_error;
         let (n_min, n_max) = (f64::from(SUBDIVISIONS[0]), f64::from(SUBDIVISIONS[SUBDIVISIONS.len() - 1]));
-        let mut chart = ChartBuilder::on(&root)
+        let mut chart = ChartBuilder::on(root)
             .caption("Octahedral views: angle to the nearest view vs n (N = 2n² views)", ("sans-serif", 28))
             .margin(20)
             .x_label_area_size(50)
@@ -142,10 +139,8 @@ fn draw_chart(path: &Path, stats: &[ErrorStats]) -> Result<(), String> {
             .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(e)?;
-        root.present().map_err(e)?;
-    }
-    let image = image::RgbImage::from_raw(SIZE.0, SIZE.1, pixels).ok_or("chart buffer has the wrong size")?;
-    image.save(path).map_err(|e| format!("cannot write {}: {e}", path.display()))
+        Ok(())
+    })
 }
 
 /// Writes `octahedral_angular_error.png` and `.csv` into `out`.

@@ -1,0 +1,180 @@
+//! Lossless block compression of a distance map (§4, Algorithm A.1) and its access
+//! function (Algorithm A.2).
+//!
+//! The map is cut into `b³` blocks. A block that the mesostructure crosses is copied whole
+//! into an atlas, and its lookup-grid entry stores the block's atlas index with
+//! [`SURFACE_FLAG`] set; any other block keeps only the minimum of its distances, stored
+//! as the bits of a non-negative `f32` (whose sign bit is clear, so the flag is free).
+//! Reading a voxel of a crossed block returns its exact value; reading any other voxel
+//! returns a smaller or equal value, so sphere tracing stays conservative and the final
+//! hit (always found in crossed blocks) is unchanged: the compression is lossless where
+//! it matters.
+
+use alloc::vec::Vec;
+
+use glam::UVec3;
+
+/// Set in a lookup-grid entry whose block lives in the atlas; the low 31 bits are then
+/// the block's index in the atlas.
+pub const SURFACE_FLAG: u32 = 0x8000_0000;
+
+/// A compressed distance map: a coarse lookup grid and an atlas of surface blocks.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CompressedMap {
+    pub(crate) dims: UVec3,
+    pub(crate) block: u32,
+    pub(crate) grid: Vec<u32>,
+    pub(crate) atlas: Vec<f32>,
+}
+
+/// The lookup-grid size for `dims` voxels in blocks of `block`.
+pub fn grid_dims(dims: UVec3, block: u32) -> UVec3 {
+    (dims + UVec3::splat(block - 1)) / block
+}
+
+impl CompressedMap {
+    /// Compresses `values` (one per voxel, index `x + dims.x (y + dims.y z)`) with
+    /// `surface` marking crossed voxels, in `block³` blocks.
+    ///
+    /// Returns `None` when the sizes disagree, `block` is 0 or above 64, a value is
+    /// negative or not finite, or the atlas would need more than 2³¹ blocks.
+    pub fn compress(values: &[f32], surface: &[bool], dims: UVec3, block: u32) -> Option<Self> {
+        let voxels = dims.x as usize * dims.y as usize * dims.z as usize;
+        if block == 0 || block > 64 || values.len() != voxels || surface.len() != voxels || voxels == 0 {
+            return None;
+        }
+        if values.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+            return None;
+        }
+        let g = grid_dims(dims, block);
+        let mut grid = Vec::with_capacity((g.x * g.y * g.z) as usize);
+        let mut atlas = Vec::new();
+        for bz in 0..g.z {
+            for by in 0..g.y {
+                for bx in 0..g.x {
+                    let origin = UVec3::new(bx, by, bz) * block;
+                    let mut crossed = false;
+                    let mut minimum = f32::INFINITY;
+                    let mut copy = Vec::with_capacity((block * block * block) as usize);
+                    for z in 0..block {
+                        for y in 0..block {
+                            for x in 0..block {
+                                let p = origin + UVec3::new(x, y, z);
+                                if p.cmplt(dims).all() {
+                                    let i = (p.x + dims.x * (p.y + dims.y * p.z)) as usize;
+                                    crossed |= surface[i];
+                                    minimum = minimum.min(values[i]);
+                                    copy.push(values[i]);
+                                } else {
+                                    copy.push(0.0); // outside the map: never read
+                                }
+                            }
+                        }
+                    }
+                    if crossed {
+                        let index = u32::try_from(atlas.len() / copy.len()).ok().filter(|i| i & SURFACE_FLAG == 0)?;
+                        grid.push(SURFACE_FLAG | index);
+                        atlas.extend(copy);
+                    } else {
+                        grid.push((minimum + 0.0).to_bits()); // + 0.0 turns -0.0 into +0.0
+                    }
+                }
+            }
+        }
+        Some(Self { dims, block, grid, atlas })
+    }
+
+    /// The map's size in voxels.
+    pub fn dims(&self) -> UVec3 {
+        self.dims
+    }
+
+    /// The block side in voxels.
+    pub fn block(&self) -> u32 {
+        self.block
+    }
+
+    /// The lookup grid's entries.
+    pub fn grid(&self) -> &[u32] {
+        &self.grid
+    }
+
+    /// The atlas, `block³` values per surface block.
+    pub fn atlas(&self) -> &[f32] {
+        &self.atlas
+    }
+
+    /// The stored distance of `voxel` (Algorithm A.2), or `None` outside the map.
+    pub fn access(&self, voxel: UVec3) -> Option<f32> {
+        if !voxel.cmplt(self.dims).all() {
+            return None;
+        }
+        let entry = *self.grid.get(grid_index(voxel, self.dims, self.block) as usize)?;
+        if entry & SURFACE_FLAG == 0 {
+            return Some(f32::from_bits(entry));
+        }
+        self.atlas.get(atlas_index(entry, voxel, self.block) as usize).copied()
+    }
+
+    /// Bytes of the uncompressed map (4 per voxel) over bytes of lookup grid plus atlas.
+    pub fn compression_efficiency(&self) -> f64 {
+        let uncompressed = 4.0 * f64::from(self.dims.x) * f64::from(self.dims.y) * f64::from(self.dims.z);
+        uncompressed / (4.0 * (self.grid.len() + self.atlas.len()) as f64)
+    }
+}
+
+/// Index of `voxel`'s block in the lookup grid. WGSL twin: `ddm_grid_index`.
+pub fn grid_index(voxel: UVec3, dims: UVec3, block: u32) -> u32 {
+    let g = grid_dims(dims, block);
+    let b = voxel / block;
+    b.x + g.x * (b.y + g.y * b.z)
+}
+
+/// Index in the atlas of `voxel` inside the surface block of lookup entry `entry`.
+/// WGSL twin: `ddm_atlas_index`.
+pub fn atlas_index(entry: u32, voxel: UVec3, block: u32) -> u32 {
+    let local = voxel % block;
+    (entry & !SURFACE_FLAG) * block * block * block + local.x + block * (local.y + block * local.z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn surface_blocks_are_exact_and_others_conservative() {
+        let dims = UVec3::new(5, 4, 3);
+        let n = 60;
+        let values: Vec<f32> = (0..n).map(|i| (i % 7) as f32 * 0.5).collect();
+        let surface: Vec<bool> = (0..n).map(|i| i == 7 || i == 40).collect();
+        let map = CompressedMap::compress(&values, &surface, dims, 2).unwrap();
+        for z in 0..3 {
+            for y in 0..4 {
+                for x in 0..5 {
+                    let i = (x + 5 * (y + 4 * z)) as usize;
+                    let stored = map.access(UVec3::new(x, y, z)).unwrap();
+                    let crossed_block = surface.iter().enumerate().any(|(j, &s)| {
+                        let (jx, jy, jz) = (j as u32 % 5, (j as u32 / 5) % 4, j as u32 / 20);
+                        s && jx / 2 == x / 2 && jy / 2 == y / 2 && jz / 2 == z / 2
+                    });
+                    if crossed_block {
+                        assert_eq!(stored, values[i]);
+                    } else {
+                        assert!(stored <= values[i]);
+                    }
+                }
+            }
+        }
+        assert_eq!(map.access(dims), None);
+        assert!(map.compression_efficiency() > 1.0);
+    }
+
+    #[test]
+    fn invalid_input_is_rejected() {
+        let dims = UVec3::ONE;
+        assert!(CompressedMap::compress(&[1.0], &[false], dims, 0).is_none());
+        assert!(CompressedMap::compress(&[f32::NAN], &[false], dims, 1).is_none());
+        assert!(CompressedMap::compress(&[-1.0], &[false], dims, 1).is_none());
+        assert!(CompressedMap::compress(&[1.0, 2.0], &[false], dims, 1).is_none());
+    }
+}

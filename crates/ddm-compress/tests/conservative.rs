@@ -1,0 +1,127 @@
+//! Conservativeness of the directional and plain distance maps, compressed or not: no
+//! stored value exceeds a sampled upper estimate of the true one, and sphere tracing with
+//! them never steps past the first true intersection.
+
+use ddm_compress::{
+    CompressedMap, DirectionCones, DistanceMapSettings, DistanceMaps, Triangle, compute_distance_maps, sampled_distance,
+};
+use glam::{UVec3, Vec3};
+
+const DIMS: UVec3 = UVec3::new(6, 6, 4);
+
+/// A bumpy floor (a pyramid on a plane) and a slanted plate: faces in many directions.
+fn mesostructure() -> Vec<Triangle> {
+    let (p, q, r, s) =
+        (Vec3::new(0.0, 0.0, 0.5), Vec3::new(6.0, 0.0, 0.5), Vec3::new(6.0, 6.0, 0.5), Vec3::new(0.0, 6.0, 0.5));
+    let apex = Vec3::new(2.0, 2.0, 2.6);
+    let base = [Vec3::new(1.0, 1.0, 0.5), Vec3::new(3.0, 1.0, 0.5), Vec3::new(3.0, 3.0, 0.5), Vec3::new(1.0, 3.0, 0.5)];
+    let mut triangles = vec![Triangle([p, q, r]), Triangle([p, r, s])];
+    for i in 0..4 {
+        triangles.push(Triangle([base[i], base[(i + 1) % 4], apex]));
+    }
+    triangles.push(Triangle([Vec3::new(3.5, 4.0, 1.5), Vec3::new(5.5, 4.2, 3.2), Vec3::new(4.0, 5.5, 2.0)]));
+    triangles
+}
+
+fn maps(cones: Option<DirectionCones>) -> DistanceMaps {
+    let settings = DistanceMapSettings { tolerance: 0.05, periodic_xy: false };
+    compute_distance_maps(DIMS, &mesostructure(), cones, settings).unwrap()
+}
+
+fn voxel_index(v: UVec3) -> usize {
+    (v.x + DIMS.x * (v.y + DIMS.y * v.z)) as usize
+}
+
+#[test]
+fn stored_values_never_exceed_sampled_distances() {
+    let triangles = mesostructure();
+    let cones = DirectionCones::full(4, 2).unwrap();
+    for (directional, maps) in [(true, maps(Some(cones))), (false, maps(None))] {
+        let (mut checked, mut total_gap) = (0, 0.0);
+        for z in 0..DIMS.z {
+            for y in 0..DIMS.y {
+                for x in 0..DIMS.x {
+                    let v = UVec3::new(x, y, z);
+                    for (c, map) in maps.values.iter().enumerate() {
+                        let cone = if directional { cones.cone(c as u32) } else { None };
+                        let sampled = sampled_distance(v, &triangles, cone.as_ref(), 24);
+                        let stored = map[voxel_index(v)];
+                        assert!(stored <= sampled + 1e-4, "voxel {v} cone {c}: stored {stored} > sampled {sampled}");
+                        if sampled.is_finite() {
+                            checked += 1;
+                            total_gap += sampled - stored;
+                        }
+                    }
+                }
+            }
+        }
+        let mean_gap = total_gap / checked as f32;
+        println!("directional={directional}: {checked} voxel-cones, mean (sampled - stored) = {mean_gap:.3} voxel");
+        assert!(mean_gap < 0.35, "the bound is too loose: {mean_gap}");
+    }
+}
+
+fn first_true_hit(triangles: &[Triangle], origin: Vec3, direction: Vec3) -> Option<f32> {
+    // Möller–Trumbore, nearest positive t.
+    triangles
+        .iter()
+        .filter_map(|t| {
+            let [a, b, c] = t.0;
+            let (e1, e2) = (b - a, c - a);
+            let p = direction.cross(e2);
+            let det = e1.dot(p);
+            if det.abs() < 1e-9 {
+                return None;
+            }
+            let s = origin - a;
+            let u = s.dot(p) / det;
+            let q = s.cross(e1);
+            let v = direction.dot(q) / det;
+            let t = e2.dot(q) / det;
+            (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then_some(t)
+        })
+        .min_by(f32::total_cmp)
+}
+
+#[test]
+fn sphere_tracing_never_steps_past_the_surface() {
+    let triangles = mesostructure();
+    let cones = DirectionCones::full(4, 2).unwrap();
+    let directional = maps(Some(cones));
+    let compressed: Vec<CompressedMap> = directional
+        .values
+        .iter()
+        .map(|values| CompressedMap::compress(values, &directional.surface, DIMS, 2).unwrap())
+        .collect();
+    let plain = maps(None);
+    let mut rays = 0;
+    for k in 0..4000_u32 {
+        let f = |m: u32| ((k.wrapping_mul(m) % 1000) as f32 + 0.5) / 1000.0;
+        let origin = Vec3::new(f(7919) * 6.0, f(104_729) * 6.0, 3.0 + f(1_299_709));
+        let direction = Vec3::new(f(15_485_863) - 0.5, f(32_452_843) - 0.5, -0.2 - f(49_979_687)).normalize();
+        let Some(truth) = first_true_hit(&triangles, origin, direction) else { continue };
+        rays += 1;
+        for method in 0..3 {
+            let mut t = 0.0_f32;
+            for _ in 0..200 {
+                let p = origin + t * direction;
+                if !(p.cmpge(Vec3::ZERO).all() && p.cmplt(DIMS.as_vec3()).all()) {
+                    break;
+                }
+                let voxel = p.as_uvec3();
+                let cone = cones.cone_of(direction).unwrap();
+                let step = match method {
+                    0 => directional.values[cone as usize][voxel_index(voxel)],
+                    1 => compressed[cone as usize].access(voxel).unwrap(),
+                    _ => plain.values[0][voxel_index(voxel)],
+                };
+                if step <= 0.0 {
+                    break; // a surface voxel: the quadric / exact test takes over here
+                }
+                t += step;
+                assert!(t <= truth + 1e-4, "method {method}, ray {k}: stepped to {t} past the hit at {truth}");
+            }
+        }
+    }
+    assert!(rays > 2000, "only {rays} rays hit the mesostructure");
+}

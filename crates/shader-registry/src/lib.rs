@@ -55,16 +55,28 @@ macro_rules! wgsl_file {
     };
 }
 
-static MODULES: &[ShaderModule] = &[ShaderModule {
-    name: "octahedral_map",
-    generated: wgsl_file!("shaders/generated/octahedral_map.wgsl"),
-    library: wgsl_file!("shaders/octahedral_map.wgsl"),
-    kernels: &[wgsl_file!("shaders/kernels/octahedral_map_differential.wgsl")],
-    structs: || {
-        vec![StructDecl::of::<octahedral_map::ViewSample>(), StructDecl::of::<octahedral_map::OctahedralUniforms>()]
+static MODULES: &[ShaderModule] = &[
+    ShaderModule {
+        name: "octahedral_map",
+        generated: wgsl_file!("shaders/generated/octahedral_map.wgsl"),
+        library: wgsl_file!("shaders/octahedral_map.wgsl"),
+        kernels: &[wgsl_file!("shaders/kernels/octahedral_map_differential.wgsl")],
+        structs: || {
+            vec![StructDecl::of::<octahedral_map::ViewSample>(), StructDecl::of::<octahedral_map::OctahedralUniforms>()]
+        },
+        constants: octahedral_map::gpu::WGSL_CONSTANTS,
     },
-    constants: octahedral_map::gpu::WGSL_CONSTANTS,
-}];
+    ShaderModule {
+        name: "smith_micro",
+        generated: wgsl_file!("shaders/generated/smith_micro.wgsl"),
+        library: wgsl_file!("shaders/smith_micro.wgsl"),
+        kernels: &[wgsl_file!("shaders/kernels/smith_micro_differential.wgsl")],
+        structs: || {
+            vec![StructDecl::of::<smith_micro::gpu::SmithCase>(), StructDecl::of::<smith_micro::gpu::SmithResults>()]
+        },
+        constants: smith_micro::gpu::WGSL_CONSTANTS,
+    },
+];
 
 /// All modules.
 pub fn modules() -> &'static [ShaderModule] {

@@ -42,6 +42,10 @@ pub const ERFC_COEFFICIENTS: [f32; 10] = [
     0.170_872_77,
 ];
 
+/// From this `x` on, [`erfc`] is `0` without evaluation (`erfc(10) = 2·10⁻⁴⁵` is not a
+/// normal f32), so that no intermediate overflows (`x²`) on the GPU.
+pub const ERFC_ZERO_FROM: f32 = 10.0;
+
 /// Below this `|x|`, [`erf`] uses its Maclaurin series instead of `1 − erfc(|x|)`, which
 /// would lose the relative accuracy of small results.
 pub const ERF_SERIES_LIMIT: f32 = 0.5;
@@ -79,6 +83,9 @@ pub fn erfcx(x: f32) -> Option<f32> {
     if is_nan_bits(x) {
         return None;
     }
+    if is_infinite_bits(x) {
+        return Some(0.0);
+    }
     let x = flush_subnormal(x).abs();
     let t = 1.0 / (1.0 + 0.5 * x);
     Some(flush_subnormal(t * libm::expf(erfc_polynomial(t))))
@@ -98,7 +105,8 @@ fn erfc_polynomial(t: f32) -> f32 {
 ///
 /// | input | result |
 /// |---|---|
-/// | `x ≥ 0` | `erfcx(x)·exp(−x²)`, subnormal results flushed to `0` (from `x ≈ 9.2`) |
+/// | `0 ≤ x < 10` | `erfcx(x)·exp(−x²)`, subnormal results flushed to `0` (from `x ≈ 9.2`) |
+/// | `x ≥ 10` ([`ERFC_ZERO_FROM`]) | `0` |
 /// | `x < 0` | `2 − erfc(−x)` |
 /// | `±∞` | `0`, `2` |
 /// | NaN | `None` |
@@ -108,7 +116,11 @@ pub fn erfc(x: f32) -> Option<f32> {
     let x = flush_subnormal(x);
     let scaled = erfcx(x)?;
     let magnitude = x.abs();
-    let tail = flush_subnormal(scaled * flush_subnormal(libm::expf(-(magnitude * magnitude))));
+    let tail = if magnitude >= ERFC_ZERO_FROM {
+        0.0
+    } else {
+        flush_subnormal(scaled * flush_subnormal(libm::expf(-(magnitude * magnitude))))
+    };
     Some(if x < 0.0 { 2.0 - tail } else { tail })
 }
 

@@ -106,7 +106,7 @@ fn smith_erfcx(x_in: f32) -> SmithValue {
     }
     let x = abs(smith_flush_subnormal(x_in));
     let t = 1.0 / (1.0 + 0.5 * x);
-    return smith_finite(smith_flush_subnormal(t * exp(smith_erfc_polynomial(t))));
+    return smith_finite(smith_flush_subnormal(min(t * exp(smith_erfc_polynomial(t)), 1.0)));
 }
 
 // Rust: erf::erfc.

@@ -73,7 +73,7 @@ pub(crate) fn is_infinite_bits(x: f32) -> bool {
 ///
 /// | input | result |
 /// |---|---|
-/// | `x ≥ 0` finite | `t·exp(P(t))`, relative error < 5·10⁻⁷ |
+/// | `x ≥ 0` finite | `min(t·exp(P(t)), 1)`, relative error < 5·10⁻⁷ |
 /// | `x = +∞` | `0` (the limit; `erfcx(x) ~ 1/(x√π)`) |
 /// | `x < 0`, `−0.0` | `erfcx(|x|)`: the function is only defined here for `x ≥ 0` |
 /// | NaN | `None` |
@@ -88,14 +88,15 @@ pub fn erfcx(x: f32) -> Option<f32> {
     }
     let x = flush_subnormal(x).abs();
     let t = 1.0 / (1.0 + 0.5 * x);
-    Some(flush_subnormal(t * libm::expf(erfc_polynomial(t))))
+    // The fit gives erfcx(0) = 1 + 1 ulp; erfcx ≤ 1 holds exactly, so keep it.
+    Some(flush_subnormal((t * libm::expf(erfc_polynomial(t))).min(1.0)))
 }
 
 /// `P(t)` in Horner form (the order of evaluation the WGSL twin uses).
 fn erfc_polynomial(t: f32) -> f32 {
-    let c = ERFC_COEFFICIENTS;
-    let mut p = c[9];
-    for coefficient in [c[8], c[7], c[6], c[5], c[4], c[3], c[2], c[1], c[0]] {
+    let [c0, c1, c2, c3, c4, c5, c6, c7, c8, c9] = ERFC_COEFFICIENTS;
+    let mut p = c9;
+    for coefficient in [c8, c7, c6, c5, c4, c3, c2, c1, c0] {
         p = p * t + coefficient;
     }
     p
@@ -212,6 +213,8 @@ mod tests {
         assert_eq!(erf(f32::from_bits(1)), Some(0.0));
         assert_eq!(erfc(10.0), Some(0.0));
         assert_eq!(erfcx(-2.0), erfcx(2.0));
+        assert_eq!(erfcx(0.0), Some(1.0));
+        assert_eq!(erfc(0.0), Some(1.0));
     }
 
     #[test]

@@ -34,7 +34,7 @@
 //! pbrt-v3's rational fit of the Beckmann Λ (`a = 1/(α tan θ) = ν`; `0` if `a ≥ 1.6`,
 //! else `(1 − 1.259a + 0.396a²)/(3.535a + 2.181a²)`) differs from eq. 6 by at most
 //! 3.12·10⁻³ on the visibility `1/(1+Λ)` (at ν ≈ 1.34), and by 1.7 % relative on Λ for
-//! ν ≤ 0.5; the test `pbrt_rational_fit_error_is_what_it_is_published_to_be` measures it.
+//! ν ≤ 0.5; the test `pbrt_rational_fit_differs_by_its_measured_error` measures it.
 //!
 //! # Special inputs
 //!
@@ -330,7 +330,7 @@ mod tests {
     }
 
     #[test]
-    fn pbrt_rational_fit_error_is_what_it_is_published_to_be() {
+    fn pbrt_rational_fit_differs_by_its_measured_error() {
         // The fit's own error, measured here against eq. 6 on ν ∈ [10⁻³, 1.6): the
         // error on the Smith visibility 1/(1+Λ), max |ΔΛ|/(1+Λ), is 3.12·10⁻³ (at
         // ν ≈ 1.34); the relative error on Λ is below 1.7 % for ν ≤ 0.5 but reaches

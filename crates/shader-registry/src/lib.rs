@@ -84,6 +84,16 @@ static MODULES: &[ShaderModule] = &[
         structs: || vec![StructDecl::of::<abuffer_mask::MaskTableUniforms>()],
         constants: abuffer_mask::gpu::WGSL_CONSTANTS,
     },
+    ShaderModule {
+        name: "smith_micro",
+        generated: wgsl_file!("shaders/generated/smith_micro.wgsl"),
+        library: wgsl_file!("shaders/smith_micro.wgsl"),
+        kernels: &[wgsl_file!("shaders/kernels/smith_micro_differential.wgsl")],
+        structs: || {
+            vec![StructDecl::of::<smith_micro::gpu::SmithCase>(), StructDecl::of::<smith_micro::gpu::SmithResults>()]
+        },
+        constants: smith_micro::gpu::WGSL_CONSTANTS,
+    },
 ];
 
 /// All modules.

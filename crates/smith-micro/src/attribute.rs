@@ -17,12 +17,12 @@
 //! |---|---|
 //! | `Λ(v) = Λ(l) = 0` (normal incidence or flat) | `ā` |
 //! | either Λ `= +∞` (grazing) | `ā + a_s`: only the highest points are seen |
-//! | a Λ negative or NaN, non-finite `ā` or `a_s` | `None` |
+//! | a Λ negative or NaN, `|ā|` or `|a_s|` above `2⁶⁴` or NaN | `None` |
 //! | view or light below the horizon ([`visible_mean_attribute_for_directions`]) | `None` |
 
 use glam::Vec3;
 
-use crate::erf::{is_finite_bits, is_nan_bits};
+use crate::erf::{flush_subnormal, is_infinite_bits, is_nan_bits};
 use crate::masking::{SlopeDeviation, smith_lambda_direction};
 
 /// An attribute correlated with height (hypothesis H5bis): `a(h) = ā + a_s (2g(h) − 1)`.
@@ -35,10 +35,16 @@ pub struct HeightCorrelatedAttribute {
     pub height_correlation: f32,
 }
 
+/// Largest accepted `|ā|` and `|a_s|`, `2⁶⁴`, so that `ā + a_s x` never overflows f32
+/// (which the WGSL twin could not represent).
+pub const MAX_ATTRIBUTE_MAGNITUDE: f32 = 18_446_744_073_709_551_616.0;
+
 impl HeightCorrelatedAttribute {
-    /// Whether `ā` and `a_s` are both finite.
-    pub fn is_finite(&self) -> bool {
-        is_finite_bits(self.mean) && is_finite_bits(self.height_correlation)
+    /// Whether `|ā|` and `|a_s|` are both at most [`MAX_ATTRIBUTE_MAGNITUDE`] (false
+    /// for NaN).
+    pub fn is_valid(&self) -> bool {
+        let valid = |x: f32| !is_nan_bits(x) && x.abs() <= MAX_ATTRIBUTE_MAGNITUDE;
+        valid(self.mean) && valid(self.height_correlation)
     }
 }
 
@@ -51,11 +57,21 @@ pub fn visible_mean_attribute(
     lambda_light: f32,
 ) -> Option<f32> {
     let valid = |lambda: f32| !is_nan_bits(lambda) && lambda >= 0.0;
-    if !(valid(lambda_view) && valid(lambda_light) && attribute.is_finite()) {
+    if !(valid(lambda_view) && valid(lambda_light) && attribute.is_valid()) {
         return None;
     }
-    let lambda = lambda_view + lambda_light;
-    let visible_fraction = if lambda == 0.0 { 0.0 } else { 1.0 / (1.0 + 2.0 / lambda) };
+    // Λ = +∞ (or a sum beyond f32) gives 1; Λ = 0 gives 0; a normal Λ ≥ 1.2·10⁻³⁸ keeps
+    // 2/Λ finite.
+    let infinite =
+        is_infinite_bits(lambda_view) || is_infinite_bits(lambda_light) || lambda_view > f32::MAX - lambda_light;
+    let lambda = flush_subnormal(lambda_view + lambda_light);
+    let visible_fraction = if infinite {
+        1.0
+    } else if lambda == 0.0 {
+        0.0
+    } else {
+        1.0 / (1.0 + 2.0 / lambda)
+    };
     Some(attribute.mean + attribute.height_correlation * visible_fraction)
 }
 

@@ -42,6 +42,10 @@ pub const ERFC_COEFFICIENTS: [f32; 10] = [
     0.170_872_77,
 ];
 
+/// From this `x` on, [`erfc`] is `0` without evaluation (`erfc(10) = 2·10⁻⁴⁵` is not a
+/// normal f32), so that no intermediate overflows (`x²`) on the GPU.
+pub const ERFC_ZERO_FROM: f32 = 10.0;
+
 /// Below this `|x|`, [`erf`] uses its Maclaurin series instead of `1 − erfc(|x|)`, which
 /// would lose the relative accuracy of small results.
 pub const ERF_SERIES_LIMIT: f32 = 0.5;
@@ -69,7 +73,7 @@ pub(crate) fn is_infinite_bits(x: f32) -> bool {
 ///
 /// | input | result |
 /// |---|---|
-/// | `x ≥ 0` finite | `t·exp(P(t))`, relative error < 5·10⁻⁷ |
+/// | `x ≥ 0` finite | `min(t·exp(P(t)), 1)`, relative error < 5·10⁻⁷ |
 /// | `x = +∞` | `0` (the limit; `erfcx(x) ~ 1/(x√π)`) |
 /// | `x < 0`, `−0.0` | `erfcx(|x|)`: the function is only defined here for `x ≥ 0` |
 /// | NaN | `None` |
@@ -79,16 +83,20 @@ pub fn erfcx(x: f32) -> Option<f32> {
     if is_nan_bits(x) {
         return None;
     }
+    if is_infinite_bits(x) {
+        return Some(0.0);
+    }
     let x = flush_subnormal(x).abs();
     let t = 1.0 / (1.0 + 0.5 * x);
-    Some(flush_subnormal(t * libm::expf(erfc_polynomial(t))))
+    // The fit gives erfcx(0) = 1 + 1 ulp; erfcx ≤ 1 holds exactly, so keep it.
+    Some(flush_subnormal((t * libm::expf(erfc_polynomial(t))).min(1.0)))
 }
 
 /// `P(t)` in Horner form (the order of evaluation the WGSL twin uses).
 fn erfc_polynomial(t: f32) -> f32 {
-    let c = ERFC_COEFFICIENTS;
-    let mut p = c[9];
-    for coefficient in [c[8], c[7], c[6], c[5], c[4], c[3], c[2], c[1], c[0]] {
+    let [c0, c1, c2, c3, c4, c5, c6, c7, c8, c9] = ERFC_COEFFICIENTS;
+    let mut p = c9;
+    for coefficient in [c8, c7, c6, c5, c4, c3, c2, c1, c0] {
         p = p * t + coefficient;
     }
     p
@@ -98,7 +106,8 @@ fn erfc_polynomial(t: f32) -> f32 {
 ///
 /// | input | result |
 /// |---|---|
-/// | `x ≥ 0` | `erfcx(x)·exp(−x²)`, subnormal results flushed to `0` (from `x ≈ 9.2`) |
+/// | `0 ≤ x < 10` | `erfcx(x)·exp(−x²)`, subnormal results flushed to `0` (from `x ≈ 9.2`) |
+/// | `x ≥ 10` ([`ERFC_ZERO_FROM`]) | `0` |
 /// | `x < 0` | `2 − erfc(−x)` |
 /// | `±∞` | `0`, `2` |
 /// | NaN | `None` |
@@ -108,7 +117,11 @@ pub fn erfc(x: f32) -> Option<f32> {
     let x = flush_subnormal(x);
     let scaled = erfcx(x)?;
     let magnitude = x.abs();
-    let tail = flush_subnormal(scaled * flush_subnormal(libm::expf(-(magnitude * magnitude))));
+    let tail = if magnitude >= ERFC_ZERO_FROM {
+        0.0
+    } else {
+        flush_subnormal(scaled * flush_subnormal(libm::expf(-(magnitude * magnitude))))
+    };
     Some(if x < 0.0 { 2.0 - tail } else { tail })
 }
 
@@ -200,6 +213,8 @@ mod tests {
         assert_eq!(erf(f32::from_bits(1)), Some(0.0));
         assert_eq!(erfc(10.0), Some(0.0));
         assert_eq!(erfcx(-2.0), erfcx(2.0));
+        assert_eq!(erfcx(0.0), Some(1.0));
+        assert_eq!(erfc(0.0), Some(1.0));
     }
 
     #[test]

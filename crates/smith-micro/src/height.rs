@@ -18,25 +18,37 @@
 //! series of `ln(1 − y)` for small `y = ½ erfc(t)`, `h > 0`.
 
 use crate::attribute::HeightCorrelatedAttribute;
-use crate::erf::{erfc, erfcx, flush_subnormal, is_finite_bits, is_nan_bits};
+use crate::erf::{erfc, erfcx, flush_subnormal, is_finite_bits, is_infinite_bits, is_nan_bits};
 
 /// Below this `y`, `ln(1 − y)` uses its series (8 terms, truncation < 10⁻⁹ relative).
 pub const LOG_ONE_MINUS_SERIES_LIMIT: f32 = 0.0625;
+/// Largest accepted height deviation `σ_h`, `2⁶⁴` (so that `√2 σ_h` and the products
+/// below never overflow f32, which the WGSL twin could not represent).
+pub const MAX_HEIGHT_DEVIATION: f32 = 18_446_744_073_709_551_616.0;
+/// `|t| = |h|/(√2 σ_h)` is clamped to `2⁶²`: beyond it `g` is exactly 0 or 1 in f32 and
+/// `t²` still fits in f32.
+pub const STANDARDIZED_HEIGHT_LIMIT: f32 = 4_611_686_018_427_387_904.0;
+/// `exp(−x)` is 0 after flushing for `x` above this (`exp(−104) < 10⁻⁴⁵`).
+const EXP_ZERO_FROM: f32 = 104.0;
 
 /// `t = h / (√2 σ_h)`, or `Err(g)` when the CDF is decided without it (`σ_h = 0` or
 /// `h = ±∞`), or `None` for invalid input.
 fn standardized_height(height: f32, height_deviation: f32) -> Option<Result<f32, f32>> {
-    if is_nan_bits(height) || !is_finite_bits(height_deviation) {
+    if is_nan_bits(height) || is_nan_bits(height_deviation) {
         return None;
     }
     let (height, deviation) = (flush_subnormal(height), flush_subnormal(height_deviation));
-    if deviation < 0.0 {
+    if !(0.0..=MAX_HEIGHT_DEVIATION).contains(&deviation) {
         return None;
     }
     if deviation == 0.0 || !is_finite_bits(height) {
         return Some(Err(if height >= 0.0 { 1.0 } else { 0.0 }));
     }
-    Some(Ok(flush_subnormal(height / (core::f32::consts::SQRT_2 * deviation))))
+    let scale = core::f32::consts::SQRT_2 * deviation;
+    if height.abs() >= STANDARDIZED_HEIGHT_LIMIT * scale {
+        return Some(Ok(if height < 0.0 { -STANDARDIZED_HEIGHT_LIMIT } else { STANDARDIZED_HEIGHT_LIMIT }));
+    }
+    Some(Ok(flush_subnormal(height / scale)))
 }
 
 /// `g(h)`, the CDF of `N(0, σ_h²)` heights (eq. 5), `σ_h = height_deviation`.
@@ -87,18 +99,27 @@ pub fn height_visibility(lambda: f32, height: f32, height_deviation: f32) -> Opt
     if is_nan_bits(lambda) || lambda < 0.0 {
         return None;
     }
+    let lambda = flush_subnormal(lambda);
     let log_cdf = log_height_cdf(height, height_deviation)?;
     if lambda == 0.0 || log_cdf == 0.0 {
         return Some(1.0);
     }
-    Some(flush_subnormal(libm::expf(lambda * log_cdf)))
+    // Λ·|ln g| > 104 gives 0, tested without overflowing the product (or ∞·x).
+    let magnitude = -log_cdf;
+    if is_infinite_bits(lambda) || is_infinite_bits(magnitude) {
+        return Some(0.0);
+    }
+    if magnitude >= 1.0 && lambda > EXP_ZERO_FROM / magnitude {
+        return Some(0.0);
+    }
+    Some(flush_subnormal(libm::expf(-(lambda * magnitude))))
 }
 
 /// The attribute at height `h` under hypothesis H5bis: `a(h) = ā + a_s s(h)` with
-/// `s(h) = 2g(h) − 1`. `None` as [`height_cdf`], or when the attribute is not finite.
+/// `s(h) = 2g(h) − 1`. `None` as [`height_cdf`], or when the attribute is not [valid](HeightCorrelatedAttribute::is_valid).
 pub fn attribute_at_height(attribute: HeightCorrelatedAttribute, height: f32, height_deviation: f32) -> Option<f32> {
     let s = 2.0 * height_cdf(height, height_deviation)? - 1.0;
-    attribute.is_finite().then_some(attribute.mean + attribute.height_correlation * s)
+    attribute.is_valid().then_some(attribute.mean + attribute.height_correlation * s)
 }
 
 #[cfg(test)]
@@ -150,10 +171,14 @@ mod tests {
         assert_eq!(height_cdf(-1e-3, 0.0), Some(0.0));
         assert_eq!(height_cdf(f32::INFINITY, 1.0), Some(1.0));
         assert_eq!(height_cdf(f32::NEG_INFINITY, 1.0), Some(0.0));
-        assert!((height_cdf(0.0, 1.0).unwrap() - 0.5).abs() <= 6e-8);
+        assert_eq!(height_cdf(0.0, 1.0), Some(0.5));
         assert_eq!(height_cdf(f32::NAN, 1.0), None);
         assert_eq!(height_cdf(0.0, -1.0), None);
         assert_eq!(height_cdf(0.0, f32::INFINITY), None);
+        assert_eq!(height_cdf(0.0, 1e20), None);
+        assert_eq!(height_cdf(f32::MAX, 1e-30), Some(1.0));
+        assert_eq!(height_visibility(f32::MAX, -f32::MAX, 1e-30), Some(0.0));
+        assert!(log_height_cdf(-f32::MAX, 1e-30).unwrap().is_finite());
         assert_eq!(height_visibility(0.0, f32::NEG_INFINITY, 1.0), Some(1.0));
         assert_eq!(height_visibility(f32::INFINITY, 0.0, 1.0), Some(0.0));
         assert_eq!(height_visibility(f32::INFINITY, f32::INFINITY, 1.0), Some(1.0));

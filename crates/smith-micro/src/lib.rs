@@ -43,10 +43,15 @@
 //!   attribute `a(h)` of H5bis.
 //! - [`attribute`]: the mean visible attribute `ā(v, l)` (eq. 17).
 //! - [`shading`]: the NDF ⊗ BRDF convolution of §5.5 and the shading of eq. 13.
+//! - [`gpu`]: the structs and constants shared with the WGSL twin
+//!   (`shaders/smith_micro.wgsl`) and the CPU reference of its differential kernel.
 //!
 //! Every function documents its result for every input in a table: normal incidence,
 //! grazing, below the horizon, `σ = 0`, extreme anisotropy, NaN and ±∞. No function
-//! panics, and none returns NaN; geometrically meaningless input gives `None`.
+//! panics, and none returns NaN; geometrically meaningless input gives `None`. Inputs
+//! are bounded (slope deviations ≤ 2³², height deviations, attributes and radiances
+//! ≤ 2⁶⁴) so that no intermediate overflows f32: WGSL cannot represent the overflow, and
+//! the WGSL twin must compute the same result.
 //!
 //! # Features
 //!
@@ -60,6 +65,7 @@ extern crate std;
 
 pub mod attribute;
 pub mod erf;
+pub mod gpu;
 pub mod height;
 pub mod masking;
 pub mod shading;

@@ -34,7 +34,7 @@
 //! pbrt-v3's rational fit of the Beckmann Λ (`a = 1/(α tan θ) = ν`; `0` if `a ≥ 1.6`,
 //! else `(1 − 1.259a + 0.396a²)/(3.535a + 2.181a²)`) differs from eq. 6 by at most
 //! 3.12·10⁻³ on the visibility `1/(1+Λ)` (at ν ≈ 1.34), and by 1.7 % relative on Λ for
-//! ν ≤ 0.5; the test `pbrt_rational_fit_error_is_what_it_is_published_to_be` measures it.
+//! ν ≤ 0.5; the test `pbrt_rational_fit_differs_by_its_measured_error` measures it.
 //!
 //! # Special inputs
 //!
@@ -45,11 +45,9 @@
 //! | below the horizon (`μ < 0`, `v_z < 0`) | `None`: no point of the surface is seen |
 //! | `σ = 0` (flat surface), any `μ ≥ 0` | `0`: a plane masks nothing |
 //! | `σ_x ≠ σ_y`, `σ` along the azimuth of `v` is `0` | `0` (the surface is flat along `v`) |
-//! | `ν` so small that Λ overflows f32 (`ν < 8·10⁻⁴⁰`, i.e. subnormal, flushed) | `+∞` |
-//! | `σ < 0`, NaN inputs, `σ = ±∞`, zero or non-finite direction | `None` |
-//!
-//! Slope deviations above `2^125` can overflow `σ·v` to `+∞`, which gives `Λ = +∞`
-//! where the exact value is finite but above `10³⁶`.
+//! | `ν` subnormal (flushed to 0, as a GPU may) | `+∞` (Λ < 2.4·10³⁷ for every normal ν) |
+//! | `σ < 2⁻³²` ([`MIN_SLOPE_DEVIATION`]) | as `σ = 0` |
+//! | `σ < 0`, `σ > 2³²` ([`MAX_SLOPE_DEVIATION`]), NaN inputs, zero or non-finite direction | `None` |
 
 use glam::Vec3;
 
@@ -62,7 +60,14 @@ pub const CONTINUED_FRACTION_TERMS: u32 = 20;
 /// From this `ν` on, Λ is not a normal f32 and is returned as `0`.
 pub const LAMBDA_ZERO_FROM_NU: f32 = 9.0;
 
-const FRAC_1_SQRT_PI: f32 = 0.564_189_6;
+/// `1/√π`.
+pub const FRAC_1_SQRT_PI: f32 = 0.564_189_6;
+/// Largest accepted slope deviation, `2³²`: with it no product of this crate overflows
+/// f32, which the WGSL twin could not represent. (A slope deviation of 4·10⁹ is a
+/// vertical wall for every purpose.)
+pub const MAX_SLOPE_DEVIATION: f32 = 4_294_967_296.0;
+/// Smaller slope deviations, `< 2⁻³²`, are flat: they are replaced by `0`.
+pub const MIN_SLOPE_DEVIATION: f32 = 1.0 / 4_294_967_296.0;
 
 /// Standard deviations of the slopes of a Gaussian surface along the tangent axes x and
 /// y of its mean-normal frame (`σ_nx`, `σ_ny` of §5.2; equal for an isotropic surface).
@@ -75,11 +80,14 @@ pub struct SlopeDeviation {
 }
 
 impl SlopeDeviation {
-    /// The deviations `(σ_nx, σ_ny)`, or `None` unless both are finite and `≥ 0`.
-    /// Subnormal values are flushed to `0` (as a GPU may).
+    /// The deviations `(σ_nx, σ_ny)`, or `None` unless both are in
+    /// `[0, MAX_SLOPE_DEVIATION]`. Values below [`MIN_SLOPE_DEVIATION`] become `0`.
+    ///
+    /// WGSL twin: `smith_slope_deviation`.
     pub fn new(x: f32, y: f32) -> Option<Self> {
-        let valid = |s: f32| is_finite_bits(s) && s >= 0.0;
-        (valid(x) && valid(y)).then(|| Self { x: flush_subnormal(x).abs(), y: flush_subnormal(y).abs() })
+        let valid = |s: f32| !is_nan_bits(s) && (0.0..=MAX_SLOPE_DEVIATION).contains(&s);
+        let flat_below_minimum = |s: f32| if s < MIN_SLOPE_DEVIATION { 0.0 } else { s };
+        (valid(x) && valid(y)).then(|| Self { x: flat_below_minimum(x), y: flat_below_minimum(y) })
     }
 
     /// An isotropic surface, `σ_nx = σ_ny = sigma` (see [`Self::new`]).
@@ -154,17 +162,20 @@ fn continued_fraction_tail(nu: f32) -> f32 {
 ///
 /// WGSL twin: `smith_lambda_isotropic`.
 pub fn smith_lambda(mu: f32, sigma: f32) -> Option<f32> {
-    if is_nan_bits(mu) || is_nan_bits(sigma) || !is_finite_bits(sigma) {
+    let sigma = SlopeDeviation::isotropic(sigma)?.x;
+    if is_nan_bits(mu) {
         return None;
     }
-    let (mu, sigma) = (flush_subnormal(mu), flush_subnormal(sigma));
-    if mu < 0.0 || sigma < 0.0 {
+    let mu = flush_subnormal(mu);
+    if mu < 0.0 {
         return None;
     }
-    if sigma == 0.0 || is_infinite_bits(mu) {
+    let scale = core::f32::consts::SQRT_2 * sigma;
+    // ν ≥ 9 gives 0; testing it by a product avoids overflowing μ/(√2σ).
+    if sigma == 0.0 || is_infinite_bits(mu) || mu >= LAMBDA_ZERO_FROM_NU * scale {
         return Some(0.0);
     }
-    smith_lambda_from_nu(flush_subnormal(mu / (core::f32::consts::SQRT_2 * sigma)))
+    smith_lambda_from_nu(flush_subnormal(mu / scale))
 }
 
 /// `ν = v_z / √(2 (σ_x² v_x² + σ_y² v_y²))` of a direction `v` in the mean-normal frame
@@ -182,17 +193,18 @@ pub fn nu_of_direction(direction: Vec3, slopes: SlopeDeviation) -> Option<f32> {
     if v.z < 0.0 {
         return None;
     }
-    let along_x = slopes.x * v.x.abs();
-    let along_y = slopes.y * v.y.abs();
+    let along_x = flush_subnormal(slopes.x * v.x.abs());
+    let along_y = flush_subnormal(slopes.y * v.y.abs());
     let larger = along_x.max(along_y);
     if larger == 0.0 {
         return Some(f32::INFINITY);
     }
-    if is_infinite_bits(larger) {
-        return Some(0.0);
-    }
     let ratio = along_x.min(along_y) / larger;
     let denominator = larger * libm::sqrtf(2.0 + 2.0 * ratio * ratio);
+    // v_z < 4: the quotient overflows only where the denominator is below 1.
+    if denominator < 1.0 && v.z > f32::MAX * denominator {
+        return Some(f32::INFINITY);
+    }
     Some(flush_subnormal(v.z / denominator))
 }
 
@@ -318,7 +330,7 @@ mod tests {
     }
 
     #[test]
-    fn pbrt_rational_fit_error_is_what_it_is_published_to_be() {
+    fn pbrt_rational_fit_differs_by_its_measured_error() {
         // The fit's own error, measured here against eq. 6 on ν ∈ [10⁻³, 1.6): the
         // error on the Smith visibility 1/(1+Λ), max |ΔΛ|/(1+Λ), is 3.12·10⁻³ (at
         // ν ≈ 1.34); the relative error on Λ is below 1.7 % for ν ≤ 0.5 but reaches
@@ -375,14 +387,21 @@ mod tests {
         assert_eq!(smith_lambda(0.0, 0.0), Some(0.0));
         assert_eq!(smith_lambda(-1.0, 0.3), None);
         assert_eq!(smith_lambda(1.0, f32::INFINITY), None);
+        assert_eq!(smith_lambda(f32::MAX, 1e-9), Some(0.0));
+        assert_eq!(SlopeDeviation::new(1e-10, 5e9), None);
+        assert_eq!(SlopeDeviation::new(1e-10, 1.0), Some(SlopeDeviation { x: 0.0, y: 1.0 }));
         assert_eq!(smith_lambda_from_nu(f32::INFINITY), Some(0.0));
         assert_eq!(smith_lambda_from_nu(f32::from_bits(1)), Some(f32::INFINITY));
         assert!(smith_lambda_from_nu(2e-38).unwrap().is_finite());
         assert_eq!(mean_visibility(f32::INFINITY), Some(0.0));
         assert_eq!(mean_visibility(-1.0), None);
-        // Huge slopes: σ·v overflows.
-        let huge = SlopeDeviation::isotropic(f32::MAX).unwrap();
-        assert_eq!(smith_lambda_direction(Vec3::new(1.0, 0.0, 1.0), huge), Some(f32::INFINITY));
+        // Extreme but accepted slopes: no overflow, no underflow to a wrong limit.
+        let steep = SlopeDeviation::isotropic(MAX_SLOPE_DEVIATION).unwrap();
+        let lambda = smith_lambda_direction(Vec3::new(1.0, 0.0, 1.0), steep).unwrap();
+        assert!(lambda.is_finite() && lambda > 1e9);
+        let shallow = SlopeDeviation::isotropic(MIN_SLOPE_DEVIATION).unwrap();
+        assert_eq!(nu_of_direction(Vec3::new(1.0, 0.0, 1.0), shallow).map(|nu| nu > 1e9), Some(true));
+        assert_eq!(nu_of_direction(Vec3::new(1e-30, 0.0, 1.0), shallow), Some(f32::INFINITY));
     }
 
     #[test]

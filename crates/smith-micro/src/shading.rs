@@ -20,13 +20,19 @@
 //! | view below the horizon or grazing (`v_z ≤ 0`) | `None`: no projected area is seen |
 //! | zero or non-finite direction | `None` |
 //! | convolved `σ_x` or `σ_y` = 0 | `None`: the lobe is a Dirac |
-//! | `D` overflows f32 (`σ_x σ_y m_z⁴ ≲ 10⁻³⁹`) | `None` (numerically a Dirac) |
-//! | negative or non-finite `Ē`, non-finite attribute | `None` |
+//! | `2π σ_x σ_y m_z⁴` below `2⁻¹²⁶` | `None` (numerically a Dirac) |
+//! | the radiance overflows f32 | `None` |
+//! | `Ē` negative, NaN or above `2⁶⁴`, invalid attribute | `None` |
 
 use glam::Vec3;
 
 use crate::attribute::{HeightCorrelatedAttribute, visible_mean_attribute};
-use crate::erf::{flush_subnormal, is_finite_bits};
+use crate::erf::{flush_subnormal, is_nan_bits};
+
+/// Largest accepted light radiance `Ē`, `2⁶⁴`.
+pub const MAX_LIGHT_RADIANCE: f32 = 18_446_744_073_709_551_616.0;
+/// `exp(−x)` is 0 after flushing for `x` above this (`exp(−104) < 10⁻⁴⁵`).
+const EXP_ZERO_FROM: f32 = 104.0;
 use crate::masking::{SlopeDeviation, canonical_direction, mean_visibility, smith_lambda_direction};
 
 /// The slopes of the surface's NDF convolved with the BRDF's microfacet slopes (§5.5):
@@ -34,7 +40,30 @@ use crate::masking::{SlopeDeviation, canonical_direction, mean_visibility, smith
 ///
 /// WGSL twin: `smith_convolved_slope_deviation`.
 pub fn convolved_slope_deviation(surface: SlopeDeviation, brdf: SlopeDeviation) -> SlopeDeviation {
-    SlopeDeviation { x: libm::hypotf(surface.x, brdf.x), y: libm::hypotf(surface.y, brdf.y) }
+    SlopeDeviation { x: scaled_hypot(surface.x, brdf.x), y: scaled_hypot(surface.y, brdf.y) }
+}
+
+/// `√(a² + b²)` for `a, b ≥ 0`, as `m √(1 + (n/m)²)` with `m = max`, `n = min` (the
+/// WGSL twin has no `hypot`).
+fn scaled_hypot(a: f32, b: f32) -> f32 {
+    let (larger, smaller) = (a.max(b), a.min(b));
+    if larger == 0.0 {
+        return 0.0;
+    }
+    let ratio = smaller / larger;
+    larger * libm::sqrtf(1.0 + ratio * ratio)
+}
+
+/// `a·b`, or `None` when it overflows f32, decided without forming an infinity.
+fn checked_mul(a: f32, b: f32) -> Option<f32> {
+    let overflows = b.abs() > 1.0 && a.abs() > f32::MAX / b.abs();
+    (!overflows).then(|| flush_subnormal(a * b))
+}
+
+/// `a/b` for `b > 0`, or `None` when it overflows f32.
+fn checked_div(a: f32, b: f32) -> Option<f32> {
+    let overflows = b < 1.0 && a.abs() > f32::MAX * b;
+    (!overflows).then(|| flush_subnormal(a / b))
 }
 
 /// The Gaussian-slope NDF `D(m)` of a microfacet normal `m` (need not be normalized) in
@@ -50,20 +79,23 @@ pub fn gaussian_slope_ndf(normal: Vec3, slopes: SlopeDeviation) -> Option<f32> {
     if m.z <= 0.0 {
         return Some(0.0);
     }
-    let m = m / m.length();
-    let (slope_x, slope_y) = (m.x / (m.z * slopes.x), m.y / (m.z * slopes.y));
-    let exponent = 0.5 * (slope_x * slope_x + slope_y * slope_y);
-    let gaussian = flush_subnormal(libm::expf(-exponent));
-    if gaussian == 0.0 {
+    let m = (m / m.length()).map(flush_subnormal);
+    // q / m_z² is the exponent s_x²/2σ_x² + s_y²/2σ_y²; |m_x/σ_x| ≤ 2³² so q is finite,
+    // and comparing q with 104 m_z² avoids dividing by a tiny m_z².
+    let (x, y) = (m.x / slopes.x, m.y / slopes.y);
+    let q = 0.5 * (x * x + y * y);
+    let z_squared = flush_subnormal(m.z * m.z);
+    if q >= EXP_ZERO_FROM * z_squared {
         return Some(0.0);
     }
-    let z_squared = m.z * m.z;
-    let denominator = flush_subnormal(core::f32::consts::TAU * slopes.x * slopes.y * (z_squared * z_squared));
+    let gaussian = flush_subnormal(libm::expf(-(q / z_squared)));
+    let denominator =
+        flush_subnormal(core::f32::consts::TAU * slopes.x * slopes.y * flush_subnormal(z_squared * z_squared));
     if denominator == 0.0 {
         return None;
     }
-    let density = gaussian / denominator;
-    is_finite_bits(density).then_some(flush_subnormal(density))
+    // gaussian ≤ 1 and denominator ≥ 2⁻¹²⁶: the quotient is below 8.5·10³⁷.
+    Some(flush_subnormal(gaussian / denominator))
 }
 
 /// The statistics of a pre-filtered surface element that eq. 13 needs.
@@ -83,11 +115,12 @@ pub struct FilteredSurface {
 ///
 /// WGSL twin: `smith_shade`.
 pub fn shade(view: Vec3, light: Vec3, surface: FilteredSurface, light_radiance: f32) -> Option<f32> {
-    if !is_finite_bits(light_radiance) || light_radiance < 0.0 {
+    if is_nan_bits(light_radiance) || !(0.0..=MAX_LIGHT_RADIANCE).contains(&light_radiance) {
         return None;
     }
     let v = canonical_direction(view)?;
     let l = canonical_direction(light)?;
+    let (v, l) = ((v / v.length()).map(flush_subnormal), (l / l.length()).map(flush_subnormal));
     if v.z <= 0.0 {
         return None;
     }
@@ -97,11 +130,10 @@ pub fn shade(view: Vec3, light: Vec3, surface: FilteredSurface, light_radiance: 
     let lambda_view = smith_lambda_direction(v, surface.slopes)?;
     let lambda_light = smith_lambda_direction(l, surface.slopes)?;
     let attribute = visible_mean_attribute(surface.attribute, lambda_view, lambda_light)?;
-    let (v, l) = (v / v.length(), l / l.length());
     let lobe = gaussian_slope_ndf(v + l, convolved_slope_deviation(surface.slopes, surface.brdf_slopes))?;
-    let visibility = mean_visibility(lambda_view)? * mean_visibility(lambda_light)?;
-    let radiance = light_radiance * attribute * (lobe * visibility / (4.0 * v.z));
-    is_finite_bits(radiance).then_some(flush_subnormal(radiance))
+    let visibility = flush_subnormal(mean_visibility(lambda_view)? * mean_visibility(lambda_light)?);
+    let reflected = checked_div(flush_subnormal(lobe * visibility), 4.0 * v.z)?;
+    checked_mul(light_radiance, checked_mul(attribute, reflected)?)
 }
 
 #[cfg(test)]

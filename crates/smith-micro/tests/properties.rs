@@ -4,8 +4,9 @@
 use glam::Vec3;
 use proptest::prelude::*;
 use smith_micro::{
-    HeightCorrelatedAttribute, SlopeDeviation, height_cdf, height_visibility, mean_visibility, smith_lambda,
-    smith_lambda_direction, smith_lambda_from_nu, visible_mean_attribute,
+    FilteredSurface, HeightCorrelatedAttribute, SlopeDeviation, erf, erfc, erfcx, gaussian_slope_ndf, height_cdf,
+    height_visibility, mean_visibility, shade, smith_lambda, smith_lambda_direction, smith_lambda_from_nu,
+    visible_mean_attribute,
 };
 
 /// Any f32, biased towards the special values.
@@ -79,6 +80,45 @@ proptest! {
             let (low, high) = if correlation >= 0.0 { (mean, mean + correlation) } else { (mean + correlation, mean) };
             prop_assert!(a.is_finite());
             prop_assert!(a >= low - 1e-5 && a <= high + 1e-5, "ā(v,l) = {a} outside [{low}, {high}]");
+        }
+    }
+
+    #[test]
+    fn error_functions_stay_in_their_ranges_and_erf_increases(a in any_value(), b in -12.0_f32..12.0) {
+        if let (Some(e), Some(c), Some(x)) = (erf(a), erfc(a), erfcx(a)) {
+            prop_assert!((-1.0..=1.0).contains(&e) && (0.0..=2.0).contains(&c) && (0.0..=1.0).contains(&x));
+        } else {
+            prop_assert!(a.is_nan());
+        }
+        let (low, high) = if a.is_finite() && a <= b { (a, b) } else { (b, b + 0.01) };
+        prop_assert!(erf(low).unwrap() <= erf(high).unwrap());
+    }
+
+    #[test]
+    fn visible_attribute_moves_towards_the_top_as_masking_grows(l1 in 0.0_f32..1e6, l2 in 0.0_f32..1e6) {
+        let attribute = HeightCorrelatedAttribute { mean: 0.2, height_correlation: 0.5 };
+        let (low, high) = if l1 <= l2 { (l1, l2) } else { (l2, l1) };
+        prop_assert!(visible_mean_attribute(attribute, low, 0.0).unwrap() <= visible_mean_attribute(attribute, high, 0.0).unwrap());
+    }
+
+    #[test]
+    fn shading_is_finite_and_nonnegative(vx in any_value(), vy in any_value(), vz in any_value(),
+                                         lx in any_value(), ly in any_value(), lz in any_value(),
+                                         sx in any_value(), sy in any_value(), p in any_value(),
+                                         mean in 0.0_f32..2.0, fraction in -1.0_f32..=1.0, radiance in any_value()) {
+        let slopes = SlopeDeviation::new(sx, sy);
+        let brdf_slopes = SlopeDeviation::isotropic(p);
+        // ā ≥ |a_s|: the attribute is non-negative at every height.
+        let attribute = HeightCorrelatedAttribute { mean, height_correlation: mean * fraction };
+        if let (Some(slopes), Some(brdf_slopes)) = (slopes, brdf_slopes) {
+            let view = Vec3::new(vx, vy, vz);
+            if let Some(d) = gaussian_slope_ndf(view, slopes) {
+                prop_assert!(d.is_finite() && d >= 0.0, "D = {d}");
+            }
+            let surface = FilteredSurface { slopes, brdf_slopes, attribute };
+            if let Some(radiance) = shade(view, Vec3::new(lx, ly, lz), surface, radiance) {
+                prop_assert!(radiance.is_finite() && radiance >= 0.0, "L = {radiance}");
+            }
         }
     }
 }

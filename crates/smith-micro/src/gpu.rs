@@ -1,0 +1,173 @@
+//! Structs and constants shared with the WGSL twin, `shaders/smith_micro.wgsl`, and the
+//! CPU reference of its differential kernel.
+//!
+//! Their WGSL declarations are generated into `shaders/generated/smith_micro.wgsl` by
+//! `cargo xtask codegen`; a test checks that the WGSL layout equals this one. The
+//! approximation coefficients and thresholds are generated from the Rust constants, so
+//! the CPU and the GPU evaluate the same formulas with the same numbers.
+//!
+//! WGSL has no `Option` and WGSL implementations may assume that no NaN or infinity
+//! reaches float operations, so results cross the boundary as bits: [`encode`] maps
+//! `None` to [`NONE_BITS`] (a NaN, which no function of this crate returns) and every
+//! other value, ±∞ included, to its own bits.
+
+use glam::{UVec4, Vec3, Vec4};
+use gpu_layout::{GpuConst, gpu_const, gpu_struct};
+
+use crate::attribute::{HeightCorrelatedAttribute, MAX_ATTRIBUTE_MAGNITUDE, visible_mean_attribute_for_directions};
+use crate::erf::{ERF_SERIES_LIMIT, ERFC_COEFFICIENTS, ERFC_ZERO_FROM, erf, erfc, erfcx};
+use crate::height::{
+    LOG_ONE_MINUS_SERIES_LIMIT, MAX_HEIGHT_DEVIATION, STANDARDIZED_HEIGHT_LIMIT, attribute_at_height, height_cdf,
+    height_visibility, log_height_cdf,
+};
+use crate::masking::{
+    CONTINUED_FRACTION_FROM_NU, CONTINUED_FRACTION_TERMS, FRAC_1_SQRT_PI, LAMBDA_ZERO_FROM_NU, MAX_SLOPE_DEVIATION,
+    MIN_SLOPE_DEVIATION, SlopeDeviation, mean_visibility, nu_of_direction, smith_lambda, smith_lambda_direction,
+    smith_lambda_from_nu,
+};
+use crate::shading::{FilteredSurface, MAX_LIGHT_RADIANCE, convolved_slope_deviation, gaussian_slope_ndf, shade};
+
+/// The bits that stand for `None` in GPU results: the canonical quiet NaN.
+pub const NONE_BITS: u32 = 0x7fc0_0000;
+
+/// `value`'s bits, or [`NONE_BITS`] for `None`.
+pub fn encode(value: Option<f32>) -> u32 {
+    value.map_or(NONE_BITS, f32::to_bits)
+}
+
+gpu_struct! {
+    /// The inputs of one case of the differential kernel `smith_values`: every function
+    /// of the crate reads the fields it needs (see [`reference_results`]).
+    pub struct SmithCase {
+        /// `xyz`: the view direction in the mean-normal frame; `w`: a `ν` for
+        /// `smith_lambda_from_nu`.
+        pub view: Vec4,
+        /// `xyz`: the light direction; `w`: an `x` for `erf`, `erfc`, `erfcx`.
+        pub light: Vec4,
+        /// `(σ_nx, σ_ny, σ_npx, σ_npy)`: surface and BRDF slope deviations.
+        pub slopes: Vec4,
+        /// `(μ, σ, h, σ_h)`: the isotropic Λ's inputs, a height and the height deviation.
+        pub scalars: Vec4,
+        /// `(ā, a_s, Ē, Λ)`: the attribute, the light radiance, and a Λ for `g^Λ` and
+        /// `1/(1+Λ)`.
+        pub material: Vec4,
+    }
+}
+
+gpu_struct! {
+    /// The encoded results of one [`SmithCase`], in the order of [`reference_results`].
+    pub struct SmithResults {
+        /// Four groups of four results.
+        pub values: [UVec4; 4],
+    }
+}
+
+/// The CPU reference of the kernel `smith_values`: 16 encoded results,
+///
+/// `erf(x), erfc(x), erfcx(x), Λ(ν)`,
+/// `Λ(μ, σ), Λ(view), Λ(light), 1/(1+Λ)`,
+/// `g(h), ln g(h), g(h)^Λ, a(h)`,
+/// `ā(view, light), D(view) with the convolved slopes, eq. 13, ν(view)`.
+pub fn reference_results(case: &SmithCase) -> SmithResults {
+    let (view, light) = (case.view.truncate(), case.light.truncate());
+    let [mu, sigma, height, height_deviation] = case.scalars.to_array();
+    let [mean, correlation, radiance, lambda] = case.material.to_array();
+    let slopes = SlopeDeviation::new(case.slopes.x, case.slopes.y);
+    let brdf_slopes = SlopeDeviation::new(case.slopes.z, case.slopes.w);
+    let attribute = HeightCorrelatedAttribute { mean, height_correlation: correlation };
+    let x = case.light.w;
+    let lambda_of = |d: Vec3| slopes.and_then(|s| smith_lambda_direction(d, s));
+    let convolved = slopes.zip(brdf_slopes).map(|(s, b)| convolved_slope_deviation(s, b));
+    let surface =
+        slopes.zip(brdf_slopes).map(|(slopes, brdf_slopes)| FilteredSurface { slopes, brdf_slopes, attribute });
+    let values = [
+        erf(x),
+        erfc(x),
+        erfcx(x),
+        smith_lambda_from_nu(case.view.w),
+        smith_lambda(mu, sigma),
+        lambda_of(view),
+        lambda_of(light),
+        mean_visibility(lambda),
+        height_cdf(height, height_deviation),
+        log_height_cdf(height, height_deviation),
+        height_visibility(lambda, height, height_deviation),
+        attribute_at_height(attribute, height, height_deviation),
+        slopes.and_then(|s| visible_mean_attribute_for_directions(attribute, view, light, s)),
+        convolved.and_then(|c| gaussian_slope_ndf(view, c)),
+        surface.and_then(|s| shade(view, light, s, radiance)),
+        slopes.and_then(|s| nu_of_direction(view, s)),
+    ]
+    .map(encode);
+    let group = |i: usize| UVec4::from_slice(values.get(i..i + 4).unwrap_or(&[NONE_BITS; 4]));
+    SmithResults { values: [group(0), group(4), group(8), group(12)] }
+}
+
+// Evaluated at compile time: an index out of bounds would not compile.
+const ERFC_C0: f32 = ERFC_COEFFICIENTS[0];
+const ERFC_C1: f32 = ERFC_COEFFICIENTS[1];
+const ERFC_C2: f32 = ERFC_COEFFICIENTS[2];
+const ERFC_C3: f32 = ERFC_COEFFICIENTS[3];
+const ERFC_C4: f32 = ERFC_COEFFICIENTS[4];
+const ERFC_C5: f32 = ERFC_COEFFICIENTS[5];
+const ERFC_C6: f32 = ERFC_COEFFICIENTS[6];
+const ERFC_C7: f32 = ERFC_COEFFICIENTS[7];
+const ERFC_C8: f32 = ERFC_COEFFICIENTS[8];
+const ERFC_C9: f32 = ERFC_COEFFICIENTS[9];
+
+/// Constants of this crate that the WGSL twin uses, for `cargo xtask codegen`.
+pub const WGSL_CONSTANTS: &[GpuConst] = &[
+    gpu_const!(NONE_BITS: u32 as "SMITH_NONE_BITS"),
+    gpu_const!(ERFC_C0: f32 as "SMITH_ERFC_C0"),
+    gpu_const!(ERFC_C1: f32 as "SMITH_ERFC_C1"),
+    gpu_const!(ERFC_C2: f32 as "SMITH_ERFC_C2"),
+    gpu_const!(ERFC_C3: f32 as "SMITH_ERFC_C3"),
+    gpu_const!(ERFC_C4: f32 as "SMITH_ERFC_C4"),
+    gpu_const!(ERFC_C5: f32 as "SMITH_ERFC_C5"),
+    gpu_const!(ERFC_C6: f32 as "SMITH_ERFC_C6"),
+    gpu_const!(ERFC_C7: f32 as "SMITH_ERFC_C7"),
+    gpu_const!(ERFC_C8: f32 as "SMITH_ERFC_C8"),
+    gpu_const!(ERFC_C9: f32 as "SMITH_ERFC_C9"),
+    gpu_const!(ERF_SERIES_LIMIT: f32 as "SMITH_ERF_SERIES_LIMIT"),
+    gpu_const!(ERFC_ZERO_FROM: f32 as "SMITH_ERFC_ZERO_FROM"),
+    gpu_const!(FRAC_1_SQRT_PI: f32 as "SMITH_FRAC_1_SQRT_PI"),
+    gpu_const!(CONTINUED_FRACTION_FROM_NU: f32 as "SMITH_CONTINUED_FRACTION_FROM_NU"),
+    gpu_const!(CONTINUED_FRACTION_TERMS: u32 as "SMITH_CONTINUED_FRACTION_TERMS"),
+    gpu_const!(LAMBDA_ZERO_FROM_NU: f32 as "SMITH_LAMBDA_ZERO_FROM_NU"),
+    gpu_const!(MAX_SLOPE_DEVIATION: f32 as "SMITH_MAX_SLOPE_DEVIATION"),
+    gpu_const!(MIN_SLOPE_DEVIATION: f32 as "SMITH_MIN_SLOPE_DEVIATION"),
+    gpu_const!(LOG_ONE_MINUS_SERIES_LIMIT: f32 as "SMITH_LOG_ONE_MINUS_SERIES_LIMIT"),
+    gpu_const!(MAX_HEIGHT_DEVIATION: f32 as "SMITH_MAX_HEIGHT_DEVIATION"),
+    gpu_const!(STANDARDIZED_HEIGHT_LIMIT: f32 as "SMITH_STANDARDIZED_HEIGHT_LIMIT"),
+    gpu_const!(MAX_ATTRIBUTE_MAGNITUDE: f32 as "SMITH_MAX_ATTRIBUTE_MAGNITUDE"),
+    gpu_const!(MAX_LIGHT_RADIANCE: f32 as "SMITH_MAX_LIGHT_RADIANCE"),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn structs_have_the_expected_sizes() {
+        assert_eq!(size_of::<SmithCase>(), 80);
+        assert_eq!(size_of::<SmithResults>(), 64);
+    }
+
+    #[test]
+    fn encoding_keeps_every_value_and_marks_none() {
+        assert_eq!(encode(None), NONE_BITS);
+        assert_eq!(encode(Some(f32::INFINITY)), f32::INFINITY.to_bits());
+        assert_eq!(encode(Some(-0.0)), (-0.0_f32).to_bits());
+        let case = SmithCase {
+            view: Vec4::new(0.0, 0.0, 1.0, 0.5),
+            light: Vec4::new(0.0, 0.0, 1.0, 0.5),
+            slopes: Vec4::new(0.3, 0.3, 0.1, 0.1),
+            scalars: Vec4::new(1.0, 0.3, 0.0, 1.0),
+            material: Vec4::new(0.5, 0.1, 1.0, 0.0),
+        };
+        let results = reference_results(&case);
+        assert_eq!(results.values[0].x, erf(0.5).map_or(0, f32::to_bits));
+        assert_eq!(results.values[1].y, 0.0_f32.to_bits(), "Λ at normal incidence");
+        assert_eq!(results.values[3].w, f32::INFINITY.to_bits(), "ν at normal incidence");
+    }
+}

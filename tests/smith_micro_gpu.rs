@@ -1,0 +1,273 @@
+//! CPU = GPU differential test of `shaders/smith_micro.wgsl` against the `smith-micro`
+//! crate: 16 functions on every case, special inputs included.
+//!
+//! Whether a result is `None`, ±∞ or finite must agree exactly. Finite results must agree
+//! within a relative tolerance of 1e-5 (about 80 ulp: WGSL allows several ulp for `exp`,
+//! `log` and division and may contract FMAs, and the formulas chain a dozen operations),
+//! widened only by the condition number of the formula where it is larger: Vulkan's
+//! `3 + 2|x|` ulp bound on `exp(x)` for arguments like `−ν²` (Λ at ν = 9 carries ~150 ulp
+//! from `exp` alone), `Λ·|ln g|` for `g^Λ`, and the cancellation of `ā + a_s x` near 0
+//! for the attributes. Each tolerance is computed per case in `tolerances`.
+
+use glam::{Vec3, Vec4};
+use integration_tests::{gpu, random_unit_directions, special_directions};
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+use smith_micro::gpu::{NONE_BITS, SmithCase, SmithResults, reference_results};
+use smith_micro::{SlopeDeviation, nu_of_direction};
+
+const NAMES: [&str; 16] = [
+    "erf",
+    "erfc",
+    "erfcx",
+    "lambda(nu)",
+    "lambda(mu,sigma)",
+    "lambda(view)",
+    "lambda(light)",
+    "1/(1+lambda)",
+    "g(h)",
+    "ln g(h)",
+    "g(h)^lambda",
+    "a(h)",
+    "abar(v,l)",
+    "D(view)",
+    "shade (eq. 13)",
+    "nu(view)",
+];
+
+/// Scalars that stress every function: signed zeros, NaN, ±∞, subnormals, the limits of
+/// the accepted ranges and the thresholds of the approximations.
+const SPECIAL_SCALARS: [f32; 26] = [
+    0.0,
+    -0.0,
+    1.0,
+    -1.0,
+    0.5,
+    -0.5,
+    2.0,
+    9.0,
+    10.0,
+    1e-3,
+    f32::NAN,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    f32::MIN_POSITIVE,
+    1e-40,
+    f32::MAX,
+    -f32::MAX,
+    1e-30,
+    3e30,
+    4_294_967_296.0,
+    2.3283064e-10,
+    5e9,
+    18_446_744_073_709_551_616.0,
+    1e20,
+    1.9999999,
+    0.0625,
+];
+
+fn log_uniform(rng: &mut SmallRng, low: f32, high: f32) -> f32 {
+    (rng.random_range(low.ln()..high.ln())).exp()
+}
+
+fn random_case(rng: &mut SmallRng, view: Vec3, light: Vec3) -> SmithCase {
+    let sigma_h = log_uniform(rng, 1e-3, 10.0);
+    SmithCase {
+        view: view.extend(if rng.random_bool(0.5) {
+            rng.random_range(0.0..10.0)
+        } else {
+            log_uniform(rng, 1e-6, 10.0)
+        }),
+        light: light.extend(rng.random_range(-11.0..11.0)),
+        slopes: Vec4::new(
+            if rng.random_bool(0.05) { 0.0 } else { log_uniform(rng, 1e-3, 4.0) },
+            log_uniform(rng, 1e-3, 4.0),
+            log_uniform(rng, 1e-3, 1.0),
+            if rng.random_bool(0.05) { 0.0 } else { log_uniform(rng, 1e-3, 1.0) },
+        ),
+        scalars: Vec4::new(
+            log_uniform(rng, 1e-4, 1e3),
+            log_uniform(rng, 1e-3, 4.0),
+            rng.random_range(-8.0..8.0) * sigma_h,
+            sigma_h,
+        ),
+        material: Vec4::new(
+            rng.random_range(-2.0..2.0),
+            rng.random_range(-2.0..2.0),
+            log_uniform(rng, 1e-3, 1e3),
+            if rng.random_bool(0.1) { 0.0 } else { log_uniform(rng, 1e-6, 1e6) },
+        ),
+    }
+}
+
+fn test_cases() -> Vec<SmithCase> {
+    let mut rng = SmallRng::seed_from_u64(5);
+    let mut cases = Vec::new();
+    // Every field set to each special scalar in turn, the others random.
+    for &special in &SPECIAL_SCALARS {
+        for field in 0..20 {
+            for _ in 0..8 {
+                let view =
+                    Vec3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-0.2..1.0));
+                let mut case = random_case(&mut rng, view, Vec3::new(0.3, -0.2, 0.9));
+                let mut floats: [f32; 20] = bytemuck::cast(case);
+                floats[field] = special;
+                case = bytemuck::cast(floats);
+                cases.push(case);
+            }
+        }
+        let all: [f32; 20] = [special; 20];
+        cases.push(bytemuck::cast(all));
+    }
+    // Special directions for both view and light: axes, the horizon, NaN, ∞, zero,
+    // subnormal and huge components.
+    let directions = special_directions();
+    for (i, &d) in directions.iter().enumerate() {
+        let other = directions[(i * 7919 + 13) % directions.len()];
+        cases.push(random_case(&mut rng, d, Vec3::new(0.1, 0.2, 1.0)));
+        cases.push(random_case(&mut rng, Vec3::new(-0.4, 0.1, 0.8), d));
+        cases.push(random_case(&mut rng, d, other));
+    }
+    // Normal incidence, grazing and σx ≠ σy extremes.
+    for &(sx, sy) in &[(0.0, 0.5), (0.5, 0.0), (1e-3, 4.0), (4.0, 1e-3), (2.3283064e-10, 4_294_967_296.0)] {
+        for d in [
+            Vec3::Z,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::new(1.0, 1.0, 1e-6),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(0.0, 1.0, 1e-30),
+        ] {
+            let mut case = random_case(&mut rng, d, d);
+            case.slopes.x = sx;
+            case.slopes.y = sy;
+            cases.push(case);
+        }
+    }
+    // Random cases over the upper hemisphere (and a little below).
+    let views = random_unit_directions(110_000, 11);
+    let lights = random_unit_directions(110_000, 12);
+    for (v, l) in views.into_iter().zip(lights) {
+        let flip = |d: Vec3| if d.z < -0.2 { Vec3::new(d.x, d.y, -d.z) } else { d };
+        cases.push(random_case(&mut rng, flip(v), flip(l)));
+    }
+    cases
+}
+
+/// The relative difference of two finite results, with the f32 flush threshold as the
+/// floor of the scale (values near it may be flushed on one side only).
+fn relative_difference(cpu: f32, gpu: f32) -> f64 {
+    f64::from((cpu - gpu).abs()) / f64::from(cpu.abs().max(gpu.abs()).max(f32::MIN_POSITIVE * 16.0))
+}
+
+/// The base relative tolerance of a transcendental result: 1e-5, about 80 ulp. WGSL
+/// (Vulkan) allows `exp` and `log` errors of several ulp, division 2.5 ulp, and lets the
+/// compiler contract `a*b+c` into an FMA; the Horner and continued-fraction evaluations
+/// chain a dozen such operations.
+const BASE: f64 = 1e-5;
+
+/// The relative tolerance of `exp(−a)` and of anything computed through it: Vulkan
+/// bounds the error of `exp(x)` by `3 + 2|x|` ulp; we allow twice that, or [`BASE`].
+fn exp_tolerance(argument: f64) -> f64 {
+    BASE.max(2.0 * (3.0 + 2.0 * argument.abs()) * f64::from(f32::EPSILON) / 2.0)
+}
+
+/// Per-function relative tolerances of one case, from the condition of each formula
+/// (the exp argument, or the cancellation in `ā + a_s x`). `cpu` are the reference's
+/// decoded results.
+fn tolerances(case: &SmithCase, cpu: &[f32; 16]) -> [f64; 16] {
+    let x = f64::from(case.light.w);
+    let slopes = SlopeDeviation::new(case.slopes.x, case.slopes.y);
+    let nu_squared = |nu: Option<f32>| nu.filter(|n| n.is_finite()).map_or(0.0, |n| f64::from(n) * f64::from(n));
+    let nu_light = slopes.and_then(|s| nu_of_direction(case.light.truncate(), s));
+    let [mu, sigma, height, deviation] = case.scalars.to_array().map(f64::from);
+    let [mean, correlation, _, lambda] = case.material.to_array().map(f64::from);
+    let nu_isotropic = mu / (std::f64::consts::SQRT_2 * sigma);
+    let t = height / (std::f64::consts::SQRT_2 * deviation);
+    let t_squared = if t.is_finite() { t * t } else { 0.0 };
+    let lambda_view = exp_tolerance(nu_squared(Some(cpu[15])));
+    let lambda_light = exp_tolerance(nu_squared(nu_light));
+    let log_g = exp_tolerance(t_squared);
+    let exponent = if lambda.is_finite() && cpu[9].is_finite() { lambda * f64::from(cpu[9]).abs() } else { 0.0 };
+    let visibility = (1.0 + exponent) * log_g + exp_tolerance(exponent);
+    // ā + a_s·x: an absolute error of a_s·Δx plus rounding, relative to the result.
+    let relative_to = |absolute: f64, value: f32| absolute / f64::from(value.abs()).max(1e-30);
+    let sum_rounding = 1e-6 * (mean.abs() + correlation.abs());
+    let attribute_at_height = relative_to(2.0 * correlation.abs() * log_g + sum_rounding, cpu[11]);
+    let visible_attribute = relative_to(correlation.abs() * lambda_view.max(lambda_light) + sum_rounding, cpu[12]);
+    let lobe = exp_tolerance(104.0);
+    [
+        exp_tolerance(x * x),
+        exp_tolerance(x * x),
+        BASE,
+        exp_tolerance(nu_squared(Some(case.view.w))),
+        exp_tolerance(if nu_isotropic.is_finite() { nu_isotropic * nu_isotropic } else { 0.0 }),
+        lambda_view,
+        lambda_light,
+        BASE,
+        log_g,
+        log_g,
+        visibility,
+        BASE.max(attribute_at_height),
+        BASE.max(visible_attribute),
+        lobe,
+        lobe + lambda_view + lambda_light + BASE.max(visible_attribute),
+        BASE,
+    ]
+}
+
+#[test]
+fn every_function_matches_the_cpu_reference() {
+    let module = shader_registry::module("smith_micro").expect("module is registered");
+    let source = module.with_kernel("smith_micro_differential").expect("kernel is registered").source().to_owned();
+    let cases = test_cases();
+    assert!(cases.len() >= 100_000);
+    let gpu_results: Vec<SmithResults> = gpu().compute_map(&source, "smith_values", &[0_u8; 16], &cases).unwrap();
+    let mut worst = [(0.0_f64, 0.0_f64, 0_usize); 16];
+    let mut kind_mismatches = Vec::new();
+    let mut out_of_tolerance = Vec::new();
+    for (index, (case, gpu_result)) in cases.iter().zip(&gpu_results).enumerate() {
+        let cpu_bits: [u32; 16] = bytemuck::cast(reference_results(case).values);
+        let gpu_bits: [u32; 16] = bytemuck::cast(gpu_result.values);
+        let tolerance = tolerances(case, &cpu_bits.map(f32::from_bits));
+        for (function, (&c, &g)) in cpu_bits.iter().zip(&gpu_bits).enumerate() {
+            let (cpu, gpu) = (f32::from_bits(c), f32::from_bits(g));
+            let special = |bits: u32, value: f32| bits == NONE_BITS || !value.is_finite();
+            if special(c, cpu) || special(g, gpu) {
+                if c != g {
+                    kind_mismatches.push((NAMES[function], index, cpu, gpu));
+                }
+                continue;
+            }
+            let difference = relative_difference(cpu, gpu);
+            let ratio = difference / tolerance[function];
+            if ratio > 1.0 {
+                out_of_tolerance.push((NAMES[function], index, cpu, gpu, difference, tolerance[function]));
+            }
+            let entry = &mut worst[function];
+            entry.0 = entry.0.max(difference);
+            if ratio > entry.1 {
+                entry.1 = ratio;
+                entry.2 = index;
+            }
+        }
+    }
+    println!("{} cases", cases.len());
+    for (name, (difference, ratio, index)) in NAMES.iter().zip(worst) {
+        println!(
+            "{name:>16}: max relative difference {difference:.3e}, max difference / tolerance {ratio:.3} (case {index})"
+        );
+    }
+    assert!(
+        kind_mismatches.is_empty(),
+        "{} results differ in kind (None / ±∞ / finite), e.g. {:?}",
+        kind_mismatches.len(),
+        &kind_mismatches[..kind_mismatches.len().min(10)]
+    );
+    assert!(
+        out_of_tolerance.is_empty(),
+        "{} results differ beyond their tolerance, e.g. {:?}",
+        out_of_tolerance.len(),
+        &out_of_tolerance[..out_of_tolerance.len().min(10)]
+    );
+}

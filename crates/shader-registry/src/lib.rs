@@ -77,6 +77,14 @@ static MODULES: &[ShaderModule] = &[
         constants: quadric_fit::gpu::WGSL_CONSTANTS,
     },
     ShaderModule {
+        name: "ddm_compress",
+        generated: wgsl_file!("shaders/generated/ddm_compress.wgsl"),
+        library: wgsl_file!("shaders/ddm_compress.wgsl"),
+        kernels: &[wgsl_file!("shaders/kernels/ddm_compress_differential.wgsl")],
+        structs: || vec![StructDecl::of::<ddm_compress::gpu::CompressedMapUniforms>()],
+        constants: ddm_compress::gpu::WGSL_CONSTANTS,
+    },
+    ShaderModule {
         name: "abuffer_mask",
         generated: wgsl_file!("shaders/generated/abuffer_mask.wgsl"),
         library: wgsl_file!("shaders/abuffer_mask.wgsl"),

@@ -1,0 +1,76 @@
+//! CPU = GPU differential test of `shaders/ddm_compress.wgsl` (the compressed distance
+//! map's access function) against `ddm-compress`: every voxel of several maps, bit for bit.
+
+use ddm_compress::gpu::CompressedMapUniforms;
+use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, Triangle, compute_distance_maps};
+use glam::{UVec3, UVec4, Vec3, Vec4};
+use integration_tests::gpu;
+
+fn kernel_source() -> String {
+    let module = shader_registry::module("ddm_compress").expect("module is registered");
+    module.with_kernel("ddm_compress_differential").expect("kernel is registered").source().to_owned()
+}
+
+/// A wavy floor of triangles across an `n × n` tile.
+fn floor(n: u32, height: f32) -> Vec<Triangle> {
+    let h = |x: u32, y: u32| height + 0.8 * ((x as f32 * 0.9).sin() + (y as f32 * 0.7).cos());
+    let mut triangles = Vec::new();
+    for y in 0..n {
+        for x in 0..n {
+            let p = |dx: u32, dy: u32| Vec3::new((x + dx) as f32, (y + dy) as f32, h(x + dx, y + dy));
+            triangles.push(Triangle([p(0, 0), p(1, 0), p(1, 1)]));
+            triangles.push(Triangle([p(0, 0), p(1, 1), p(0, 1)]));
+        }
+    }
+    triangles
+}
+
+fn check(map: &CompressedMap) -> usize {
+    let mut words: Vec<u32> = map.grid().to_vec();
+    let atlas_base = words.len() as u32;
+    words.extend(map.atlas().iter().map(|v| v.to_bits()));
+    words.resize(words.len().next_multiple_of(4), 0);
+    let query_offset = 1 + words.len() / 4;
+    let mut input = vec![UVec4::new(query_offset as u32, 0, 0, 0)];
+    input.extend(words.chunks(4).map(|c| UVec4::new(c[0], c[1], c[2], c[3])));
+    let dims = map.dims();
+    let mut queries = Vec::new();
+    for z in 0..dims.z + 1 {
+        for y in 0..dims.y + 1 {
+            for x in 0..dims.x + 1 {
+                queries.push(UVec3::new(x, y, z));
+            }
+        }
+    }
+    queries.extend([UVec3::new(u32::MAX, 0, 0), UVec3::splat(1 << 31)]);
+    input.extend(queries.iter().map(|q| q.extend(0)));
+    let uniforms = CompressedMapUniforms::new(map, atlas_base);
+    let results: Vec<Vec4> =
+        gpu().compute_map(&kernel_source(), "access", bytemuck::bytes_of(&uniforms), &input).unwrap();
+    for (query, result) in queries.iter().zip(&results[query_offset..]) {
+        match map.access(*query) {
+            Some(distance) => {
+                assert_eq!(result.z, 1.0, "{query}: GPU says outside the map");
+                assert_eq!(result.x.to_bits(), distance.to_bits(), "{query}: CPU {distance}, GPU {}", result.x);
+            }
+            None => assert_eq!(result.z, 0.0, "{query}: GPU says inside the map"),
+        }
+    }
+    queries.len()
+}
+
+#[test]
+fn access_matches_the_cpu_reference() {
+    let dims = UVec3::new(12, 12, 6);
+    let settings = DistanceMapSettings { tolerance: 0.1, periodic_xy: true };
+    let cones = DirectionCones::downward(4, 1).unwrap();
+    let maps = compute_distance_maps(dims, &floor(12, 2.0), Some(cones), settings).unwrap();
+    let mut checked = 0;
+    for block in [1, 2, 3, 4, 5] {
+        for values in &maps.values {
+            let map = CompressedMap::compress(values, &maps.surface, dims, block).unwrap();
+            checked += check(&map);
+        }
+    }
+    println!("{checked} voxel queries (inside and outside, blocks 1-5, 4 cones): GPU access equals CPU bit for bit");
+}

@@ -4,7 +4,7 @@
 
 use abuffer_mask::{HalfPlane, MaskTable, MaskTableUniforms, TableLayout};
 use glam::{UVec4, Vec3, Vec4};
-use integration_tests::gpu;
+use integration_tests::{SPECIAL_F32, gpu};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 
@@ -25,21 +25,8 @@ fn uniforms(table: MaskTableUniforms, query_offset: u32) -> Vec<u8> {
 /// `θ` or `v` values that stress the lookup: specials, and every cell boundary of the
 /// layout with its `f32` neighbours.
 fn special_parameters(layout: TableLayout) -> Vec<f32> {
-    let mut values = vec![
-        0.0_f32,
-        -0.0,
-        f32::NAN,
-        -f32::NAN,
-        f32::INFINITY,
-        f32::NEG_INFINITY,
-        f32::MIN_POSITIVE,
-        -f32::MIN_POSITIVE,
-        f32::from_bits(1),
-        f32::from_bits(0x8000_0001),
-        f32::MAX,
-        f32::MIN,
-        1e30,
-        -3e20,
+    let mut values = SPECIAL_F32.to_vec();
+    values.extend([
         std::f32::consts::PI,
         -std::f32::consts::PI,
         std::f32::consts::TAU,
@@ -47,7 +34,7 @@ fn special_parameters(layout: TableLayout) -> Vec<f32> {
         -std::f32::consts::SQRT_2,
         2.0,
         -2.0,
-    ];
+    ]);
     for scale in [layout.theta_scale(), layout.v_scale()] {
         for k in -300..300 {
             let boundary = k as f32 / scale;

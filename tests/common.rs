@@ -35,30 +35,31 @@ pub fn random_unit_directions(count: usize, seed: u64) -> Vec<Vec3> {
         .collect()
 }
 
+/// Scalars that stress any float input: signed zeros, NaNs, infinities, the smallest normal
+/// and subnormal values of both signs, the extremes, and huge magnitudes.
+pub const SPECIAL_F32: [f32; 14] = [
+    0.0,
+    -0.0,
+    f32::NAN,
+    -f32::NAN,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    f32::MIN_POSITIVE,
+    -f32::MIN_POSITIVE,
+    f32::from_bits(1),
+    f32::from_bits(0x8000_0001),
+    f32::MAX,
+    f32::MIN,
+    1e30,
+    -3e20,
+];
+
 /// Directions that stress a direction → view mapping: zero, signed zeros, NaN, ±∞,
 /// subnormals, huge and tiny magnitudes, axes, poles, the equator (z = ±0), diagonals,
 /// and unnormalized copies of random directions.
 pub fn special_directions() -> Vec<Vec3> {
-    let values = [
-        0.0_f32,
-        -0.0,
-        1.0,
-        -1.0,
-        0.5,
-        -0.25,
-        f32::NAN,
-        -f32::NAN,
-        f32::INFINITY,
-        f32::NEG_INFINITY,
-        f32::MIN_POSITIVE,
-        -f32::MIN_POSITIVE,
-        f32::from_bits(1),
-        f32::from_bits(0x0040_0000),
-        f32::MAX,
-        f32::MIN,
-        1e-30,
-        3e30,
-    ];
+    let mut values = SPECIAL_F32.to_vec();
+    values.extend([1.0, -1.0, 0.5, -0.25, f32::from_bits(0x0040_0000), 1e-30, 3e30]);
     let mut directions = Vec::new();
     for &x in &values {
         for &y in &values {

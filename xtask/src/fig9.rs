@@ -1,7 +1,9 @@
 //! `cargo xtask fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra]`: the ground-truth experiment
 //! of Heitz & Neyret 2012, Fig. 9 — the mean attribute seen at each view angle, ray traced
 //! on Gaussian and non-Gaussian height fields, against eq. 17 and MIP-mapping (CSV + PNG).
-//! `--spectra` adds a sweep over spectra of the Λ correction eq. 17 would need.
+//! `--spectra` adds a sweep over spectra of the Λ correction eq. 17 would need;
+//! `--height-map` adds a surface from a grayscale image (white = 16 cells high, period =
+//! the image side).
 
 use std::path::{Path, PathBuf};
 

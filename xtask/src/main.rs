@@ -9,7 +9,8 @@
 //! - `cargo xtask fig9 [OUT_DIR] [--height-map PNG] [--quick]`: the ray-traced ground truth
 //!   of Heitz & Neyret's Fig. 9 against eq. 17 and MIP-mapping (default `target/fig9`).
 //! - `cargo xtask showcase [OUT_DIR]`: the report of what exists so far (default
-//!   `target/showcase`).
+//!   `target/showcase`): the octahedral layout's angular error, the A-buffer masks'
+//!   coverage error, and Fig. 9 at quick settings.
 //! - `cargo xtask abuffer-chart [OUT_DIR]`: coverage error of the A-buffer mask tables
 //!   against N (default `target/showcase`).
 
@@ -82,7 +83,11 @@ fn run(args: &[String]) -> Result<(), String> {
         Some("fig9") => fig9::run(&rest, workspace_root().join("target/fig9")),
         Some("showcase") => {
             let out = rest.first().map_or_else(|| workspace_root().join("target/showcase"), PathBuf::from);
-            showcase::run(&out)
+            // Everything that can be shown so far: the octahedral layout, the A-buffer
+            // masks' coverage error, and Fig. 9 (quick settings).
+            showcase::run(&out)?;
+            abuffer_chart::run(&out)?;
+            fig9::run(&["--quick"], out)
         }
         Some("abuffer-chart") => {
             let out = rest.first().map_or_else(|| workspace_root().join("target/showcase"), PathBuf::from);

@@ -1,5 +1,5 @@
 //! CPU cost of Smith's Λ (eq. 6) and of the mean visible attribute ā(v, l) (eq. 17), in
-//! ns per evaluation.
+//! ns per evaluation; and eq. 17 with a per-material Λ correction beside eq. 17 itself.
 
 use std::hint::black_box;
 
@@ -43,6 +43,31 @@ fn smith(c: &mut Criterion) {
                 .zip(&lights)
                 .map(|(&v, &l)| {
                     smith_micro::visible_mean_attribute_for_directions(attribute, black_box(v), black_box(l), slopes)
+                        .unwrap_or(0.0)
+                })
+                .sum::<f32>()
+        });
+    });
+    let lambdas: Vec<(f32, f32)> =
+        (0..COUNT).map(|_| (rng.random_range(0.0..12.0), rng.random_range(0.0..3.0))).collect();
+    let correction = smith_micro::LambdaCorrection::from_knots([1.5, 1.4, 1.3, 1.25, 1.2, 1.15, 1.1, 1.0])
+        .unwrap_or(smith_micro::LambdaCorrection::IDENTITY);
+    group.bench_function("visible_mean_attribute", |b| {
+        b.iter(|| {
+            lambdas
+                .iter()
+                .map(|&(v, l)| {
+                    smith_micro::visible_mean_attribute(attribute, black_box(v), black_box(l)).unwrap_or(0.0)
+                })
+                .sum::<f32>()
+        });
+    });
+    group.bench_function("corrected_visible_mean_attribute", |b| {
+        b.iter(|| {
+            lambdas
+                .iter()
+                .map(|&(v, l)| {
+                    smith_micro::corrected_visible_mean_attribute(attribute, black_box(v), black_box(l), &correction)
                         .unwrap_or(0.0)
                 })
                 .sum::<f32>()

@@ -454,6 +454,76 @@ fn smith_visible_mean_attribute_for_directions(correlated_attribute: vec2<f32>, 
     return smith_visible_mean_attribute(correlated_attribute, lambda_view, lambda_light);
 }
 
+// A per-material correction of Λ (Rust: correction::LambdaCorrection), declared in
+// shaders/generated/smith_micro.wgsl: factors at u = i/7, knots 0-3 in `low`, 4-7 in
+// `high`.
+
+// Rust: correction::LambdaCorrection::is_valid.
+fn smith_correction_is_valid(correction: LambdaCorrection) -> bool {
+    var valid = true;
+    for (var i = 0u; i < 4u; i++) {
+        for (var half = 0u; half < 2u; half++) {
+            let k = select(correction.low[i], correction.high[i], half == 1u);
+            valid = valid && !smith_is_nan(k) && smith_is_finite(k)
+                && k >= SMITH_MIN_CORRECTION_FACTOR && k <= SMITH_MAX_CORRECTION_FACTOR;
+        }
+    }
+    return valid;
+}
+
+// Rust: correction::LambdaCorrection::factor, for u in [0, 1].
+fn smith_correction_factor(correction: LambdaCorrection, u: f32) -> f32 {
+    let knots = array<f32, 8>(
+        correction.low.x, correction.low.y, correction.low.z, correction.low.w,
+        correction.high.x, correction.high.y, correction.high.z, correction.high.w,
+    );
+    let t = clamp(u, 0.0, 1.0) * f32(SMITH_CORRECTION_SEGMENTS);
+    let index = min(u32(t), SMITH_CORRECTION_SEGMENTS - 1u);
+    let fraction = t - f32(index);
+    let k0 = knots[index];
+    let k1 = knots[index + 1u];
+    return k0 + fraction * (k1 - k0);
+}
+
+// Rust: correction::corrected_lambda.
+fn smith_corrected_lambda(lambda: SmithValue, correction: LambdaCorrection) -> SmithValue {
+    let valid = lambda.kind == SMITH_POSITIVE_INFINITY || (lambda.kind == SMITH_FINITE && lambda.value >= 0.0);
+    if !valid || !smith_correction_is_valid(correction) {
+        return smith_none();
+    }
+    if lambda.kind == SMITH_POSITIVE_INFINITY || lambda.value > SMITH_MAX_CORRECTED_LAMBDA {
+        return smith_positive_infinity();
+    }
+    let flushed = smith_flush_subnormal(lambda.value);
+    let u = flushed / (1.0 + flushed);
+    return smith_finite(smith_flush_subnormal(smith_correction_factor(correction, u) * flushed));
+}
+
+// Rust: correction::corrected_visible_mean_attribute (eq. 17 with Λ' = c(u) Λ on the sum
+// Λ = Λ(v) + Λ(l)).
+fn smith_corrected_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, correction: LambdaCorrection) -> SmithValue {
+    let valid_view = lambda_view.kind == SMITH_POSITIVE_INFINITY || (lambda_view.kind == SMITH_FINITE && lambda_view.value >= 0.0);
+    let valid_light = lambda_light.kind == SMITH_POSITIVE_INFINITY || (lambda_light.kind == SMITH_FINITE && lambda_light.value >= 0.0);
+    if !(valid_view && valid_light && smith_attribute_is_valid(correlated_attribute) && smith_correction_is_valid(correction)) {
+        return smith_none();
+    }
+    var lambda = smith_positive_infinity();
+    let any_infinite = lambda_view.kind == SMITH_POSITIVE_INFINITY || lambda_light.kind == SMITH_POSITIVE_INFINITY;
+    if !any_infinite && !(lambda_view.value > SMITH_F32_MAX - lambda_light.value) {
+        lambda = smith_finite(smith_flush_subnormal(lambda_view.value + lambda_light.value));
+    }
+    let corrected = smith_corrected_lambda(lambda, correction);
+    var visible_fraction = 1.0;
+    if corrected.kind == SMITH_FINITE {
+        if corrected.value == 0.0 {
+            visible_fraction = 0.0;
+        } else {
+            visible_fraction = 1.0 / (1.0 + 2.0 / corrected.value);
+        }
+    }
+    return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
+}
+
 // Rust: shading::scaled_hypot.
 fn smith_scaled_hypot(a: f32, b: f32) -> f32 {
     let larger = max(a, b);

@@ -8,12 +8,19 @@
 //! `3 + 2|x|` ulp bound on `exp(x)` for arguments like `−ν²` (Λ at ν = 9 carries ~150 ulp
 //! from `exp` alone), `Λ·|ln g|` for `g^Λ`, and the cancellation of `ā + a_s x` near 0
 //! for the attributes. Each tolerance is computed per case in `tolerances`.
+//!
+//! The corrected eq. 17 (`LambdaCorrection`) has its own kernel and test,
+//! `corrected_functions_match_the_cpu_reference`, with its tolerance in
+//! `correction_tolerances`.
 
 use glam::{Vec3, Vec4};
 use integration_tests::{gpu, random_unit_directions, special_directions};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
-use smith_micro::gpu::{NONE_BITS, SmithCase, SmithResults, reference_results};
+use smith_micro::gpu::{
+    CorrectionCase, CorrectionResults, NONE_BITS, SmithCase, SmithResults, reference_correction_results,
+    reference_results,
+};
 use smith_micro::{SlopeDeviation, nu_of_direction};
 
 const NAMES: [&str; 16] = [
@@ -269,5 +276,125 @@ fn every_function_matches_the_cpu_reference() {
         "{} results differ beyond their tolerance, e.g. {:?}",
         out_of_tolerance.len(),
         &out_of_tolerance[..out_of_tolerance.len().min(10)]
+    );
+}
+
+/// Knot values that stress the correction: the accepted range's ends and just outside,
+/// NaN, ±∞, zero, negative and subnormal.
+const SPECIAL_KNOTS: [f32; 12] =
+    [0.25, 4.0, 1.0, 0.2499999, 4.0000005, f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 0.0, -1.0, 1e-40, 2.0];
+
+fn correction_cases() -> Vec<CorrectionCase> {
+    let mut rng = SmallRng::seed_from_u64(17);
+    let random_lambda = |rng: &mut SmallRng| {
+        if rng.random_bool(0.05) { 0.0 } else { log_uniform(rng, 1e-6, 1e6) }
+    };
+    let case = |rng: &mut SmallRng| {
+        let knots: [f32; 8] =
+            if rng.random_bool(0.05) { [1.0; 8] } else { std::array::from_fn(|_| log_uniform(rng, 0.25, 4.0)) };
+        CorrectionCase {
+            knots_low: Vec4::from_slice(&knots[..4]),
+            knots_high: Vec4::from_slice(&knots[4..]),
+            inputs: Vec4::new(
+                rng.random_range(-2.0..2.0),
+                rng.random_range(-2.0..2.0),
+                random_lambda(rng),
+                random_lambda(rng),
+            ),
+        }
+    };
+    let mut cases = Vec::new();
+    // Every field set to each special scalar (and each knot to each special knot) in turn.
+    for &special in SPECIAL_SCALARS.iter().chain(&SPECIAL_KNOTS) {
+        for field in 0..12 {
+            for _ in 0..8 {
+                let mut floats: [f32; 12] = bytemuck::cast(case(&mut rng));
+                floats[field] = special;
+                cases.push(bytemuck::cast(floats));
+            }
+        }
+    }
+    while cases.len() < 110_000 {
+        cases.push(case(&mut rng));
+    }
+    cases
+}
+
+/// Relative tolerances of the 4 corrected results of one case. `c(u)` interpolates the
+/// knots at `t = 7u`, with `u = Λ/(1+Λ)` a division (2.5 ulp in Vulkan) and `7u` and the
+/// interpolation rounded or FMA-contracted: an error of a few ulp in `t` moves `c` by
+/// `|Δk|` times it, and `c` is continuous across knots, so a different segment choice
+/// near a knot costs no more. Relative to `c` this is `30 ε |Δk|/c` (ε = 2⁻²³, generous),
+/// plus 4 ε for the products; `Λ'/(Λ'+2)` inherits at most `Λ'`'s relative error, and the
+/// attribute adds the cancellation of `ā + a_s x` as in `tolerances`.
+fn correction_tolerances(case: &CorrectionCase, cpu: &[f32; 4]) -> [f64; 4] {
+    let correction = smith_micro::LambdaCorrection { low: case.knots_low, high: case.knots_high };
+    let knots = correction.knots().map(f64::from);
+    let epsilon = f64::from(f32::EPSILON);
+    let lambda_tolerance = |lambda: f32| {
+        let lambda = f64::from(lambda);
+        if !(lambda.is_finite() && lambda > 0.0) {
+            return BASE;
+        }
+        let t = (lambda / (1.0 + lambda)) * 7.0;
+        let index = (t as usize).min(6);
+        let (k0, k1) = (knots[index], knots[index + 1]);
+        let factor = k0 + (t - index as f64) * (k1 - k0);
+        BASE.max(4.0 * epsilon + 30.0 * epsilon * (k1 - k0).abs() / factor.abs().max(1e-30))
+    };
+    let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array();
+    let view = lambda_tolerance(lambda_view);
+    let light = lambda_tolerance(lambda_light);
+    let sum = lambda_tolerance(lambda_view + lambda_light);
+    let relative_to = |absolute: f64, value: f32| absolute / f64::from(value.abs()).max(1e-30);
+    let sum_rounding = 1e-6 * (f64::from(mean).abs() + f64::from(correlation).abs());
+    let attribute =
+        |lambda: f64, value: f32| BASE.max(relative_to(f64::from(correlation).abs() * lambda + sum_rounding, value));
+    [view, light, attribute(sum, cpu[2]), attribute(view.max(light), cpu[3])]
+}
+
+#[test]
+fn corrected_functions_match_the_cpu_reference() {
+    const CORRECTION_NAMES: [&str; 4] =
+        ["corrected lambda(view)", "corrected lambda(light)", "abar corrected sum", "abar corrected per direction"];
+    let module = shader_registry::module("smith_micro").expect("module is registered");
+    let source =
+        module.with_kernel("smith_micro_corrected_differential").expect("kernel is registered").source().to_owned();
+    let cases = correction_cases();
+    assert!(cases.len() >= 100_000);
+    let gpu_results: Vec<CorrectionResults> =
+        gpu().compute_map(&source, "smith_corrected_values", &[0_u8; 16], &cases).unwrap();
+    let mut worst = [(0.0_f64, 0.0_f64); 4];
+    let mut failures = Vec::new();
+    for (index, (case, gpu_result)) in cases.iter().zip(&gpu_results).enumerate() {
+        let cpu_bits = reference_correction_results(case).values.to_array();
+        let gpu_bits = gpu_result.values.to_array();
+        let tolerance = correction_tolerances(case, &cpu_bits.map(f32::from_bits));
+        for (function, (&c, &g)) in cpu_bits.iter().zip(&gpu_bits).enumerate() {
+            let (cpu, gpu) = (f32::from_bits(c), f32::from_bits(g));
+            let special = |bits: u32, value: f32| bits == NONE_BITS || !value.is_finite();
+            if special(c, cpu) || special(g, gpu) {
+                if c != g {
+                    failures.push((CORRECTION_NAMES[function], index, cpu, gpu, f64::INFINITY));
+                }
+                continue;
+            }
+            let difference = relative_difference(cpu, gpu);
+            let ratio = difference / tolerance[function];
+            if ratio > 1.0 {
+                failures.push((CORRECTION_NAMES[function], index, cpu, gpu, difference));
+            }
+            worst[function] = (worst[function].0.max(difference), worst[function].1.max(ratio));
+        }
+    }
+    println!("{} correction cases", cases.len());
+    for (name, (difference, ratio)) in CORRECTION_NAMES.iter().zip(worst) {
+        println!("{name:>28}: max relative difference {difference:.3e}, max difference / tolerance {ratio:.3}");
+    }
+    assert!(
+        failures.is_empty(),
+        "{} results differ in kind or beyond their tolerance, e.g. {:?}",
+        failures.len(),
+        &failures[..failures.len().min(10)]
     );
 }

@@ -49,6 +49,14 @@ const SMITH_MAX_ATTRIBUTE_MAGNITUDE: f32 = 0x1.000000p+64f; // 1.8446744e19
 
 const SMITH_MAX_LIGHT_RADIANCE: f32 = 0x1.000000p+64f; // 1.8446744e19
 
+const SMITH_CORRECTION_SEGMENTS: u32 = 7u;
+
+const SMITH_MIN_CORRECTION_FACTOR: f32 = 0x1.000000p-2f; // 2.5e-1
+
+const SMITH_MAX_CORRECTION_FACTOR: f32 = 0x1.000000p+2f; // 4e0
+
+const SMITH_MAX_CORRECTED_LAMBDA: f32 = 0x1.000000p+64f; // 1.8446744e19
+
 // Rust size 80 bytes.
 struct SmithCase {
     view: vec4<f32>, // offset 0
@@ -61,4 +69,22 @@ struct SmithCase {
 // Rust size 64 bytes.
 struct SmithResults {
     values: array<vec4<u32>, 4>, // offset 0
+}
+
+// Rust size 32 bytes.
+struct LambdaCorrection {
+    low: vec4<f32>, // offset 0
+    high: vec4<f32>, // offset 16
+}
+
+// Rust size 48 bytes.
+struct CorrectionCase {
+    knots_low: vec4<f32>, // offset 0
+    knots_high: vec4<f32>, // offset 16
+    inputs: vec4<f32>, // offset 32
+}
+
+// Rust size 16 bytes.
+struct CorrectionResults {
+    values: vec4<u32>, // offset 0
 }

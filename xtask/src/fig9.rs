@@ -4,13 +4,20 @@
 //! `--spectra` adds a sweep over spectra of the Λ correction eq. 17 would need;
 //! `--height-map` adds a surface from a grayscale image (white = 16 cells high, period =
 //! the image side).
+//!
+//! The corrected model (`smith_micro::LambdaCorrection`) of each generated surface is
+//! fitted on an independent realization of its generator (another seed) with
+//! `fit_lambda_correction`, then evaluated on the surface itself: the sweeps shown are
+//! never used for fitting. A `--height-map` has no second realization and is not
+//! corrected (its corrected columns equal eq. 17).
 
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
-use microsurface_truth::comparison::{AngleComparison, Sweep, compare, max_errors};
+use microsurface_truth::comparison::{AngleComparison, Sweep, compare, compare_corrected, max_error, max_errors};
 use microsurface_truth::{
-    HeightField, Spectrum, SurfaceStatistics, generate_cellular, generate_gaussian, generate_ridged,
+    HeightField, LambdaCorrection, Spectrum, SurfaceStatistics, fit_lambda_correction, generate_cellular,
+    generate_gaussian, generate_ridged,
 };
 use plotters::prelude::*;
 
@@ -45,59 +52,92 @@ struct Surface {
     name: String,
     gaussian: bool,
     field: HeightField,
+    /// An independent realization of the same generator, to fit the correction on.
+    fitting_field: Option<HeightField>,
 }
 
+/// Seed offset of the realization the correction is fitted on.
+const FITTING_SEED_OFFSET: u64 = 1000;
+
 fn surfaces(size: usize, height_map: Option<&Path>) -> Result<Vec<Surface>, String> {
+    let mut list = Vec::new();
+    for offset in [0, FITTING_SEED_OFFSET] {
+        let realizations = realizations(size, offset)?;
+        if offset == 0 {
+            list = realizations;
+        } else {
+            for (surface, fitting) in list.iter_mut().zip(realizations) {
+                surface.fitting_field = Some(fitting.field);
+            }
+        }
+    }
+    if let Some(path) = height_map {
+        let field = HeightField::from_image(path, 16.0).map_err(|e| e.to_string())?;
+        let name = path.file_stem().map_or("height_map".into(), |s| s.to_string_lossy().into_owned());
+        list.push(Surface { name, gaussian: false, field, fitting_field: None });
+    }
+    Ok(list)
+}
+
+/// The generated surfaces, with generator seeds shifted by `seed_offset`.
+fn realizations(size: usize, seed_offset: u64) -> Result<Vec<Surface>, String> {
     let e = |e: microsurface_truth::HeightFieldError| e.to_string();
-    let mut list = vec![
+    let list = vec![
         Surface {
             name: "gaussian_correlation".into(),
             gaussian: true,
-            field: generate_gaussian(size, Spectrum::Gaussian { wavelength: 16.0 }, SLOPE_SIGMA, 1).map_err(e)?,
+            fitting_field: None,
+            field: generate_gaussian(size, Spectrum::Gaussian { wavelength: 16.0 }, SLOPE_SIGMA, 1 + seed_offset)
+                .map_err(e)?,
         },
         Surface {
             name: "fbm_power_law".into(),
             gaussian: true,
+            fitting_field: None,
             field: generate_gaussian(
                 size,
                 Spectrum::PowerLaw { min_wavelength: 8.0, max_wavelength: size as f64 / 4.0, exponent: 3.0 },
                 SLOPE_SIGMA,
-                2,
+                2 + seed_offset,
             )
             .map_err(e)?,
         },
         Surface {
             name: "band_pass".into(),
             gaussian: true,
-            field: generate_gaussian(size, Spectrum::BandPass { wavelength: 24.0, width: 0.1 }, SLOPE_SIGMA, 3)
-                .map_err(e)?,
+            fitting_field: None,
+            field: generate_gaussian(
+                size,
+                Spectrum::BandPass { wavelength: 24.0, width: 0.1 },
+                SLOPE_SIGMA,
+                3 + seed_offset,
+            )
+            .map_err(e)?,
         },
         Surface {
             name: "cellular".into(),
             gaussian: false,
-            field: generate_cellular(size, size / 8, SLOPE_SIGMA, 4).map_err(e)?,
+            fitting_field: None,
+            field: generate_cellular(size, size / 8, SLOPE_SIGMA, 4 + seed_offset).map_err(e)?,
         },
         Surface {
             name: "ridged".into(),
             gaussian: false,
-            field: generate_ridged(size, 16.0, SLOPE_SIGMA, 5).map_err(e)?,
+            fitting_field: None,
+            field: generate_ridged(size, 16.0, SLOPE_SIGMA, 5 + seed_offset).map_err(e)?,
         },
     ];
-    if let Some(path) = height_map {
-        let field = HeightField::from_image(path, 16.0).map_err(e)?;
-        let name = path.file_stem().map_or("height_map".into(), |s| s.to_string_lossy().into_owned());
-        list.push(Surface { name, gaussian: false, field });
-    }
     Ok(list)
 }
 
 fn write_csv(path: &Path, rows: &[(String, &'static str, AngleComparison)]) -> Result<(), String> {
     let mut csv = String::from(
-        "surface,sweep,view_angle_deg,lambda,truth_s,truth_standard_error,eq17_s,mip_s,eq17_error,mip_error\n",
+        "surface,sweep,view_angle_deg,lambda,truth_s,truth_standard_error,eq17_s,mip_s,eq17_error,mip_error,\
+         corrected_s,corrected_error,corrected_per_direction_s,corrected_per_direction_error\n",
     );
     for (surface, sweep, r) in rows {
         csv += &format!(
-            "{surface},{sweep},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}\n",
+            "{surface},{sweep},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}\n",
             r.view_angle_deg,
             r.lambda,
             r.truth,
@@ -105,7 +145,11 @@ fn write_csv(path: &Path, rows: &[(String, &'static str, AngleComparison)]) -> R
             r.eq17,
             r.mip,
             r.eq17_error(),
-            r.mip_error()
+            r.mip_error(),
+            r.corrected,
+            r.corrected_error(),
+            r.corrected_per_direction,
+            r.corrected_per_direction_error()
         );
     }
     std::fs::write(path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))
@@ -132,6 +176,7 @@ fn draw(path: &Path, title: &str, rows: &[AngleComparison]) -> Result<(), String
             let truth: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.truth))).collect();
             let eq17: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.eq17))).collect();
             let mip: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.mip))).collect();
+            let corrected: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.corrected))).collect();
             chart
                 .draw_series(LineSeries::new(truth, color.stroke_width(3)))
                 .map_err(drawing_error)?
@@ -147,6 +192,11 @@ fn draw(path: &Path, title: &str, rows: &[AngleComparison]) -> Result<(), String
                 .map_err(drawing_error)?
                 .label(format!("{name}: MIP-mapping"))
                 .legend(move |(x, y)| PathElement::new([(x, y), (x + 3, y)], color.stroke_width(2)));
+            chart
+                .draw_series(corrected.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                .map_err(drawing_error)?
+                .label(format!("{name}: eq. 17 with the fitted Λ correction"))
+                .legend(move |(x, y)| Circle::new((x + 4, y), 3, color.filled()));
         }
         chart
             .configure_series_labels()
@@ -217,24 +267,47 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
     println!("Fig. 9 ground truth: {size}² periodic fields, {rays} rays per view angle, RMS slope {SLOPE_SIGMA}");
     println!("errors are fractions of the attribute range; max over view angles in each range\n");
     println!(
-        "{:<22} {:>6} {:>7} {:>7} | {:>9} {:>9} {:>9} | {:>9} {:>11}",
-        "surface", "σ_h", "skew", "kurt", "eq17 0-70", "70-85", "85-89", "MIP 0-85", "light 0-85"
+        "{:<22} {:>6} {:>7} {:>7} | {:>9} {:>9} {:>9} | {:>9} {:>11} | {:>9} {:>9} {:>9} {:>11}",
+        "surface",
+        "σ_h",
+        "skew",
+        "kurt",
+        "eq17 0-70",
+        "70-85",
+        "85-89",
+        "MIP 0-85",
+        "light 0-85",
+        "corr 0-70",
+        "70-85",
+        "85-89",
+        "light 0-85"
     );
     let mut csv_rows = Vec::new();
+    let mut knots = Vec::new();
     for surface in surfaces(size, height_map.as_deref())? {
         let stats = SurfaceStatistics::measure(&surface.field);
+        let degenerate = || format!("{}: degenerate surface", surface.name);
+        // Fitted on the other realization only: the sweeps below never enter the fit.
+        let correction = match &surface.fitting_field {
+            Some(fitting) => fit_lambda_correction(fitting, rays, 31).ok_or_else(degenerate)?,
+            None => LambdaCorrection::IDENTITY,
+        };
+        knots.push((surface.name.clone(), surface.fitting_field.is_some(), correction.knots()));
         let view_sweep = Sweep { angles_deg: &ALL_ANGLES, view_azimuth: 0.0, light: None, rays, seed: 17 };
         let light_sweep =
             Sweep { angles_deg: &LIGHT_ANGLES, view_azimuth: 0.0, light: Some(light()), rays: rays / 2, seed: 23 };
-        let view = compare(&surface.field, &view_sweep).ok_or(format!("{}: degenerate surface", surface.name))?;
-        let lit = compare(&surface.field, &light_sweep).ok_or(format!("{}: degenerate surface", surface.name))?;
+        let view = compare_corrected(&surface.field, &view_sweep, &correction).ok_or_else(degenerate)?;
+        let lit = compare_corrected(&surface.field, &light_sweep, &correction).ok_or_else(degenerate)?;
         let (low, _) = max_errors(&view, 0.0, 70.0);
         let (mid, _) = max_errors(&view, 70.0, 85.0);
         let (high, _) = max_errors(&view, 85.0, 89.0);
         let (_, mip) = max_errors(&view, 0.0, 85.0);
         let (light_error, _) = max_errors(&lit, 0.0, 85.0);
+        let corrected = |rows: &[AngleComparison], low: f64, high: f64| {
+            percent(max_error(rows, low, high, AngleComparison::corrected_error))
+        };
         println!(
-            "{:<22} {:>6.2} {:>7.3} {:>7.3} | {:>9} {:>9} {:>9} | {:>9} {:>11}{}",
+            "{:<22} {:>6.2} {:>7.3} {:>7.3} | {:>9} {:>9} {:>9} | {:>9} {:>11} | {:>9} {:>9} {:>9} {:>11}{}",
             surface.name,
             stats.height_sigma,
             stats.height_skewness,
@@ -244,6 +317,10 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
             percent(high),
             percent(mip),
             percent(light_error),
+            corrected(&view, 0.0, 70.0),
+            corrected(&view, 70.0, 85.0),
+            corrected(&view, 85.0, 89.0),
+            corrected(&lit, 0.0, 85.0),
             if surface.gaussian { "" } else { "  (non-Gaussian)" }
         );
         draw(
@@ -260,6 +337,11 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
         csv_rows.extend(lit.into_iter().map(|r| (surface.name.clone(), "view_and_light", r)));
     }
     write_csv(&out.join("fig9.csv"), &csv_rows)?;
+    println!("\nfitted Λ correction c(u), u = Λ/(1+Λ) = 0, 1/7, …, 1 (fitted on another realization):");
+    for (name, fitted, knots) in knots {
+        let knots: Vec<String> = knots.iter().map(|k| format!("{k:.3}")).collect();
+        println!("  {name:<22} {}{}", knots.join(" "), if fitted { "" } else { "  (not fitted: identity)" });
+    }
     if spectra {
         spectral_sweep(size / 2, rays / 3)?;
     }

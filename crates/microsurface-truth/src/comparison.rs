@@ -9,9 +9,12 @@
 //! The stored parameters are computed as the paper's pre-computation does (§5.2):
 //! `ā = mean(a)`, `a_s = ∫ s·a / ∫ s²` (here exactly 1), so eq. 17 predicts
 //! `E[s] = ā + a_s Λ/(Λ + 2)` with `Λ = Λ(v) + Λ(l)`, and MIP-mapping predicts `ā`.
+//! [`compare_corrected`] adds eq. 17 with a per-material [`LambdaCorrection`] (applied to
+//! the sum, and per direction), e.g. one fitted by
+//! [`crate::fit_lambda_correction`] on another realization of the surface.
 
 use glam::{DVec3, Vec3};
-use smith_micro::{HeightCorrelatedAttribute, SlopeDeviation};
+use smith_micro::{HeightCorrelatedAttribute, LambdaCorrection, SlopeDeviation};
 
 use crate::experiment::VisibleAverage;
 use crate::heightfield::HeightField;
@@ -30,6 +33,11 @@ pub struct AngleComparison {
     pub eq17: f64,
     /// Plain MIP-mapping: the constant mean attribute.
     pub mip: f64,
+    /// Eq. 17 with the corrected sum `Λ' = c(u) (Λ(v) + Λ(l))`
+    /// (`smith_micro::corrected_visible_mean_attribute`); eq. 17 for the identity.
+    pub corrected: f64,
+    /// Eq. 17 with each direction's Λ corrected, `Λ' = c(u_v) Λ(v) + c(u_l) Λ(l)`.
+    pub corrected_per_direction: f64,
     /// `Λ(v) + Λ(l)` from the measured slope deviations.
     pub lambda: f64,
 }
@@ -43,6 +51,16 @@ impl AngleComparison {
     /// MIP-mapping's error as a fraction of the attribute range.
     pub fn mip_error(&self) -> f64 {
         (self.mip - self.truth).abs() / 2.0
+    }
+
+    /// The corrected model's error (correction on the sum) as a fraction of the range.
+    pub fn corrected_error(&self) -> f64 {
+        (self.corrected - self.truth).abs() / 2.0
+    }
+
+    /// The error of the correction applied per direction, as a fraction of the range.
+    pub fn corrected_per_direction_error(&self) -> f64 {
+        (self.corrected_per_direction - self.truth).abs() / 2.0
     }
 }
 
@@ -72,9 +90,21 @@ pub fn slope_deviation(stats: &SurfaceStatistics) -> Option<SlopeDeviation> {
     SlopeDeviation::new(stats.slope_sigma.x as f32, stats.slope_sigma.y as f32)
 }
 
-/// Runs `sweep` on `field`: ground truth, eq. 17 and MIP-mapping at every angle.
-/// Returns `None` when the statistics are degenerate (a flat field).
+/// Runs `sweep` on `field`: ground truth, eq. 17 and MIP-mapping at every angle (the
+/// corrected columns equal eq. 17). Returns `None` when the statistics are degenerate (a
+/// flat field).
 pub fn compare(field: &HeightField, sweep: &Sweep) -> Option<Vec<AngleComparison>> {
+    compare_corrected(field, sweep, &LambdaCorrection::IDENTITY)
+}
+
+/// [`compare`] with eq. 17 also evaluated with `correction` (on the sum of the Λs and per
+/// direction). Returns `None` when the statistics are degenerate or `correction` is
+/// invalid.
+pub fn compare_corrected(
+    field: &HeightField,
+    sweep: &Sweep,
+    correction: &LambdaCorrection,
+) -> Option<Vec<AngleComparison>> {
     let stats = SurfaceStatistics::measure(field);
     let slopes = slope_deviation(&stats)?;
     let samples: Vec<f64> = field.heights().iter().map(|&h| attribute_s(&stats, h)).collect();
@@ -93,6 +123,12 @@ pub fn compare(field: &HeightField, sweep: &Sweep) -> Option<Vec<AngleComparison
         let lambda_view =
             smith_micro::smith_lambda_direction(Vec3::new(view.x as f32, view.y as f32, view.z as f32), slopes)?;
         let eq17 = smith_micro::visible_mean_attribute(stored, lambda_view, lambda_light)?;
+        let corrected = smith_micro::corrected_visible_mean_attribute(stored, lambda_view, lambda_light, correction)?;
+        let corrected_per_direction = smith_micro::visible_mean_attribute(
+            stored,
+            smith_micro::corrected_lambda(lambda_view, correction)?,
+            smith_micro::corrected_lambda(lambda_light, correction)?,
+        )?;
         let estimate = truth.mean_attribute(view, sweep.light, |h| attribute_s(&stats, h))?;
         rows.push(AngleComparison {
             view_angle_deg: angle,
@@ -100,6 +136,8 @@ pub fn compare(field: &HeightField, sweep: &Sweep) -> Option<Vec<AngleComparison
             truth_standard_error: estimate.standard_error,
             eq17: f64::from(eq17),
             mip: mean,
+            corrected: f64::from(corrected),
+            corrected_per_direction: f64::from(corrected_per_direction),
             lambda: f64::from(lambda_view + lambda_light),
         });
     }
@@ -112,4 +150,10 @@ pub fn max_errors(rows: &[AngleComparison], low: f64, high: f64) -> (f64, f64) {
     rows.iter()
         .filter(|r| (low..=high).contains(&r.view_angle_deg))
         .fold((0.0, 0.0), |(e, m), r| (e.max(r.eq17_error()), m.max(r.mip_error())))
+}
+
+/// The largest `error(row)` over rows with `view_angle_deg` in `[low, high]` (0 for none),
+/// e.g. `max_error(&rows, 70.0, 85.0, AngleComparison::corrected_error)`.
+pub fn max_error(rows: &[AngleComparison], low: f64, high: f64, error: impl Fn(&AngleComparison) -> f64) -> f64 {
+    rows.iter().filter(|r| (low..=high).contains(&r.view_angle_deg)).map(error).fold(0.0, f64::max)
 }

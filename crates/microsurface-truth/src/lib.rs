@@ -9,7 +9,9 @@
 //! gives the pixel's mean attribute that eq. 17 models.
 //!
 //! This is a std crate beside the algorithm crates; [`comparison`] measures `smith-micro`'s
-//! eq. 17 (and plain MIP-mapping) against the ground truth, as Fig. 9 of the paper does.
+//! eq. 17 (and plain MIP-mapping) against the ground truth, as Fig. 9 of the paper does;
+//! [`fit_lambda_correction`] fits `smith-micro`'s per-material [`smith_micro::LambdaCorrection`]
+//! to the ground truth of a view-only sweep.
 //!
 //! ```
 //! use microsurface_truth::{Spectrum, SurfaceStatistics, VisibleAverage, generate_gaussian};
@@ -25,14 +27,18 @@
 //! ```
 
 pub mod comparison;
+mod correction_fit;
 mod experiment;
 mod generate;
 mod heightfield;
 mod raycast;
 mod statistics;
 
+pub use correction_fit::{FIT_ANGLES_DEG, FIT_AZIMUTHS_DEG, FitSample, fit_lambda_correction, fit_to_samples};
 pub use experiment::{AttributeEstimate, VisibleAverage};
 pub use generate::{Spectrum, generate_cellular, generate_gaussian, generate_ridged};
 pub use heightfield::{HeightField, HeightFieldError};
 pub use raycast::{first_hit, is_lit};
+/// The corrected visibility model's per-material factor on Λ, as fitted here.
+pub use smith_micro::LambdaCorrection;
 pub use statistics::SurfaceStatistics;

@@ -96,9 +96,18 @@ static MODULES: &[ShaderModule] = &[
         name: "smith_micro",
         generated: wgsl_file!("shaders/generated/smith_micro.wgsl"),
         library: wgsl_file!("shaders/smith_micro.wgsl"),
-        kernels: &[wgsl_file!("shaders/kernels/smith_micro_differential.wgsl")],
+        kernels: &[
+            wgsl_file!("shaders/kernels/smith_micro_differential.wgsl"),
+            wgsl_file!("shaders/kernels/smith_micro_corrected_differential.wgsl"),
+        ],
         structs: || {
-            vec![StructDecl::of::<smith_micro::gpu::SmithCase>(), StructDecl::of::<smith_micro::gpu::SmithResults>()]
+            vec![
+                StructDecl::of::<smith_micro::gpu::SmithCase>(),
+                StructDecl::of::<smith_micro::gpu::SmithResults>(),
+                StructDecl::of::<smith_micro::LambdaCorrection>(),
+                StructDecl::of::<smith_micro::gpu::CorrectionCase>(),
+                StructDecl::of::<smith_micro::gpu::CorrectionResults>(),
+            ]
         },
         constants: smith_micro::gpu::WGSL_CONSTANTS,
     },

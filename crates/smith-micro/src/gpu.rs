@@ -14,7 +14,13 @@
 use glam::{UVec4, Vec3, Vec4};
 use gpu_layout::{GpuConst, gpu_const, gpu_struct};
 
-use crate::attribute::{HeightCorrelatedAttribute, MAX_ATTRIBUTE_MAGNITUDE, visible_mean_attribute_for_directions};
+use crate::attribute::{
+    HeightCorrelatedAttribute, MAX_ATTRIBUTE_MAGNITUDE, visible_mean_attribute, visible_mean_attribute_for_directions,
+};
+use crate::correction::{
+    CORRECTION_KNOTS, LambdaCorrection, MAX_CORRECTED_LAMBDA, MAX_CORRECTION_FACTOR, MIN_CORRECTION_FACTOR,
+    corrected_lambda, corrected_visible_mean_attribute,
+};
 use crate::erf::{ERF_SERIES_LIMIT, ERFC_COEFFICIENTS, ERFC_ZERO_FROM, erf, erfc, erfcx};
 use crate::height::{
     LOG_ONE_MINUS_SERIES_LIMIT, MAX_HEIGHT_DEVIATION, STANDARDIZED_HEIGHT_LIMIT, attribute_at_height, height_cdf,
@@ -103,6 +109,48 @@ pub fn reference_results(case: &SmithCase) -> SmithResults {
     SmithResults { values: [group(0), group(4), group(8), group(12)] }
 }
 
+gpu_struct! {
+    /// The inputs of one case of the differential kernel `smith_corrected_values`.
+    pub struct CorrectionCase {
+        /// [`LambdaCorrection::low`]: the factors at knots 0 … 3.
+        pub knots_low: Vec4,
+        /// [`LambdaCorrection::high`]: the factors at knots 4 … 7.
+        pub knots_high: Vec4,
+        /// `(ā, a_s, Λ(v), Λ(l))`.
+        pub inputs: Vec4,
+    }
+}
+
+gpu_struct! {
+    /// The encoded results of one [`CorrectionCase`], in the order of
+    /// [`reference_correction_results`].
+    pub struct CorrectionResults {
+        /// Four results.
+        pub values: UVec4,
+    }
+}
+
+/// The CPU reference of the kernel `smith_corrected_values`: 4 encoded results,
+/// `Λ'(v)`, `Λ'(l)`, `ā(v, l)` corrected on the sum
+/// ([`corrected_visible_mean_attribute`]) and corrected per direction
+/// (`visible_mean_attribute(a, Λ'(v), Λ'(l))`).
+pub fn reference_correction_results(case: &CorrectionCase) -> CorrectionResults {
+    let correction = LambdaCorrection { low: case.knots_low, high: case.knots_high };
+    let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array();
+    let attribute = HeightCorrelatedAttribute { mean, height_correlation: correlation };
+    let corrected_view = corrected_lambda(lambda_view, &correction);
+    let corrected_light = corrected_lambda(lambda_light, &correction);
+    let per_direction = corrected_view.zip(corrected_light).and_then(|(v, l)| visible_mean_attribute(attribute, v, l));
+    let values = [
+        corrected_view,
+        corrected_light,
+        corrected_visible_mean_attribute(attribute, lambda_view, lambda_light, &correction),
+        per_direction,
+    ]
+    .map(encode);
+    CorrectionResults { values: UVec4::from_array(values) }
+}
+
 // Evaluated at compile time: an index out of bounds would not compile.
 const ERFC_C0: f32 = ERFC_COEFFICIENTS[0];
 const ERFC_C1: f32 = ERFC_COEFFICIENTS[1];
@@ -141,7 +189,14 @@ pub const WGSL_CONSTANTS: &[GpuConst] = &[
     gpu_const!(STANDARDIZED_HEIGHT_LIMIT: f32 as "SMITH_STANDARDIZED_HEIGHT_LIMIT"),
     gpu_const!(MAX_ATTRIBUTE_MAGNITUDE: f32 as "SMITH_MAX_ATTRIBUTE_MAGNITUDE"),
     gpu_const!(MAX_LIGHT_RADIANCE: f32 as "SMITH_MAX_LIGHT_RADIANCE"),
+    gpu_const!(CORRECTION_SEGMENTS: u32 as "SMITH_CORRECTION_SEGMENTS"),
+    gpu_const!(MIN_CORRECTION_FACTOR: f32 as "SMITH_MIN_CORRECTION_FACTOR"),
+    gpu_const!(MAX_CORRECTION_FACTOR: f32 as "SMITH_MAX_CORRECTION_FACTOR"),
+    gpu_const!(MAX_CORRECTED_LAMBDA: f32 as "SMITH_MAX_CORRECTED_LAMBDA"),
 ];
+
+/// Segments of the piecewise linear [`LambdaCorrection`]: knots − 1.
+const CORRECTION_SEGMENTS: u32 = CORRECTION_KNOTS as u32 - 1;
 
 #[cfg(test)]
 mod tests {
@@ -151,6 +206,9 @@ mod tests {
     fn structs_have_the_expected_sizes() {
         assert_eq!(size_of::<SmithCase>(), 80);
         assert_eq!(size_of::<SmithResults>(), 64);
+        assert_eq!(size_of::<LambdaCorrection>(), 32);
+        assert_eq!(size_of::<CorrectionCase>(), 48);
+        assert_eq!(size_of::<CorrectionResults>(), 16);
     }
 
     #[test]

@@ -42,6 +42,8 @@
 //! - [`height`]: the height CDF `g(h)` (eq. 5), the visibility `g(h)^Λ` (eq. 4) and the
 //!   attribute `a(h)` of H5bis.
 //! - [`attribute`]: the mean visible attribute `ā(v, l)` (eq. 17).
+//! - [`correction`]: a per-material correction of Λ fitted to ray-traced ground truth,
+//!   and eq. 17 with it (`ā + a_s Λ'/(Λ' + 2)`), kept beside eq. 17.
 //! - [`shading`]: the NDF ⊗ BRDF convolution of §5.5 and the shading of eq. 13.
 //! - [`gpu`]: the structs and constants shared with the WGSL twin
 //!   (`shaders/smith_micro.wgsl`) and the CPU reference of its differential kernel.
@@ -64,6 +66,7 @@
 extern crate std;
 
 pub mod attribute;
+pub mod correction;
 pub mod erf;
 pub mod gpu;
 pub mod height;
@@ -71,6 +74,7 @@ pub mod masking;
 pub mod shading;
 
 pub use attribute::{HeightCorrelatedAttribute, visible_mean_attribute, visible_mean_attribute_for_directions};
+pub use correction::{LambdaCorrection, corrected_lambda, corrected_visible_mean_attribute};
 pub use erf::{erf, erfc, erfcx};
 pub use height::{attribute_at_height, height_cdf, height_visibility, log_height_cdf};
 pub use masking::{

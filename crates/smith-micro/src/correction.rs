@@ -1,0 +1,259 @@
+//! A per-material correction of Smith's Λ, kept beside eq. 17: `Λ' = c(u) Λ` with
+//! `u = Λ/(1 + Λ)` and `c` piecewise linear over eight knots, and the corrected mean
+//! visible attribute `ā(v, l) = ā + a_s Λ'/(Λ' + 2)`.
+//!
+//! Eq. 17 (Heitz & Neyret 2012, §5.5) is exact for Smith's masking `g(h)^Λ`; on real
+//! Gaussian height fields the ray-traced mean attribute differs from it by a factor on Λ
+//! that depends on the spectrum and on Λ (measured by `cargo xtask fig9 --spectra`:
+//! 0.86 … 1.6), not on Λ alone. A pre-computation that has a material's detailed height
+//! field can fit that factor to ray-traced ground truth (`microsurface-truth`'s
+//! `fit_lambda_correction`) and store it per material as a [`LambdaCorrection`]: eight
+//! factors, two `vec4`s on the GPU. [`LambdaCorrection::IDENTITY`] gives eq. 17 exactly,
+//! bit for bit.
+//!
+//! The correction applies to the **sum** `Λ = Λ(v) + Λ(l)`
+//! ([`corrected_visible_mean_attribute`]): eq. 17 only sees the sum, and a factor fitted
+//! on view-only sweeps (`Λ(l) = 0`) describes the visible attribute as a function of
+//! it. Correcting each direction instead is
+//! `visible_mean_attribute(a, corrected_lambda(Λ(v))?, corrected_lambda(Λ(l))?)`; both
+//! agree when either Λ is zero.
+//!
+//! | input | [`corrected_lambda`] | [`corrected_visible_mean_attribute`] |
+//! |---|---|---|
+//! | `Λ = 0` (normal incidence, flat) | `0` | `ā` |
+//! | `Λ = +∞`, or above [`MAX_CORRECTED_LAMBDA`] | `+∞` | `ā + a_s` |
+//! | `Λ` subnormal, or `c Λ` subnormal | `0` (flushed, as the GPU does) | `ā` |
+//! | a Λ negative or NaN | `None` | `None` |
+//! | a knot NaN, ±∞ or outside `[MIN_CORRECTION_FACTOR, MAX_CORRECTION_FACTOR]` | `None` | `None` |
+//! | `|ā|` or `|a_s|` above `2⁶⁴` or NaN | — | `None` |
+//! | [`LambdaCorrection::IDENTITY`] | `Λ` (flushed) | eq. 17, same bits |
+
+use glam::Vec4;
+use gpu_layout::gpu_struct;
+
+use crate::attribute::HeightCorrelatedAttribute;
+use crate::erf::{flush_subnormal, is_infinite_bits, is_nan_bits};
+
+/// Number of knots of a [`LambdaCorrection`], at `u = i/7`, `i = 0 … 7`.
+pub const CORRECTION_KNOTS: usize = 8;
+
+/// Smallest accepted correction factor: a knot below it makes the correction invalid.
+pub const MIN_CORRECTION_FACTOR: f32 = 0.25;
+
+/// Largest accepted correction factor, so that `c Λ` never overflows f32.
+pub const MAX_CORRECTION_FACTOR: f32 = 4.0;
+
+/// `2⁶⁴`: Λ above it is corrected to `+∞`. Eq. 17 gives `ā + a_s` to the last bit for any
+/// Λ' above `2⁶³`, so the visible attribute does not change; bounding Λ keeps `c Λ` and
+/// `1 + Λ` far from overflow in WGSL, which cannot represent it.
+pub const MAX_CORRECTED_LAMBDA: f32 = 18_446_744_073_709_551_616.0;
+
+gpu_struct! {
+    /// A per-material factor `c(u)` on Smith's Λ (eq. 6), piecewise linear in
+    /// `u = Λ/(1 + Λ) ∈ [0, 1]` through eight knots at `u = i/7`: `low` holds the factors
+    /// at `i = 0 … 3`, `high` at `i = 4 … 7` (`u = 1` is `Λ = ∞`). See the module's
+    /// table for what each input gives.
+    pub struct LambdaCorrection {
+        /// Factors at `u = 0, 1/7, 2/7, 3/7` (`Λ = 0, 1/6, 2/5, 3/4`).
+        pub low: Vec4,
+        /// Factors at `u = 4/7, 5/7, 6/7, 1` (`Λ = 4/3, 5/2, 6, ∞`).
+        pub high: Vec4,
+    }
+}
+
+impl LambdaCorrection {
+    /// No correction: every factor is 1, and the corrected functions equal eq. 17.
+    pub const IDENTITY: Self = Self { low: Vec4::ONE, high: Vec4::ONE };
+
+    /// The correction through `knots` (factors at `u = i/7`), or `None` when a knot is
+    /// NaN, infinite or outside `[MIN_CORRECTION_FACTOR, MAX_CORRECTION_FACTOR]`.
+    pub fn from_knots(knots: [f32; CORRECTION_KNOTS]) -> Option<Self> {
+        let [a, b, c, d, e, f, g, h] = knots;
+        let correction = Self { low: Vec4::new(a, b, c, d), high: Vec4::new(e, f, g, h) };
+        correction.is_valid().then_some(correction)
+    }
+
+    /// The eight factors, at `u = 0, 1/7, …, 1`.
+    pub fn knots(&self) -> [f32; CORRECTION_KNOTS] {
+        let [a, b, c, d] = self.low.to_array();
+        let [e, f, g, h] = self.high.to_array();
+        [a, b, c, d, e, f, g, h]
+    }
+
+    /// Whether every knot lies in `[MIN_CORRECTION_FACTOR, MAX_CORRECTION_FACTOR]`
+    /// (false for NaN).
+    pub fn is_valid(&self) -> bool {
+        self.knots().iter().all(|&k| !is_nan_bits(k) && (MIN_CORRECTION_FACTOR..=MAX_CORRECTION_FACTOR).contains(&k))
+    }
+
+    /// The factor `c(u)` for `u ∈ [0, 1]`, interpolated linearly between the knots
+    /// (`u` is clamped to `[0, 1]`; NaN gives the first knot). Does not check validity.
+    ///
+    /// WGSL twin: `smith_correction_factor`.
+    pub fn factor(&self, u: f32) -> f32 {
+        let knots = self.knots();
+        let t = u.clamp(0.0, 1.0) * (CORRECTION_KNOTS - 1) as f32;
+        // `t as usize` saturates (NaN gives 0), and `min` keeps `index + 1` in range.
+        let index = (t as usize).min(CORRECTION_KNOTS - 2);
+        let fraction = if is_nan_bits(t) { 0.0 } else { t - index as f32 };
+        let (k0, k1) = (knots.get(index).copied().unwrap_or(1.0), knots.get(index + 1).copied().unwrap_or(1.0));
+        k0 + fraction * (k1 - k0)
+    }
+}
+
+impl Default for LambdaCorrection {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+/// The corrected `Λ' = c(Λ/(1 + Λ)) Λ` of a Smith Λ (eq. 6); see the module's table.
+///
+/// WGSL twin: `smith_corrected_lambda`.
+pub fn corrected_lambda(lambda: f32, correction: &LambdaCorrection) -> Option<f32> {
+    if is_nan_bits(lambda) || lambda < 0.0 || !correction.is_valid() {
+        return None;
+    }
+    if is_infinite_bits(lambda) || lambda > MAX_CORRECTED_LAMBDA {
+        return Some(f32::INFINITY);
+    }
+    let lambda = flush_subnormal(lambda);
+    let u = lambda / (1.0 + lambda);
+    Some(flush_subnormal(correction.factor(u) * lambda))
+}
+
+/// Eq. 17 with the corrected sum: `ā + a_s Λ'/(Λ' + 2)`, `Λ' = c(u) Λ`,
+/// `Λ = Λ(v) + Λ(l)` (see the module's table). With [`LambdaCorrection::IDENTITY`] this
+/// is [`crate::visible_mean_attribute`], bit for bit.
+///
+/// WGSL twin: `smith_corrected_visible_mean_attribute`.
+pub fn corrected_visible_mean_attribute(
+    attribute: HeightCorrelatedAttribute,
+    lambda_view: f32,
+    lambda_light: f32,
+    correction: &LambdaCorrection,
+) -> Option<f32> {
+    let valid = |lambda: f32| !is_nan_bits(lambda) && lambda >= 0.0;
+    if !(valid(lambda_view) && valid(lambda_light) && attribute.is_valid() && correction.is_valid()) {
+        return None;
+    }
+    let infinite =
+        is_infinite_bits(lambda_view) || is_infinite_bits(lambda_light) || lambda_view > f32::MAX - lambda_light;
+    let lambda = if infinite { f32::INFINITY } else { flush_subnormal(lambda_view + lambda_light) };
+    let corrected = corrected_lambda(lambda, correction)?;
+    // As eq. 17: 0 gives 0, ∞ gives 1, a normal Λ' keeps 2/Λ' finite.
+    let visible_fraction = if is_infinite_bits(corrected) {
+        1.0
+    } else if corrected == 0.0 {
+        0.0
+    } else {
+        1.0 / (1.0 + 2.0 / corrected)
+    };
+    Some(attribute.mean + attribute.height_correlation * visible_fraction)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::attribute::visible_mean_attribute;
+
+    const SPECIAL: [f32; 16] = [
+        0.0,
+        -0.0,
+        1e-40,
+        f32::MIN_POSITIVE,
+        1e-3,
+        0.2,
+        1.0,
+        5.0,
+        30.0,
+        1e19,
+        MAX_CORRECTED_LAMBDA,
+        3e30,
+        f32::MAX,
+        f32::INFINITY,
+        -1.0,
+        f32::NAN,
+    ];
+
+    #[test]
+    fn identity_is_eq17_bit_for_bit() {
+        let attributes = [
+            HeightCorrelatedAttribute { mean: 0.4, height_correlation: 0.3 },
+            HeightCorrelatedAttribute { mean: -1.5, height_correlation: -2.0 },
+            HeightCorrelatedAttribute { mean: f32::NAN, height_correlation: 0.0 },
+        ];
+        let mut lambdas = SPECIAL.to_vec();
+        lambdas.extend((0..400).map(|i| 1e-4 * 1.05_f32.powi(i)));
+        for attribute in attributes {
+            for &view in &lambdas {
+                for &light in &SPECIAL {
+                    let eq17 = visible_mean_attribute(attribute, view, light).map(f32::to_bits);
+                    let corrected =
+                        corrected_visible_mean_attribute(attribute, view, light, &LambdaCorrection::IDENTITY);
+                    assert_eq!(corrected.map(f32::to_bits), eq17, "Λ = {view} + {light}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn factor_interpolates_the_knots() {
+        let knots = [0.5, 0.75, 1.0, 1.5, 2.0, 1.25, 1.0, 3.0];
+        let correction = LambdaCorrection::from_knots(knots).unwrap();
+        assert_eq!(correction.knots(), knots);
+        for (i, &k) in knots.iter().enumerate() {
+            assert_eq!(correction.factor(i as f32 / 7.0), k, "knot {i}");
+        }
+        assert!((correction.factor(0.5 / 7.0) - 0.625).abs() < 1e-6);
+        assert!((correction.factor(6.5 / 7.0) - 2.0).abs() < 1e-6);
+        assert_eq!(correction.factor(-1.0), 0.5);
+        assert_eq!(correction.factor(2.0), 3.0);
+        assert_eq!(correction.factor(f32::NAN), 0.5);
+        // Λ = 1 is u = 1/2, between knots 3 (1.5) and 4 (2.0).
+        let expected = 1.5 + 0.5 * (2.0 - 1.5);
+        assert!((corrected_lambda(1.0, &correction).unwrap() - expected).abs() < 1e-6);
+    }
+
+    #[test]
+    fn special_inputs_have_defined_results() {
+        let correction = LambdaCorrection::from_knots([1.2, 1.2, 1.1, 0.9, 0.8, 0.7, 0.6, 0.5]).unwrap();
+        let attribute = HeightCorrelatedAttribute { mean: 0.5, height_correlation: -0.2 };
+        assert_eq!(corrected_lambda(0.0, &correction), Some(0.0));
+        assert_eq!(corrected_lambda(1e-40, &correction), Some(0.0));
+        assert_eq!(corrected_lambda(f32::INFINITY, &correction), Some(f32::INFINITY));
+        assert_eq!(corrected_lambda(f32::MAX, &correction), Some(f32::INFINITY));
+        assert_eq!(corrected_lambda(-1.0, &correction), None);
+        assert_eq!(corrected_lambda(f32::NAN, &correction), None);
+        let grazing = corrected_visible_mean_attribute(attribute, f32::MAX, f32::MAX, &correction);
+        assert_eq!(grazing, Some(0.3));
+        assert_eq!(corrected_visible_mean_attribute(attribute, 0.0, 0.0, &correction), Some(0.5));
+        assert_eq!(corrected_visible_mean_attribute(attribute, 0.0, f32::NAN, &correction), None);
+        for bad in [f32::NAN, f32::INFINITY, 0.0, -1.0, 0.2, 4.5] {
+            assert_eq!(LambdaCorrection::from_knots([bad, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]), None);
+            let invalid = LambdaCorrection { low: Vec4::new(1.0, 1.0, bad, 1.0), high: Vec4::ONE };
+            assert_eq!(corrected_lambda(1.0, &invalid), None);
+            assert_eq!(corrected_visible_mean_attribute(attribute, 1.0, 0.0, &invalid), None);
+        }
+        // Every accepted input gives a finite result, whatever the knots.
+        let extreme = LambdaCorrection::from_knots([0.25, 4.0, 0.25, 4.0, 0.25, 4.0, 0.25, 4.0]).unwrap();
+        for &view in &SPECIAL[..14] {
+            for &light in &SPECIAL[..14] {
+                let value = corrected_visible_mean_attribute(attribute, view, light, &extreme).unwrap();
+                assert!(value.is_finite() && (0.3..=0.5).contains(&value), "Λ = {view} + {light}: {value}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_larger_factor_sees_higher_points() {
+        let attribute = HeightCorrelatedAttribute { mean: 0.0, height_correlation: 1.0 };
+        let up = LambdaCorrection::from_knots([1.3; CORRECTION_KNOTS]).unwrap();
+        let down = LambdaCorrection::from_knots([0.7; CORRECTION_KNOTS]).unwrap();
+        for lambda in [0.05_f32, 0.5, 2.0, 10.0] {
+            let eq17 = visible_mean_attribute(attribute, lambda, 0.0).unwrap();
+            assert!(corrected_visible_mean_attribute(attribute, lambda, 0.0, &up).unwrap() > eq17);
+            assert!(corrected_visible_mean_attribute(attribute, lambda, 0.0, &down).unwrap() < eq17);
+        }
+    }
+}

@@ -34,12 +34,16 @@
 //! - [`intersect`]: single-precision ray intersection and normal, the WGSL twin's reference.
 //! - [`eigen`]: symmetric eigen-decomposition (Jacobi) without `std`.
 //! - [`gpu`]: the GPU layout of a quadric.
+//! - [`surface`]: the per-voxel C⁰ construction of §3.1 (steps a–c): edge hits, averaged
+//!   representative points, face-ordered polygons and their triangle/bilinear patches.
 //!
 //! # Features
 //!
-//! - `std` (default): enables `std` in the dependencies. The crate is `#![no_std]` and
-//!   allocates nothing; `cargo check -p quadric-fit --no-default-features` builds it.
+//! - `std` (default): enables `std` in the dependencies. The crate is `#![no_std]`; only
+//!   [`surface`] allocates (through `alloc`); `cargo check -p quadric-fit --no-default-features` builds it.
 #![no_std]
+
+extern crate alloc;
 
 pub mod eigen;
 pub mod fit;
@@ -47,9 +51,11 @@ pub mod gpu;
 pub mod intersect;
 pub mod patch;
 pub mod quadric;
+pub mod surface;
 
 pub use fit::{FitKind, QuadricFit, fit_plane, fit_quadric};
 pub use gpu::GpuQuadric;
 pub use intersect::{first_hit, normal};
 pub use patch::{bilinear_quadric, triangle_quadric};
 pub use quadric::Quadric;
+pub use surface::{C0Surface, build_surface};

@@ -13,9 +13,13 @@
 //!   coverage error, and Fig. 9 at quick settings.
 //! - `cargo xtask abuffer-chart [OUT_DIR]`: coverage error of the A-buffer mask tables
 //!   against N (default `target/showcase`).
+//! - `cargo xtask ddm-compression [OUT_DIR] [--quick]`: compression efficiency of the
+//!   distance maps and DDMs of four mesostructures (Mehra & Kumar's Table 3; default
+//!   `target/ddm-compression`).
 
 mod abuffer_chart;
 mod chart;
+mod ddm_compression;
 mod fig9;
 mod showcase;
 
@@ -93,8 +97,9 @@ fn run(args: &[String]) -> Result<(), String> {
             let out = rest.first().map_or_else(|| workspace_root().join("target/showcase"), PathBuf::from);
             abuffer_chart::run(&out)
         }
+        Some("ddm-compression") => ddm_compression::run(&rest, workspace_root().join("target/ddm-compression")),
         _ => Err(
-            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR]>"
+            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick]>"
                 .into(),
         ),
     }

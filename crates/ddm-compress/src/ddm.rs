@@ -10,8 +10,9 @@ use alloc::vec::Vec;
 
 use glam::{UVec3, Vec3};
 
+use crate::bvh::TriangleBvh;
 use crate::cones::DirectionCones;
-use crate::geometry::{Aabb, Triangle, directional_distance_bound, triangle_overlaps_box};
+use crate::geometry::{Aabb, Triangle};
 
 /// Distance maps over a grid of unit voxels: one map per direction cone (a single map for
 /// the plain, undirected distance map).
@@ -89,6 +90,8 @@ pub fn compute_distance_maps(
         Some(c) => (0..c.count()).map(|i| c.cone(i)).collect(),
         None => alloc::vec![None],
     };
+    let bvh = TriangleBvh::new(all);
+    let (mut overlap_stack, mut distance_stack) = (Vec::new(), Vec::new());
     let mut values = alloc::vec![alloc::vec![max_distance; voxels]; cone_list.len()];
     let mut surface = alloc::vec![false; voxels];
     for z in 0..dims.z {
@@ -96,7 +99,7 @@ pub fn compute_distance_maps(
             for x in 0..dims.x {
                 let index = (x + dims.x * (y + dims.y * z)) as usize;
                 let voxel = Aabb::voxel(x, y, z);
-                if all.iter().any(|t| triangle_overlaps_box(t, &voxel)) {
+                if bvh.any_overlaps(&voxel, &mut overlap_stack) {
                     surface[index] = true;
                     for map in values.iter_mut() {
                         map[index] = 0.0;
@@ -104,17 +107,13 @@ pub fn compute_distance_maps(
                     continue;
                 }
                 for (map, cone) in values.iter_mut().zip(&cone_list) {
-                    let mut best = max_distance;
-                    for triangle in &all {
-                        best = best.min(directional_distance_bound(
-                            &voxel,
-                            triangle,
-                            cone.as_ref(),
-                            settings.tolerance,
-                            best,
-                        ));
-                    }
-                    map[index] = best;
+                    map[index] = bvh.min_directional_distance(
+                        &voxel,
+                        cone.as_ref(),
+                        settings.tolerance,
+                        max_distance,
+                        &mut distance_stack,
+                    );
                 }
             }
         }
@@ -163,4 +162,79 @@ pub fn sampled_distance(voxel: UVec3, triangles: &[Triangle], cone: Option<&crat
         }
     }
     best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{directional_distance_bound, triangle_overlaps_box};
+
+    /// The maps by testing every voxel against every triangle, as before the hierarchy.
+    fn brute_force(dims: UVec3, triangles: &[Triangle], cones: Option<DirectionCones>, tolerance: f32) -> DistanceMaps {
+        let voxels = (dims.x * dims.y * dims.z) as usize;
+        let max_distance = dims.as_vec3().length();
+        let cone_list: Vec<Option<crate::cones::Cone>> = match cones {
+            Some(c) => (0..c.count()).map(|i| c.cone(i)).collect(),
+            None => alloc::vec![None],
+        };
+        let mut values = alloc::vec![alloc::vec![max_distance; voxels]; cone_list.len()];
+        let mut surface = alloc::vec![false; voxels];
+        for z in 0..dims.z {
+            for y in 0..dims.y {
+                for x in 0..dims.x {
+                    let index = (x + dims.x * (y + dims.y * z)) as usize;
+                    let voxel = Aabb::voxel(x, y, z);
+                    if triangles.iter().any(|t| triangle_overlaps_box(t, &voxel)) {
+                        surface[index] = true;
+                        values.iter_mut().for_each(|map| map[index] = 0.0);
+                        continue;
+                    }
+                    for (map, cone) in values.iter_mut().zip(&cone_list) {
+                        let mut best = max_distance;
+                        for triangle in triangles {
+                            let bound = directional_distance_bound(&voxel, triangle, cone.as_ref(), tolerance, best);
+                            best = best.min(bound);
+                        }
+                        map[index] = best;
+                    }
+                }
+            }
+        }
+        DistanceMaps { dims, cones, values, surface, max_distance }
+    }
+
+    /// Small random triangles scattered in the grid (a xorshift generator, fixed seed).
+    fn random_scene(seed: u64, count: usize, dims: UVec3) -> Vec<Triangle> {
+        let mut state = seed;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let size = dims.as_vec3();
+        (0..count)
+            .map(|_| {
+                let anchor = Vec3::new(next(), next(), next()) * size;
+                let mut vertex = || anchor + (Vec3::new(next(), next(), next()) - 0.5) * 3.0;
+                Triangle([vertex(), vertex(), vertex()])
+            })
+            .collect()
+    }
+
+    #[test]
+    fn hierarchy_gives_the_brute_force_values() {
+        let dims = UVec3::new(7, 6, 5);
+        for seed in [0x9e37_79b9_7f4a_7c15_u64, 0x1234_5678_9abc_def1] {
+            let triangles = random_scene(seed, 40, dims);
+            let settings = DistanceMapSettings { tolerance: 0.1, periodic_xy: false };
+            for cones in [None, DirectionCones::downward(4, 1), DirectionCones::full(3, 2)] {
+                let fast = compute_distance_maps(dims, &triangles, cones, settings).unwrap();
+                let slow = brute_force(dims, &triangles, cones, settings.tolerance);
+                assert_eq!(fast.surface, slow.surface);
+                assert!(fast.surface.iter().any(|&s| s) && !fast.surface.iter().all(|&s| s));
+                assert_eq!(fast.values, slow.values, "cones {cones:?}");
+            }
+        }
+    }
 }

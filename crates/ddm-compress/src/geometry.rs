@@ -25,11 +25,11 @@ impl Aabb {
         Self { min, max: min + Vec3::ONE }
     }
 
-    fn center(&self) -> Vec3 {
+    pub(crate) fn center(&self) -> Vec3 {
         (self.min + self.max) * 0.5
     }
 
-    fn radius(&self) -> f32 {
+    pub(crate) fn radius(&self) -> f32 {
         (self.max - self.min).length() * 0.5
     }
 
@@ -52,12 +52,12 @@ impl Aabb {
 }
 
 impl Triangle {
-    fn center(&self) -> Vec3 {
+    pub(crate) fn center(&self) -> Vec3 {
         let [a, b, c] = self.0;
         (a + b + c) / 3.0
     }
 
-    fn radius(&self) -> f32 {
+    pub(crate) fn radius(&self) -> f32 {
         let center = self.center();
         self.0.iter().map(|v| v.distance(center)).fold(0.0, f32::max)
     }
@@ -121,8 +121,10 @@ pub fn triangle_overlaps_box(triangle: &Triangle, aabb: &Aabb) -> bool {
 /// box to the triangle lies within `asin((r_B + r_T) / |c_T − c_B|)` of the centres'
 /// direction; a pair is discarded only when that whole set provably misses the cone
 /// ([`Cone::angle_lower_bound`]). The larger piece is halved until it is smaller than
-/// `tolerance`, so the bound is within about `2·tolerance` of the truth. Pieces whose bound
-/// cannot beat `best` are pruned.
+/// `tolerance`, so the bound is within about `2·tolerance` of the truth. A piece's bound is
+/// never below its parent's (the parent's bound holds for the piece too), which makes the
+/// pruning of pieces whose bound cannot beat `best` exact: `best.min(result)` is the same
+/// for any `best`, so the visiting order of triangles never changes a map.
 pub fn directional_distance_bound(
     aabb: &Aabb,
     triangle: &Triangle,
@@ -130,12 +132,17 @@ pub fn directional_distance_bound(
     tolerance: f32,
     best: f32,
 ) -> f32 {
+    bound_below(aabb, triangle, cone, tolerance, best, 0.0)
+}
+
+/// [`directional_distance_bound`] of a piece whose parent pair is bounded by `parent`.
+fn bound_below(aabb: &Aabb, triangle: &Triangle, cone: Option<&Cone>, tolerance: f32, best: f32, parent: f32) -> f32 {
     let (cb, rb) = (aabb.center(), aabb.radius());
     let (ct, rt) = (triangle.center(), triangle.radius());
     let offset = ct - cb;
     let distance = offset.length();
     let reach = rb + rt;
-    let bound = (distance - reach).max(0.0);
+    let bound = (distance - reach).max(parent);
     if bound >= best {
         return f32::INFINITY;
     }
@@ -160,7 +167,7 @@ pub fn directional_distance_bound(
         [(*aabb, l), (*aabb, h)]
     };
     for (b, t) in children {
-        best = best.min(directional_distance_bound(&b, &t, cone, tolerance, best));
+        best = best.min(bound_below(&b, &t, cone, tolerance, best, bound));
     }
     best
 }

@@ -34,6 +34,7 @@
 //! - [`cones`]: the `m × n` direction cones over azimuth and elevation.
 //! - [`geometry`]: boxes, triangles, overlap and the conservative directional distance
 //!   bound.
+//! - [`bvh`]: the triangle hierarchy that makes [`compute_distance_maps`] fast.
 //! - [`ddm`]: directional and plain distance maps of a triangle mesh.
 //! - [`compress`]: the lookup grid and atlas (Algorithm A.1) and access (Algorithm A.2).
 //! - [`serialize`]: a versioned binary form that rejects corrupt data.
@@ -47,6 +48,7 @@
 
 extern crate alloc;
 
+pub mod bvh;
 pub mod compress;
 pub mod cones;
 pub mod ddm;
@@ -54,6 +56,7 @@ pub mod geometry;
 pub mod gpu;
 pub mod serialize;
 
+pub use bvh::TriangleBvh;
 pub use compress::{CompressedMap, SURFACE_FLAG};
 pub use cones::{Cone, DirectionCones};
 pub use ddm::{DistanceMapSettings, DistanceMaps, compute_distance_maps, sampled_distance};

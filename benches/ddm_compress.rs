@@ -5,19 +5,12 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, Triangle, compute_distance_maps};
-use glam::{UVec3, Vec3};
+use glam::UVec3;
+use mesostructure::HeightField;
 
+/// A wavy height-field floor over an `n × n` tile.
 fn wavy_floor(n: u32) -> Vec<Triangle> {
-    let h = |x: u32, y: u32| 2.0 + 0.8 * ((x as f32 * 0.9).sin() + (y as f32 * 0.7).cos());
-    let mut triangles = Vec::new();
-    for y in 0..n {
-        for x in 0..n {
-            let p = |dx: u32, dy: u32| Vec3::new((x + dx) as f32, (y + dy) as f32, h(x + dx, y + dy));
-            triangles.push(Triangle([p(0, 0), p(1, 0), p(1, 1)]));
-            triangles.push(Triangle([p(0, 0), p(1, 1), p(0, 1)]));
-        }
-    }
-    triangles
+    HeightField::from_fn(n, n, |x, y| 2.0 + 0.8 * ((x * 0.9).sin() + (y * 0.7).cos())).triangles()
 }
 
 fn ddm(c: &mut Criterion) {

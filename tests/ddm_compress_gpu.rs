@@ -3,26 +3,18 @@
 
 use ddm_compress::gpu::CompressedMapUniforms;
 use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, Triangle, compute_distance_maps};
-use glam::{UVec3, UVec4, Vec3, Vec4};
+use glam::{UVec3, UVec4, Vec4};
 use integration_tests::gpu;
+use mesostructure::HeightField;
 
 fn kernel_source() -> String {
     let module = shader_registry::module("ddm_compress").expect("module is registered");
     module.with_kernel("ddm_compress_differential").expect("kernel is registered").source().to_owned()
 }
 
-/// A wavy floor of triangles across an `n × n` tile.
+/// A wavy height-field floor over an `n × n` tile.
 fn floor(n: u32, height: f32) -> Vec<Triangle> {
-    let h = |x: u32, y: u32| height + 0.8 * ((x as f32 * 0.9).sin() + (y as f32 * 0.7).cos());
-    let mut triangles = Vec::new();
-    for y in 0..n {
-        for x in 0..n {
-            let p = |dx: u32, dy: u32| Vec3::new((x + dx) as f32, (y + dy) as f32, h(x + dx, y + dy));
-            triangles.push(Triangle([p(0, 0), p(1, 0), p(1, 1)]));
-            triangles.push(Triangle([p(0, 0), p(1, 1), p(0, 1)]));
-        }
-    }
-    triangles
+    HeightField::from_fn(n, n, |x, y| height + 0.8 * ((x * 0.9).sin() + (y * 0.7).cos())).triangles()
 }
 
 fn check(map: &CompressedMap) -> usize {

@@ -6,7 +6,7 @@ use std::path::Path;
 use abuffer_mask::{CoverageErrorStats, MaskTable, coverage_error};
 use plotters::prelude::*;
 
-use crate::chart::{drawing_error, render_png};
+use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
 
 /// A chart series: its label, colour and points.
 type Series = (&'static str, RGBColor, Vec<(f64, f64)>);
@@ -62,17 +62,10 @@ fn draw_chart(path: &Path, stats: &[(CoverageErrorStats, f32)]) -> Result<(), St
                 .draw_series(LineSeries::new(points.clone(), color.stroke_width(3)))
                 .map_err(e)?
                 .label(label)
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], color.stroke_width(3)));
+                .legend(legend_stroke(color, 3, 24));
             chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, color.filled()))).map_err(e)?;
         }
-        chart
-            .configure_series_labels()
-            .label_font(("sans-serif", 18))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(e)?;
+        draw_legend(&mut chart, 18, SeriesLabelPosition::UpperRight)?;
         Ok(())
     })
 }

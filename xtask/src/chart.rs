@@ -4,7 +4,7 @@
 use std::fmt::Debug;
 use std::path::Path;
 
-use plotters::coord::Shift;
+use plotters::coord::{CoordTranslate, Shift};
 use plotters::prelude::*;
 
 /// The drawing area charts draw into.
@@ -32,4 +32,25 @@ pub fn render_png(
     }
     let image = image::RgbImage::from_raw(size.0, size.1, pixels).ok_or("chart buffer has the wrong size")?;
     image.save(path).map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
+/// A legend sample: a horizontal stroke `length` pixels long.
+pub fn legend_stroke(color: RGBColor, width: u32, length: i32) -> impl Fn((i32, i32)) -> PathElement<(i32, i32)> {
+    move |(x, y)| PathElement::new([(x, y), (x + length, y)], color.stroke_width(width))
+}
+
+/// Draws the legend of `chart` in the project's style (framed, translucent) at `position`.
+pub fn draw_legend<'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, BitMapBackend<'a>, CT>,
+    font_size: u32,
+    position: SeriesLabelPosition,
+) -> Result<(), String> {
+    chart
+        .configure_series_labels()
+        .label_font(("sans-serif", font_size))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(position)
+        .draw()
+        .map_err(drawing_error)
 }

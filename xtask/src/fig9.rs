@@ -21,7 +21,7 @@ use microsurface_truth::{
 };
 use plotters::prelude::*;
 
-use crate::chart::{drawing_error, render_png};
+use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
 
 /// RMS slope of every generated surface: Λ spans 0 … 20 over 0° … 89°.
 const SLOPE_SIGMA: f64 = 0.5;
@@ -181,31 +181,24 @@ fn draw(path: &Path, title: &str, rows: &[AngleComparison]) -> Result<(), String
                 .draw_series(LineSeries::new(truth, color.stroke_width(3)))
                 .map_err(drawing_error)?
                 .label(format!("{name}: ray-traced ground truth"))
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], color.stroke_width(3)));
+                .legend(legend_stroke(color, 3, 24));
             chart
                 .draw_series(DashedLineSeries::new(eq17, 10, 6, color.stroke_width(2)))
                 .map_err(drawing_error)?
                 .label(format!("{name}: eq. 17"))
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 8, y)], color.stroke_width(2)));
+                .legend(legend_stroke(color, 2, 8));
             chart
                 .draw_series(DashedLineSeries::new(mip, 2, 6, color.mix(0.6).stroke_width(2)))
                 .map_err(drawing_error)?
                 .label(format!("{name}: MIP-mapping"))
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 3, y)], color.stroke_width(2)));
+                .legend(legend_stroke(color, 2, 3));
             chart
                 .draw_series(corrected.iter().map(|&p| Circle::new(p, 3, color.filled())))
                 .map_err(drawing_error)?
                 .label(format!("{name}: eq. 17 with the fitted Λ correction"))
                 .legend(move |(x, y)| Circle::new((x + 4, y), 3, color.filled()));
         }
-        chart
-            .configure_series_labels()
-            .label_font(("sans-serif", 16))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperLeft)
-            .draw()
-            .map_err(drawing_error)
+        draw_legend(&mut chart, 16, SeriesLabelPosition::UpperLeft)
     })
 }
 

@@ -7,7 +7,7 @@ use octahedral_map::validity::angle_between;
 use octahedral_map::{OctahedralViews, max_neighbour_angle, min_subdivisions_for_texels, validity_half_angle};
 use plotters::prelude::*;
 
-use crate::chart::{drawing_error, render_png};
+use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
 
 use glam::DVec3;
 
@@ -119,7 +119,7 @@ fn draw_chart(path: &Path, stats: &[ErrorStats]) -> Result<(), String> {
                 .draw_series(LineSeries::new(points.clone(), color.stroke_width(3)))
                 .map_err(e)?
                 .label(label)
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], color.stroke_width(3)));
+                .legend(legend_stroke(color, 3, 24));
             chart.draw_series(points.iter().map(|&p| Circle::new(p, 3, color.filled()))).map_err(e)?;
         }
         let greys = [RGBColor(40, 40, 40), RGBColor(100, 100, 100), RGBColor(160, 160, 160)];
@@ -129,16 +129,9 @@ fn draw_chart(path: &Path, stats: &[ErrorStats]) -> Result<(), String> {
                 .draw_series(LineSeries::new([(n_min, theta), (n_max, theta)], color.stroke_width(2)))
                 .map_err(e)?
                 .label(format!("eq. 4 validity half-angle, p = {p} texels ({theta:.3}°)"))
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], color.stroke_width(2)));
+                .legend(legend_stroke(color, 2, 24));
         }
-        chart
-            .configure_series_labels()
-            .label_font(("sans-serif", 18))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(e)?;
+        draw_legend(&mut chart, 18, SeriesLabelPosition::UpperRight)?;
         Ok(())
     })
 }

@@ -108,7 +108,8 @@ mod tests {
 
     #[test]
     fn non_unit_or_non_finite_directions_have_no_frame() {
-        for direction in [Vec3::ZERO, Vec3::splat(1.0), Vec3::new(f32::NAN, 0.0, 1.0), Vec3::new(0.0, f32::INFINITY, 0.0)]
+        for direction in
+            [Vec3::ZERO, Vec3::splat(1.0), Vec3::new(f32::NAN, 0.0, 1.0), Vec3::new(0.0, f32::INFINITY, 0.0)]
         {
             assert_eq!(ViewFrame::from_direction(direction), None);
         }

@@ -32,7 +32,9 @@ impl CameraUniforms {
         (width, height): (u32, u32),
         (near, far): (f32, f32),
     ) -> Option<Self> {
-        if width == 0 || height == 0 || !(near > 0.0 && far > near) || !(fov_y_radians > 0.0) {
+        let positive = |x: f32| x.is_finite() && x > 0.0;
+        if width == 0 || height == 0 || !positive(near) || !(far.is_finite() && far > near) || !positive(fov_y_radians)
+        {
             return None;
         }
         let forward = target - eye;
@@ -57,7 +59,8 @@ impl CameraUniforms {
         depth_extent: f32,
         (width, height): (u32, u32),
     ) -> Option<Self> {
-        if width == 0 || height == 0 || !(extent > 0.0) || !(depth_extent > 0.0) {
+        let positive = |x: f32| x.is_finite() && x > 0.0;
+        if width == 0 || height == 0 || !positive(extent) || !positive(depth_extent) {
             return None;
         }
         let direction = direction.try_normalize()?;

@@ -14,3 +14,17 @@ struct GrainInstance {
     centre_scale: vec4<f32>, // offset 0
     rotation: vec4<f32>, // offset 16
 }
+
+// Rust size 32 bytes.
+struct ReduceParams {
+    size: vec4<u32>, // offset 0
+    extent: vec4<f32>, // offset 16
+}
+
+// Rust size 64 bytes.
+struct ShadingUniforms {
+    light_direction: vec4<f32>, // offset 0
+    light_colour: vec4<f32>, // offset 16
+    ambient: vec4<f32>, // offset 32
+    background: vec4<f32>, // offset 48
+}

@@ -22,4 +22,7 @@
 //! looking along `-ω_i`, covering the square `[-R, R]²` of the plane through the grain's
 //! centre, `R` the grain's outer radius.
 
+pub mod gpu_util;
+pub mod half;
+pub mod mesh_gbuffer;
 pub mod scene;

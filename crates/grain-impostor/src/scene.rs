@@ -1,6 +1,6 @@
 //! Cameras, grain instances and the texture formats every pass of the crate agrees on.
 
-use glam::{Mat4, Quat, Vec3, Vec4};
+use glam::{Mat4, Quat, UVec4, Vec3, Vec4};
 use gpu_layout::gpu_struct;
 use wgsl_gen::{GenerateError, StructDecl, generate_declarations};
 
@@ -234,9 +234,41 @@ pub const ATLAS_LAYERS: [TextureLayer; 4] = [
     },
 ];
 
+gpu_struct! {
+    /// Parameters of the supersampling reduction (`shaders/gbuffer_reduce.wgsl`): `s × s`
+    /// blocks of the high-resolution G-buffer become one output texel.
+    pub struct ReduceParams {
+        /// `(s, output width, output height, array layers)`.
+        pub size: UVec4,
+        /// `(R, 0, 0, 0)`: the atlas extent, for the atlas output's depth
+        /// `1 - (distance from the near plane) / R` (= `dot(q, ω) / R`, see `mesh_gbuffer`).
+        pub extent: Vec4,
+    }
+}
+
+gpu_struct! {
+    /// The light, ambient term and background of the deferred shading pass
+    /// (`shaders/shading.wgsl`). Colours are linear RGB.
+    pub struct ShadingUniforms {
+        /// Unit direction from the surface toward the directional light (`xyz`), `w = 0`.
+        pub light_direction: Vec4,
+        /// Irradiance of the light on a surface facing it (`rgb`), `a` unused.
+        pub light_colour: Vec4,
+        /// Uniform ambient radiance (`rgb`), multiplied by the albedo; `a` unused.
+        pub ambient: Vec4,
+        /// Background colour where coverage is 0 (`rgb`), `a` unused.
+        pub background: Vec4,
+    }
+}
+
 /// The structs of this module, for WGSL generation.
 pub fn struct_declarations() -> Vec<StructDecl> {
-    vec![StructDecl::of::<CameraUniforms>(), StructDecl::of::<GrainInstance>()]
+    vec![
+        StructDecl::of::<CameraUniforms>(),
+        StructDecl::of::<GrainInstance>(),
+        StructDecl::of::<ReduceParams>(),
+        StructDecl::of::<ShadingUniforms>(),
+    ]
 }
 
 /// Path of the committed generated WGSL, relative to the workspace root.

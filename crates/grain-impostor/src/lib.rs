@@ -22,7 +22,11 @@
 //! looking along `-ω_i`, covering the square `[-R, R]²` of the plane through the grain's
 //! centre, `R` the grain's outer radius.
 
+pub mod atlas;
+pub mod atlas_file;
 pub mod gpu_util;
 pub mod half;
 pub mod mesh_gbuffer;
+pub mod mips;
 pub mod scene;
+pub mod shading;

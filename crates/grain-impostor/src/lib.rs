@@ -21,12 +21,27 @@
 //! View `i` of an atlas follows [`octahedral_map::ViewFrame`]: an orthographic camera
 //! looking along `-ω_i`, covering the square `[-R, R]²` of the plane through the grain's
 //! centre, `R` the grain's outer radius.
+//!
+//! # Modules
+//!
+//! - [`scene`]: the shared contract (cameras, instances, G-buffer and atlas formats).
+//! - [`mesh_gbuffer`]: rasterizes a grain mesh into the screen G-buffer with `s × s`
+//!   supersampling (ground truth, and the baker's renderer).
+//! - [`bake`]: renders the `N = 2n²` views into an [`atlas::ImpostorAtlas`].
+//! - [`atlas`]: the CPU atlas, its texel encodings and memory; [`mips`]: premultiplied,
+//!   dilated mip chains; [`atlas_gpu`]: upload to texture arrays; [`atlas_file`]:
+//!   save/load with checked errors; [`packed`]: the 8-byte packed layout and its cost.
+//! - [`shading`]: deferred shading of the G-buffer into a displayable image.
+//! - [`gpu_util`], [`half`]: helpers.
 
 pub mod atlas;
 pub mod atlas_file;
+pub mod atlas_gpu;
+pub mod bake;
 pub mod gpu_util;
 pub mod half;
 pub mod mesh_gbuffer;
 pub mod mips;
+pub mod packed;
 pub mod scene;
 pub mod shading;

@@ -48,17 +48,25 @@ fn baked_ball_views_are_analytic_discs_with_consistent_mips_upload_and_file() {
                     let height = (1.0 - rho * rho).max(0.0).sqrt();
                     let expected = point + frame.direction * height;
                     worst_normal = worst_normal.max(value.normal.normalize().angle_between(expected).to_degrees());
-                    worst_depth = worst_depth.max((value.depth - height / big_r).abs());
+                    // The surface lies between the spheres r and R, and the texel averages
+                    // the depth over its footprint (half-diagonal 0.71 texel): the depth must
+                    // lie between the heights of those spheres over the footprint.
+                    let (near, far) = (rho - 0.71 * texel, rho + 0.71 * texel);
+                    let lowest = (r * r - far * far).max(0.0).sqrt() / big_r;
+                    let highest = (big_r * big_r - near.max(0.0).powi(2)).max(0.0).sqrt() / big_r;
+                    let outside = (lowest - value.depth).max(value.depth - highest).max(0.0);
+                    worst_depth = worst_depth.max(outside);
                     covered += 1;
                 }
             }
         }
     }
     assert!(covered > 32 * 500, "{covered} fully covered texels");
-    // Measured on lavapipe: normals 0.67°, depth 0.0016 R (faceting + 8-bit / f16 storage).
-    assert!(worst_normal < 1.0, "normal error {worst_normal}°");
-    assert!(worst_depth < 3e-3, "depth error {worst_depth}");
-    println!("ball view error: normal {worst_normal}°, depth {worst_depth} R");
+    // Measured on lavapipe: normals 0.63° (facets + 8-bit storage), depth within its bounds
+    // (0); the depth slack is about one f16 step near 1.
+    assert!(worst_normal < 0.8, "normal error {worst_normal}°");
+    assert!(worst_depth < 1e-3, "depth outside its bounds by {worst_depth} R");
+    println!("ball view error: normal {worst_normal}°, depth beyond the r..R bounds {worst_depth} R");
 
     // Mips: α of level k+1 is the mean α of level k (within f16 storage of α).
     for level in 1..atlas.levels.len() {
@@ -163,9 +171,10 @@ fn perspective_gbuffer_of_a_ball_matches_the_analytic_sphere_and_shades_like_the
         }
     }
     assert!(inside > 200 && outside > 1000, "{inside} inside, {outside} outside");
-    // Measured on lavapipe: normals 1.1° (3 × 3 average over facets, f16), depth 0.006.
-    assert!(worst_normal < 1.6, "normal error {worst_normal}°");
-    assert!(worst_depth < 0.01, "depth error {worst_depth}");
+    // Measured on lavapipe: normals 0.43° (3 × 3 average over facets, f16), depth 0.0047
+    // (facets: the icosphere is up to 0.3 % inside the sphere).
+    assert!(worst_normal < 0.6, "normal error {worst_normal}°");
+    assert!(worst_depth < 0.006, "depth error {worst_depth}");
     println!("ball G-buffer error: normal {worst_normal}°, depth {worst_depth}");
 
     // Shading: light from the camera's right; the GPU matches the CPU twin on every pixel,
@@ -210,6 +219,7 @@ fn perspective_gbuffer_of_a_ball_matches_the_analytic_sphere_and_shades_like_the
             }
         }
     }
+    println!("shading: GPU vs CPU twin at most {worst} codes");
     // Measured: at most 1 code of difference (f32 rounding in pow / GGX).
     assert!(worst <= 1, "GPU shading differs from the CPU twin by {worst} codes");
     assert!(!lit.is_empty() && !unlit.is_empty());

@@ -38,9 +38,15 @@ impl fmt::Display for GpuError {
 
 impl std::error::Error for GpuError {}
 
+/// Serializes the error scopes of [`scoped`]: they form one stack per device, shared by
+/// every thread that uses it (tests run on several threads). Never held across nested calls.
+static SCOPE_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// Runs `work` inside validation and out-of-memory error scopes, so that wgpu errors become
-/// [`GpuError::Wgpu`] instead of wgpu's default panic.
+/// [`GpuError::Wgpu`] instead of wgpu's default panic. `work` must not call `scoped`.
 pub(crate) fn scoped<T>(device: &wgpu::Device, work: impl FnOnce() -> T) -> Result<T, GpuError> {
+    // A panic while holding the lock leaves no scope pushed, so a poisoned lock is safe.
+    let _guard = SCOPE_LOCK.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
     let value = work();

@@ -63,11 +63,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for (name, mesh) in grains.iter().filter(|(name, _)| *name == "ball" || *name == "rock") {
             let settings = BakeSettings::new(n, p);
             let start = Instant::now();
-            let atlas = baker.bake(&gpu.device, &gpu.queue, mesh, &settings)?;
+            let (atlas, timings) = baker.bake_timed(&gpu.device, &gpu.queue, mesh, &settings)?;
             let seconds = start.elapsed().as_secs_f64();
             println!(
-                "{name} ({} triangles): n = {n}, p = {p}: {seconds:.2} s ({} views per submission)",
+                "{name} ({} triangles): n = {n}, p = {p}: {seconds:.2} s (views {:.2} s, mips {:.2} s; {} views per submission)",
                 mesh.triangles().len(),
+                timings.views_seconds,
+                timings.mips_seconds,
                 Baker::batch_views(&gpu.device, &settings)
             );
             if let Some(dir) = &save_dir {

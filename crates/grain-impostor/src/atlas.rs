@@ -70,8 +70,9 @@ pub struct AtlasImage {
 impl AtlasImage {
     /// The index of texel `(x, y)` of `view`, or `None` outside.
     pub fn index(&self, view: u32, x: u32, y: u32) -> Option<usize> {
-        (view < self.views && x < self.side && y < self.side)
-            .then(|| ((u64::from(view) * u64::from(self.side) + u64::from(y)) * u64::from(self.side) + u64::from(x)) as usize)
+        (view < self.views && x < self.side && y < self.side).then(|| {
+            ((u64::from(view) * u64::from(self.side) + u64::from(y)) * u64::from(self.side) + u64::from(x)) as usize
+        })
     }
 
     /// The texels of one view, or `None` when `view` is out of range.
@@ -157,7 +158,12 @@ pub fn decode_premultiplied(bytes: [[u8; 4]; 4]) -> [Vec4; 4] {
             f32::from(albedo[3]) / 255.0,
         ),
         unorm(bytes[2]),
-        Vec4::new(f16_bits_to_f32(u16::from_le_bytes([d[0], d[1]])), f16_bits_to_f32(u16::from_le_bytes([d[2], d[3]])), 0.0, 0.0),
+        Vec4::new(
+            f16_bits_to_f32(u16::from_le_bytes([d[0], d[1]])),
+            f16_bits_to_f32(u16::from_le_bytes([d[2], d[3]])),
+            0.0,
+            0.0,
+        ),
     ]
 }
 
@@ -210,8 +216,9 @@ impl AtlasLevel {
     /// Decodes the level to `f32`, un-premultiplied.
     pub fn decode(&self, views: u32) -> AtlasImage {
         let count = (views * self.side * self.side) as usize;
-        let texels =
-            (0..count).map(|i| self.texel_bytes(i).map(|b| unpremultiply(decode_premultiplied(b))).unwrap_or_default()).collect();
+        let texels = (0..count)
+            .map(|i| self.texel_bytes(i).map(|b| unpremultiply(decode_premultiplied(b))).unwrap_or_default())
+            .collect();
         AtlasImage { side: self.side, views, texels }
     }
 
@@ -226,7 +233,12 @@ impl ImpostorAtlas {
     /// two), with its full mip chain built by [`crate::mips::build_mip_chain`]; `None`
     /// when the sizes disagree, `p` is not a power of two or the radii are not
     /// `0 ≤ r ≤ R`, `R > 0`, finite.
-    pub fn from_level0(views: OctahedralViews, outer_radius: f32, inner_radius: f32, level0: AtlasImage) -> Option<Self> {
+    pub fn from_level0(
+        views: OctahedralViews,
+        outer_radius: f32,
+        inner_radius: f32,
+        level0: AtlasImage,
+    ) -> Option<Self> {
         let valid_radii = outer_radius.is_finite()
             && outer_radius > 0.0
             && inner_radius.is_finite()

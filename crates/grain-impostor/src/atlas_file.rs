@@ -110,7 +110,9 @@ impl fmt::Display for AtlasFileError {
             AtlasFileProblem::Truncated { expected, found } => {
                 write!(f, "{path}: truncated atlas file: {found} bytes, expected {expected}")
             }
-            AtlasFileProblem::TrailingBytes { extra } => write!(f, "{path}: {extra} unexpected bytes after the atlas data"),
+            AtlasFileProblem::TrailingBytes { extra } => {
+                write!(f, "{path}: {extra} unexpected bytes after the atlas data")
+            }
             AtlasFileProblem::InvalidHeader(message) => write!(f, "{path}: invalid atlas header: {message}"),
             AtlasFileProblem::LayerFormatMismatch { layer, found, expected } => {
                 write!(f, "{path}: layer {layer} has format code {found}, expected {expected}")
@@ -191,7 +193,10 @@ pub fn decode_atlas(bytes: &[u8]) -> Result<ImpostorAtlas, AtlasFileProblem> {
     if !p.is_power_of_two() || p > 1 << 16 {
         return Err(invalid(format!("texels per side p = {p} (a power of two ≤ 65536)")));
     }
-    if !(outer_radius.is_finite() && outer_radius > 0.0 && inner_radius.is_finite() && (0.0..=outer_radius).contains(&inner_radius))
+    if !(outer_radius.is_finite()
+        && outer_radius > 0.0
+        && inner_radius.is_finite()
+        && (0.0..=outer_radius).contains(&inner_radius))
     {
         return Err(invalid(format!("radii r = {inner_radius}, R = {outer_radius} (need 0 ≤ r ≤ R, R > 0)")));
     }
@@ -229,8 +234,9 @@ pub fn decode_atlas(bytes: &[u8]) -> Result<ImpostorAtlas, AtlasFileProblem> {
     for level in 0..levels {
         let side = (p >> level).max(1);
         let layers = ATLAS_LAYERS.map(|layer| {
-            let length = (u64::from(views.view_count()) * u64::from(side) * u64::from(side) * u64::from(layer.bytes_per_texel))
-                as usize;
+            let length =
+                (u64::from(views.view_count()) * u64::from(side) * u64::from(side) * u64::from(layer.bytes_per_texel))
+                    as usize;
             let slice = data[offset..offset + length].to_vec();
             offset += length;
             slice
@@ -313,7 +319,10 @@ mod tests {
         assert!(matches!(problem(&corrupt), AtlasFileProblem::ChecksumMismatch { .. }));
         let mut format = bytes.clone();
         format[28] = 9;
-        assert!(matches!(problem(&format), AtlasFileProblem::LayerFormatMismatch { layer: "normal_alpha", found: 9, .. }));
+        assert!(matches!(
+            problem(&format),
+            AtlasFileProblem::LayerFormatMismatch { layer: "normal_alpha", found: 9, .. }
+        ));
         for (offset, value) in [(12, 0u32), (16, 48), (20, f32::NAN.to_bits()), (24, 2.0f32.to_bits()), (44, 3)] {
             let mut header = bytes.clone();
             header[offset..offset + 4].copy_from_slice(&value.to_le_bytes());

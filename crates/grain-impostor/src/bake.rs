@@ -96,6 +96,15 @@ pub fn view_camera(views: OctahedralViews, index: u32, extent: f32, texels: u32)
     CameraUniforms::orthographic(Vec3::ZERO, -frame.direction, frame.up, extent, extent, (texels, texels))
 }
 
+/// Where a bake's wall-clock time went.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BakeTimings {
+    /// Rendering, reduction and readback of every view (GPU work and waiting for it).
+    pub views_seconds: f64,
+    /// Mip chains, dilation and quantization on the CPU.
+    pub mips_seconds: f64,
+}
+
 /// The baker: the mesh G-buffer pipelines, compiled once.
 #[derive(Debug)]
 pub struct Baker {
@@ -115,7 +124,8 @@ impl Baker {
         let fine = u64::from(settings.texels * settings.supersampling);
         let by_memory = BATCH_TARGET_BYTES / (fine * fine * FINE_BYTES_PER_TEXEL).max(1);
         let output_per_view = u64::from(settings.texels).pow(2) * 64;
-        let by_binding = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size) / output_per_view.max(1);
+        let by_binding =
+            u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size) / output_per_view.max(1);
         let views = u64::from(settings.subdivisions).pow(2) * 2;
         by_memory.min(by_binding).min(u64::from(limits.max_texture_array_layers)).min(views).max(1) as u32
     }
@@ -128,6 +138,18 @@ impl Baker {
         mesh: &GrainMesh,
         settings: &BakeSettings,
     ) -> Result<ImpostorAtlas, BakeError> {
+        self.bake_timed(device, queue, mesh, settings).map(|(atlas, _)| atlas)
+    }
+
+    /// [`bake`](Self::bake), also returning where the time went.
+    pub fn bake_timed(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        mesh: &GrainMesh,
+        settings: &BakeSettings,
+    ) -> Result<(ImpostorAtlas, BakeTimings), BakeError> {
+        let start = std::time::Instant::now();
         let invalid = |message: String| Err(BakeError::InvalidSettings(message));
         let Some(views) = OctahedralViews::new(settings.subdivisions) else {
             return invalid(format!("view subdivisions n = {}", settings.subdivisions));
@@ -159,7 +181,9 @@ impl Baker {
             let cameras = (first..first + count)
                 .map(|index| view_camera(views, index, outer_radius, p))
                 .collect::<Option<Vec<_>>>()
-                .ok_or_else(|| BakeError::InvalidSettings(format!("outer radius R = {outer_radius} gives no camera")))?;
+                .ok_or_else(|| {
+                    BakeError::InvalidSettings(format!("outer radius R = {outer_radius} gives no camera"))
+                })?;
             let values = self.pass.render_atlas_views(
                 device,
                 queue,
@@ -180,12 +204,14 @@ impl Baker {
             first += count;
             bar.set_position(u64::from(first));
         }
+        let views_seconds = start.elapsed().as_secs_f64();
         bar.set_message("mip chains");
         let level0 = AtlasImage { side: p, views: view_count, texels };
         let atlas = ImpostorAtlas::from_level0(views, outer_radius, inner_radius, level0)
             .ok_or_else(|| BakeError::InvalidSettings(format!("radii r = {inner_radius}, R = {outer_radius}")));
         bar.finish_and_clear();
-        atlas
+        let timings = BakeTimings { views_seconds, mips_seconds: start.elapsed().as_secs_f64() - views_seconds };
+        Ok((atlas?, timings))
     }
 }
 

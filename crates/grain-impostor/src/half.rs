@@ -7,7 +7,9 @@ pub fn f16_bits_to_f32(bits: u16) -> f32 {
     let exponent = u32::from((bits >> 10) & 0x1f);
     let mantissa = u32::from(bits & 0x3ff);
     let magnitude = match exponent {
-        0 => return f32::from_bits(sign) + (mantissa as f32) * f32::powi(2.0, -24) * if sign != 0 { -1.0 } else { 1.0 },
+        0 => {
+            return f32::from_bits(sign) + (mantissa as f32) * f32::powi(2.0, -24) * if sign != 0 { -1.0 } else { 1.0 };
+        }
         0x1f => 0x7f80_0000 | (mantissa << 13),
         _ => ((exponent + 127 - 15) << 23) | (mantissa << 13),
     };

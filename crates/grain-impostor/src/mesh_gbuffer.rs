@@ -157,7 +157,10 @@ impl ScreenGbuffer {
         let read = |i: usize| read_texture(device, queue, &self.textures[i], GBUFFER_LAYERS[i].bytes_per_texel);
         let normal_bytes = read(0)?;
         let unorm = |bytes: Vec<u8>| -> Vec<Vec4> {
-            bytes.chunks_exact(4).map(|t| Vec4::from_array([t[0], t[1], t[2], t[3]].map(|b| f32::from(b) / 255.0))).collect()
+            bytes
+                .chunks_exact(4)
+                .map(|t| Vec4::from_array([t[0], t[1], t[2], t[3]].map(|b| f32::from(b) / 255.0)))
+                .collect()
         };
         let normal_coverage = normal_bytes
             .chunks_exact(8)
@@ -400,10 +403,8 @@ impl MeshGbufferPass {
     ) -> Result<(), GpuError> {
         let fine_size = fine_size(supersampling, (target.width, target.height))?;
         let fine = FineTargets::new(device, fine_size, 1)?;
-        let params = ReduceParams {
-            size: glam::UVec4::new(supersampling, target.width, target.height, 1),
-            extent: Vec4::ONE,
-        };
+        let params =
+            ReduceParams { size: glam::UVec4::new(supersampling, target.width, target.height, 1), extent: Vec4::ONE };
         scoped(device, || {
             let mut encoder = device.create_command_encoder(&Default::default());
             self.encode_raster(device, &mut encoder, mesh, std::slice::from_ref(camera), instance, &fine);
@@ -470,7 +471,10 @@ impl MeshGbufferPass {
                     view,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
                 })
             });
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -540,8 +544,10 @@ impl MeshGbufferPass {
         fine: &FineTargets,
     ) -> Result<Vec<Vec4>, GpuError> {
         let layers = cameras.len() as u32;
-        let params =
-            ReduceParams { size: glam::UVec4::new(supersampling, side, side, layers), extent: Vec4::new(extent, 0.0, 0.0, 0.0) };
+        let params = ReduceParams {
+            size: glam::UVec4::new(supersampling, side, side, layers),
+            extent: Vec4::new(extent, 0.0, 0.0, 0.0),
+        };
         let size = u64::from(side) * u64::from(side) * u64::from(layers) * 64;
         let output_buffer = scoped(device, || {
             let output_buffer = device.create_buffer(&wgpu::BufferDescriptor {

@@ -171,7 +171,11 @@ impl ShadingPass {
 }
 
 /// Reads a shaded image ([`SHADED_FORMAT`]) back as an `RgbaImage` (sRGB-encoded).
-pub fn read_image(device: &wgpu::Device, queue: &wgpu::Queue, target: &wgpu::Texture) -> Result<image::RgbaImage, GpuError> {
+pub fn read_image(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    target: &wgpu::Texture,
+) -> Result<image::RgbaImage, GpuError> {
     let bytes = read_texture(device, queue, target, 4)?;
     image::RgbaImage::from_raw(target.width(), target.height(), bytes)
         .ok_or_else(|| GpuError::Readback("shaded image has the wrong size".into()))

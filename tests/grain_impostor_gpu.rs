@@ -234,3 +234,60 @@ fn perspective_gbuffer_of_a_ball_matches_the_analytic_sphere_and_shades_like_the
     assert!(!lit.is_empty() && !unlit.is_empty());
     assert!(lit.iter().min() > unlit.iter().max(), "lit {:?} vs unlit {:?}", lit.iter().min(), unlit.iter().max());
 }
+
+#[test]
+fn supersampling_gives_fractional_silhouette_coverage_and_meshes_without_materials_use_the_default() {
+    let gpu = gpu();
+    let ball = Ball::default().mesh().unwrap();
+    // The same ball without per-vertex materials.
+    let bare = grain_mesh::GrainMesh::with_normals(
+        ball.positions().to_vec(),
+        ball.normals().to_vec(),
+        ball.triangles().to_vec(),
+    )
+    .unwrap();
+    assert!(bare.materials().is_none());
+    let size = (40, 40);
+    let camera =
+        CameraUniforms::perspective(Vec3::new(0.0, -4.0, 0.0), Vec3::ZERO, Vec3::Z, 0.7, size, (0.1, 10.0)).unwrap();
+    let mesh = GpuMesh::upload(&gpu.device, &bare).unwrap();
+    let pass = MeshGbufferPass::new(&gpu.device).unwrap();
+    let target = ScreenGbuffer::new(&gpu.device, size).unwrap();
+    let instance = GrainInstance::new(Vec3::ZERO, 1.0, Quat::IDENTITY);
+    let s = 4;
+    pass.render(&gpu.device, &gpu.queue, &mesh, &camera, &instance, s, &target).unwrap();
+    let image = target.read(&gpu.device, &gpu.queue).unwrap();
+    let mut partial = 0;
+    for (i, normal_coverage) in image.normal_coverage.iter().enumerate() {
+        let coverage = normal_coverage.w;
+        // Coverage counts covered samples out of s² = 16 (exact in f16).
+        let samples = coverage * (s * s) as f32;
+        assert_eq!(samples, samples.round(), "pixel {i}: coverage {coverage}");
+        if coverage > 0.0 {
+            let default = grain_impostor::mesh_gbuffer::DEFAULT_MATERIAL;
+            assert!((image.albedo[i].truncate() - default.albedo).abs().max_element() < 1.0 / 255.0);
+            assert!((image.material[i].x - default.roughness).abs() < 1.0 / 255.0);
+            assert!((normal_coverage.truncate().length() - 1.0).abs() < 2e-3, "pixel {i}: normal not unit");
+        }
+        if coverage > 0.0 && coverage < 1.0 {
+            partial += 1;
+        }
+    }
+    println!("partially covered pixels: {partial}");
+    // Every silhouette pixel of a disc of radius ≈ 14 pixels is partial: measured 88
+    // (2π·14 ≈ 88).
+    assert!(partial > 75, "{partial} partially covered pixels");
+    // Invalid requests are errors, not panics.
+    assert!(pass.render(&gpu.device, &gpu.queue, &mesh, &camera, &instance, 0, &target).is_err());
+    let baker = Baker::new(&gpu.device).unwrap();
+    for settings in [
+        BakeSettings { progress: Progress::Hidden, ..BakeSettings::new(4, 48) },
+        BakeSettings { progress: Progress::Hidden, supersampling: 1, ..BakeSettings::new(4, 32) },
+        BakeSettings { progress: Progress::Hidden, ..BakeSettings::new(0, 32) },
+    ] {
+        assert!(matches!(
+            baker.bake(&gpu.device, &gpu.queue, &bare, &settings),
+            Err(grain_impostor::bake::BakeError::InvalidSettings(_))
+        ));
+    }
+}

@@ -124,8 +124,7 @@ impl Baker {
         let fine = u64::from(settings.texels * settings.supersampling);
         let by_memory = BATCH_TARGET_BYTES / (fine * fine * FINE_BYTES_PER_TEXEL).max(1);
         let output_per_view = u64::from(settings.texels).pow(2) * 64;
-        let by_binding =
-            u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size) / output_per_view.max(1);
+        let by_binding = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size) / output_per_view.max(1);
         let views = u64::from(settings.subdivisions).pow(2) * 2;
         by_memory.min(by_binding).min(u64::from(limits.max_texture_array_layers)).min(views).max(1) as u32
     }

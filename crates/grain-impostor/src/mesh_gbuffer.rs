@@ -488,7 +488,10 @@ impl MeshGbufferPass {
                 ..Default::default()
             });
             pass.set_pipeline(&self.raster);
-            pass.set_bind_group(0, &bind_group, &[(layer as u64 * self.camera_stride) as u32]);
+            // An offset beyond u32 (never for the batch sizes used) becomes a wgpu validation
+            // error reported by the caller's error scope, not a wrong camera.
+            let offset = u32::try_from(u64::from(layer) * self.camera_stride).unwrap_or(u32::MAX);
+            pass.set_bind_group(0, &bind_group, &[offset]);
             pass.set_vertex_buffer(0, mesh.vertices.slice(..));
             pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..mesh.index_count, 0, 0..1);

@@ -21,5 +21,12 @@
 //! View `i` of an atlas follows [`octahedral_map::ViewFrame`]: an orthographic camera
 //! looking along `-ω_i`, covering the square `[-R, R]²` of the plane through the grain's
 //! centre, `R` the grain's outer radius.
+//!
+//! # Modules
+//!
+//! - [`scene`]: cameras, grain instances and the shared texture formats.
+//! - [`accuracy`]: the view set, comparison scene and image metrics of the accuracy
+//!   experiment (SSIM, RMSE against the mesh).
 
+pub mod accuracy;
 pub mod scene;

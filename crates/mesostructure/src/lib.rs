@@ -17,10 +17,12 @@
 //! ```
 
 mod height_field;
+mod height_map;
 mod spheres;
 mod torus;
 
-pub use height_field::{HeightField, bricks, maze};
+pub use height_field::{HeightField, bricks, bricks_height_field, maze, maze_height_field};
+pub use height_map::{AdaptiveMesh, HeightMapError};
 pub use spheres::{ball, beads, plane, sphere};
 pub use torus::{BaseMesh, Ring, chain_mail, chain_mail_rings, torus_base_mesh};
 

@@ -110,7 +110,7 @@ fn run(args: &[String]) -> Result<(), String> {
         }
         Some("ddm-compression") => ddm_compression::run(&rest, workspace_root().join("target/ddm-compression")),
         _ => Err(
-            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick]>"
+            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] [--size WxHxD]>"
                 .into(),
         ),
     }

@@ -32,8 +32,11 @@
 //!   dilated mip chains; [`atlas_gpu`]: upload to texture arrays; [`atlas_file`]:
 //!   save/load with checked errors; [`packed`]: the 8-byte packed layout and its cost.
 //! - [`shading`]: deferred shading of the G-buffer into a displayable image.
+//! - [`accuracy`]: the view set, comparison scene and image metrics of the accuracy
+//!   experiment (SSIM, RMSE against the mesh).
 //! - [`gpu_util`], [`half`]: helpers.
 
+pub mod accuracy;
 pub mod atlas;
 pub mod atlas_file;
 pub mod atlas_gpu;

@@ -124,7 +124,7 @@ fn ball_gbuffer(instance: &GrainInstance) -> (CameraUniforms, ScreenGbuffer, Gbu
     let mesh = GpuMesh::upload(&gpu.device, &Ball::default().mesh().unwrap()).unwrap();
     let pass = MeshGbufferPass::new(&gpu.device).unwrap();
     let target = ScreenGbuffer::new(&gpu.device, size).unwrap();
-    pass.render(&gpu.device, &gpu.queue, &mesh, &camera, instance, 3, &target).unwrap();
+    pass.render(&gpu.device, &gpu.queue, &mesh, &camera, std::slice::from_ref(instance), 3, &target).unwrap();
     let image = target.read(&gpu.device, &gpu.queue).unwrap();
     (camera, target, image)
 }
@@ -255,7 +255,7 @@ fn supersampling_gives_fractional_silhouette_coverage_and_meshes_without_materia
     let target = ScreenGbuffer::new(&gpu.device, size).unwrap();
     let instance = GrainInstance::new(Vec3::ZERO, 1.0, Quat::IDENTITY);
     let s = 4;
-    pass.render(&gpu.device, &gpu.queue, &mesh, &camera, &instance, s, &target).unwrap();
+    pass.render(&gpu.device, &gpu.queue, &mesh, &camera, &[instance], s, &target).unwrap();
     let image = target.read(&gpu.device, &gpu.queue).unwrap();
     let mut partial = 0;
     for (i, normal_coverage) in image.normal_coverage.iter().enumerate() {
@@ -277,8 +277,25 @@ fn supersampling_gives_fractional_silhouette_coverage_and_meshes_without_materia
     // Every silhouette pixel of a disc of radius ≈ 14 pixels is partial: measured 88
     // (2π·14 ≈ 88).
     assert!(partial > 75, "{partial} partially covered pixels");
+    // Several instances in one instanced draw: a disc around each projected centre, none
+    // between them; no instance: an empty G-buffer.
+    let pair = [-1.3f32, 1.3].map(|x| GrainInstance::new(Vec3::new(x, 0.0, 0.0), 0.5, Quat::from_rotation_x(x)));
+    pass.render(&gpu.device, &gpu.queue, &mesh, &camera, &pair, s, &target).unwrap();
+    let image = target.read(&gpu.device, &gpu.queue).unwrap();
+    let coverage_at = |image: &GbufferImage, point: Vec3| {
+        let ndc = camera.clip_from_world().project_point3(point);
+        let x = ((ndc.x + 1.0) * 0.5 * size.0 as f32) as u32;
+        let y = ((1.0 - ndc.y) * 0.5 * size.1 as f32) as u32;
+        image.normal_coverage[image.index(x, y).unwrap()].w
+    };
+    assert_eq!(coverage_at(&image, Vec3::new(-1.3, 0.0, 0.0)), 1.0);
+    assert_eq!(coverage_at(&image, Vec3::new(1.3, 0.0, 0.0)), 1.0);
+    assert_eq!(coverage_at(&image, Vec3::ZERO), 0.0);
+    pass.render(&gpu.device, &gpu.queue, &mesh, &camera, &[], s, &target).unwrap();
+    let empty = target.read(&gpu.device, &gpu.queue).unwrap();
+    assert!(empty.normal_coverage.iter().all(|t| t.w == 0.0) && empty.depth.iter().all(|d| *d == f32::INFINITY));
     // Invalid requests are errors, not panics.
-    assert!(pass.render(&gpu.device, &gpu.queue, &mesh, &camera, &instance, 0, &target).is_err());
+    assert!(pass.render(&gpu.device, &gpu.queue, &mesh, &camera, &[instance], 0, &target).is_err());
     let baker = Baker::new(&gpu.device).unwrap();
     for settings in [
         BakeSettings { progress: Progress::Hidden, ..BakeSettings::new(4, 48) },

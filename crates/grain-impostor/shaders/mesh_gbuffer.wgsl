@@ -3,7 +3,8 @@
 // generated.wgsl (CameraUniforms, GrainInstance).
 
 @group(0) @binding(0) var<uniform> camera: CameraUniforms;
-@group(0) @binding(1) var<uniform> instance: GrainInstance;
+// Instanced: draw instance i places the mesh with instances[i].
+@group(0) @binding(1) var<storage, read> instances: array<GrainInstance>;
 
 struct MeshVertex {
     @location(0) position: vec3<f32>,
@@ -53,7 +54,8 @@ fn view_depth_of(world: vec3<f32>, clip: vec4<f32>) -> f32 {
 }
 
 @vertex
-fn mesh_vertex(input: MeshVertex) -> MeshFragment {
+fn mesh_vertex(input: MeshVertex, @builtin(instance_index) instance_index: u32) -> MeshFragment {
+    let instance = instances[instance_index];
     let world = instance.centre_scale.xyz + instance.centre_scale.w * rotate_by_quaternion(instance.rotation, input.position);
     let clip = camera_clip_from_world() * vec4<f32>(world, 1.0);
     var output: MeshFragment;

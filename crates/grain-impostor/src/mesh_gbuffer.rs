@@ -24,6 +24,7 @@
 //! Per-vertex [`grain_mesh::VertexMaterial`] when the mesh has them (metallic 0: the
 //! grain material has none), else [`DEFAULT_MATERIAL`].
 
+use bytemuck::Zeroable;
 use glam::{Vec3, Vec4};
 use grain_mesh::{GrainMesh, VertexMaterial};
 
@@ -289,7 +290,16 @@ impl MeshGbufferPass {
                 label: Some("mesh G-buffer raster"),
                 entries: &[
                     uniform_entry(0, stages, true, camera_size),
-                    uniform_entry(1, stages, false, size_of::<GrainInstance>() as u64),
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 1,
+                        visibility: wgpu::ShaderStages::VERTEX,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Storage { read_only: true },
+                            has_dynamic_offset: false,
+                            min_binding_size: wgpu::BufferSize::new(size_of::<GrainInstance>() as u64),
+                        },
+                        count: None,
+                    },
                 ],
             });
             let raster_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -387,9 +397,10 @@ impl MeshGbufferPass {
         })
     }
 
-    /// Renders `mesh` placed by `instance`, seen by `camera`, into `target` with `s × s`
-    /// supersampling (`supersampling ≥ 1`). The camera's own viewport size is not used:
-    /// the target's size is.
+    /// Renders one copy of `mesh` per entry of `instances` (an instanced draw; none gives
+    /// an empty G-buffer), seen by `camera`, into `target` with `s × s` supersampling
+    /// (`supersampling ≥ 1`). The camera's own viewport size is not used: the target's
+    /// size is.
     #[allow(clippy::too_many_arguments)]
     pub fn render(
         &self,
@@ -397,17 +408,26 @@ impl MeshGbufferPass {
         queue: &wgpu::Queue,
         mesh: &GpuMesh,
         camera: &CameraUniforms,
-        instance: &GrainInstance,
+        instances: &[GrainInstance],
         supersampling: u32,
         target: &ScreenGbuffer,
     ) -> Result<(), GpuError> {
         let fine_size = fine_size(supersampling, (target.width, target.height))?;
+        let limit = device.limits().max_storage_buffer_binding_size;
+        let instance_bytes = (instances.len() * size_of::<GrainInstance>()) as u64;
+        if instance_bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: "grain instances in bytes".into(),
+                requested: instance_bytes,
+                limit,
+            });
+        }
         let fine = FineTargets::new(device, fine_size, 1)?;
         let params =
             ReduceParams { size: glam::UVec4::new(supersampling, target.width, target.height, 1), extent: Vec4::ONE };
         scoped(device, || {
             let mut encoder = device.create_command_encoder(&Default::default());
-            self.encode_raster(device, &mut encoder, mesh, std::slice::from_ref(camera), instance, &fine);
+            self.encode_raster(device, &mut encoder, mesh, std::slice::from_ref(camera), instances, &fine);
             let output = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("G-buffer reduction output"),
                 layout: &self.reduce_gbuffer_layout,
@@ -421,15 +441,16 @@ impl MeshGbufferPass {
         })
     }
 
-    /// Encodes the raster of `mesh` once per camera, camera `i` into array layer `i` of
-    /// `fine` (one render pass per layer, all in one encoder).
+    /// Encodes the raster of `mesh` (one instanced draw of all `instances`) once per
+    /// camera, camera `i` into array layer `i` of `fine` (one render pass per layer, all in
+    /// one encoder).
     pub(crate) fn encode_raster(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         mesh: &GpuMesh,
         cameras: &[CameraUniforms],
-        instance: &GrainInstance,
+        instances: &[GrainInstance],
         fine: &FineTargets,
     ) {
         use wgpu::util::DeviceExt;
@@ -443,10 +464,12 @@ impl MeshGbufferPass {
             contents: &camera_bytes,
             usage: wgpu::BufferUsages::UNIFORM,
         });
+        // A storage binding cannot be empty: with no instance, bind one unused zero instance.
+        let placeholder = [GrainInstance::zeroed()];
         let instance_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("mesh G-buffer instance"),
-            contents: bytemuck::bytes_of(instance),
-            usage: wgpu::BufferUsages::UNIFORM,
+            label: Some("mesh G-buffer instances"),
+            contents: bytemuck::cast_slice(if instances.is_empty() { &placeholder } else { instances }),
+            usage: wgpu::BufferUsages::STORAGE,
         });
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("mesh G-buffer raster"),
@@ -494,7 +517,7 @@ impl MeshGbufferPass {
             pass.set_bind_group(0, &bind_group, &[offset]);
             pass.set_vertex_buffer(0, mesh.vertices.slice(..));
             pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..mesh.index_count, 0, 0..1);
+            pass.draw_indexed(0..mesh.index_count, 0, 0..instances.len() as u32);
         }
     }
 
@@ -560,7 +583,7 @@ impl MeshGbufferPass {
                 mapped_at_creation: false,
             });
             let mut encoder = device.create_command_encoder(&Default::default());
-            self.encode_raster(device, &mut encoder, mesh, cameras, instance, fine);
+            self.encode_raster(device, &mut encoder, mesh, cameras, std::slice::from_ref(instance), fine);
             let output = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("atlas reduction output"),
                 layout: &self.reduce_atlas_layout,

@@ -414,7 +414,7 @@ impl MeshGbufferPass {
     ) -> Result<(), GpuError> {
         let fine_size = fine_size(supersampling, (target.width, target.height))?;
         let limit = device.limits().max_storage_buffer_binding_size;
-        let instance_bytes = (instances.len() * size_of::<GrainInstance>()) as u64;
+        let instance_bytes = size_of_val(instances) as u64;
         if instance_bytes > limit {
             return Err(GpuError::TooLarge {
                 what: "grain instances in bytes".into(),

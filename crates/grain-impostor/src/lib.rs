@@ -35,6 +35,10 @@
 //! - [`accuracy`]: the view set, comparison scene and image metrics of the accuracy
 //!   experiment (SSIM, RMSE against the mesh).
 //! - [`gpu_util`], [`half`]: helpers.
+//!
+//! `cargo run --release -p grain-impostor --example bake_report` prints bake times, the
+//! atlas memory for `n ∈ {4, …, 12}`, `p ∈ {32, 64, 128}`, and the accuracy cost of the
+//! packed layout on the four procedural grains.
 
 pub mod accuracy;
 pub mod atlas;

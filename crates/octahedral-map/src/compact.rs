@@ -3,7 +3,7 @@
 //! Listing 1's layout stores `N = 2n²` views: an `n × n` grid per hemisphere. The grid's
 //! boundary (`u` or `v` equal to `0` or `n - 1`) lies on the equator `z = 0`, so the
 //! `4(n - 1)` boundary views of the upper hemisphere are the same directions as those of
-//! the lower one (for `n ≥ 2`; `n = 1` holds the two poles and no duplicate). GrainViewer's
+//! the lower one (for `n ≥ 2`; `n = 1` holds the two poles and no duplicate). `GrainViewer`'s
 //! `ViewIndexToDirection` notes the redundancy ("find a mapping without redundancy").
 //!
 //! The **compact** layout stores each distinct direction once, `2n² − 4(n − 1)` views:

@@ -8,8 +8,8 @@ use gpu_layout::{GpuConst, gpu_const, gpu_struct};
 
 use crate::direction::FALLBACK_DIRECTION;
 use crate::sampling::{
-    MAX_DISTANCE_RATIO, MAX_GRAIN_SCALE, MAX_RAY_ORIGIN_COMPONENT, MAX_TEXTURE_COORDINATE, MIN_GRAIN_SCALE,
-    MIN_PLANE_COSINE, MISS_TEXTURE_COORDINATE,
+    MAX_DISTANCE_RATIO, MAX_GRAIN_SCALE, MAX_RAY_ORIGIN_COMPONENT, MAX_TEXTURE_COORDINATE, MAX_WORLD_COMPONENT,
+    MIN_GRAIN_SCALE, MIN_PLANE_COSINE, MISS_TEXTURE_COORDINATE,
 };
 use crate::views::MAX_SUBDIVISIONS;
 
@@ -68,7 +68,7 @@ gpu_struct! {
         pub mode: u32,
         /// [`ViewLayout`](crate::sampling::ViewLayout) as `u32`: 0 Listing 1 indices, 1
         /// compact indices.
-        pub layout: u32,
+        pub view_layout: u32,
         /// [`ViewSelection`](crate::sampling::ViewSelection) as `u32`: 0 per fragment, 1 per
         /// grain (from the eye at the ray origin).
         pub selection: u32,
@@ -127,7 +127,7 @@ impl ImpostorSample {
     /// The texture coordinates of view `k` (0..4) of [`indices`](Self::indices).
     pub fn view_texture_coordinates(&self, k: usize) -> Vec2 {
         let pair = self.texture_coordinates[(k / 2) % 2];
-        if k % 2 == 0 { pair.truncate().truncate() } else { Vec2::new(pair.z, pair.w) }
+        if k.is_multiple_of(2) { pair.truncate().truncate() } else { Vec2::new(pair.z, pair.w) }
     }
 }
 
@@ -140,6 +140,7 @@ pub const WGSL_CONSTANTS: &[GpuConst] = &[
     gpu_const!(MIN_PLANE_COSINE: f32 as "IMPOSTOR_MIN_PLANE_COSINE"),
     gpu_const!(MAX_DISTANCE_RATIO: f32 as "IMPOSTOR_MAX_DISTANCE_RATIO"),
     gpu_const!(MAX_RAY_ORIGIN_COMPONENT: f32 as "IMPOSTOR_MAX_RAY_ORIGIN_COMPONENT"),
+    gpu_const!(MAX_WORLD_COMPONENT: f32 as "IMPOSTOR_MAX_WORLD_COMPONENT"),
     gpu_const!(MIN_GRAIN_SCALE: f32 as "IMPOSTOR_MIN_GRAIN_SCALE"),
     gpu_const!(MAX_GRAIN_SCALE: f32 as "IMPOSTOR_MAX_GRAIN_SCALE"),
 ];

@@ -9,7 +9,7 @@
 //! 1. the four views nearest (Listing 1) to the direction toward the camera, chosen
 //!    **per grain** (from the grain centre toward the eye, the paper's choice, §4.2:
 //!    "we compute the sampled directions at the extent of a whole grain") or **per
-//!    fragment** (`−ray direction`, what GrainViewer's `IntersectRaySphericalGBillboard`
+//!    fragment** (`−ray direction`, what `GrainViewer`'s `IntersectRaySphericalGBillboard`
 //!    does); see [`ViewSelection`];
 //! 2. for each view `i` (direction `ω_i`, frame [`ViewFrame`]), the texture coordinates
 //!    of the texel to read, by [`SamplingMode`]:
@@ -27,20 +27,20 @@
 //!   when the bake extent is `R`, and returning a miss saves the texture reads.
 //! - **The ray misses the proxy sphere** (`ρ < d ≤ R`, or the sphere lies behind the
 //!   origin): spherical sampling returns a miss (this is what "cuts out parts of the
-//!   object", §5); mixed sampling returns `P`, as GrainViewer's
+//!   object", §5); mixed sampling returns `P`, as `GrainViewer`'s
 //!   `IntersectRayBillboard_MixedHit` does (it falls back to its plane hit when the
 //!   sphere hit is invalid). Note that the paper's formula is then **discontinuous** at
-//!   `d = ρ`: just inside, `M` still weighs `S` by `1 − ρ/R = (R − r)/(2R)`. GrainViewer
+//!   `d = ρ`: just inside, `M` still weighs `S` by `1 − ρ/R = (R − r)/(2R)`. `GrainViewer`
 //!   avoids the jump with `smoothstep(0.2 ρ/R, ρ/R, d/R)` as the weight of `P`; we keep
 //!   the paper's formula, as specified, and document the jump.
-//! - **Ray starting inside the proxy sphere**: its exit point (GrainViewer's
+//! - **Ray starting inside the proxy sphere**: its exit point (`GrainViewer`'s
 //!   `intersectRaySphere` does the same).
 //! - **Ray (nearly) parallel to a view plane**, `|direction·ω_i| < MIN_PLANE_COSINE`: `P`
-//!   is a miss for that view (it would lie arbitrarily far away; GrainViewer divides by
+//!   is a miss for that view (it would lie arbitrarily far away; `GrainViewer` divides by
 //!   zero there). Mixed sampling then uses `S` alone.
 //! - **Texture coordinates** are clamped to `[MISS_TEXTURE_COORDINATE,
 //!   MAX_TEXTURE_COORDINATE] = [−1, 2]` so they stay finite; readers treat anything
-//!   outside `[0, 1]²` as transparent (as GrainViewer's `SampleBillboard`).
+//!   outside `[0, 1]²` as transparent (as `GrainViewer`'s `SampleBillboard`).
 //! - **Unusable rays** (NaN, ±∞, huge origins, bad scale or rotation; see
 //!   [`GrainRay::from_world`]): every view is a miss, `d/R = MAX_DISTANCE_RATIO`; the
 //!   view indices still come from the (always defined) direction.
@@ -103,7 +103,7 @@ pub enum ViewLayout {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[repr(u32)]
 pub enum ViewSelection {
-    /// `−ray direction`, per fragment (GrainViewer).
+    /// `−ray direction`, per fragment (`GrainViewer`).
     PerFragment = 0,
     /// The ray origin: the direction from the grain centre toward the eye when the ray
     /// starts at the eye of a perspective camera (the paper's per-grain choice, §4.2). For
@@ -134,7 +134,7 @@ impl ImpostorSampler {
             uniforms: ImpostorSamplingUniforms {
                 subdivisions: views.subdivisions(),
                 mode: mode as u32,
-                layout: layout as u32,
+                view_layout: layout as u32,
                 selection: selection as u32,
                 outer_radius,
                 inner_radius,
@@ -198,7 +198,8 @@ pub fn sample_impostor(ray: &GrainRay, uniforms: &ImpostorSamplingUniforms) -> I
     let outer = uniforms.outer_radius;
     let closest = ray.closest_point_to_centre();
     let distance = closest.length();
-    let misses_grain = ray.invalid_origin || !(distance <= outer);
+    // `distance` is finite for a usable origin; a NaN outer radius misses too.
+    let misses_grain = ray.invalid_origin || distance.partial_cmp(&outer).is_none_or(|o| o.is_gt());
     let distance_ratio =
         if ray.invalid_origin { MAX_DISTANCE_RATIO } else { (distance / outer).clamp(0.0, MAX_DISTANCE_RATIO) };
     let proxy_hit = if misses_grain { None } else { intersect_proxy_sphere(ray, proxy_radius(uniforms)) };
@@ -223,7 +224,7 @@ pub fn sample_impostor(ray: &GrainRay, uniforms: &ImpostorSamplingUniforms) -> I
         };
         coordinates[k] = point.map_or(miss, |q| clamped_texture_coordinates(&frame, q, outer));
     }
-    let indices = if uniforms.layout == ViewLayout::Compact as u32 {
+    let indices = if uniforms.view_layout == ViewLayout::Compact as u32 {
         UVec4::from_array(views.indices.to_array().map(|i| compact_from_listing_index(i, n)))
     } else {
         views.indices

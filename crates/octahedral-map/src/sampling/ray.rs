@@ -115,7 +115,7 @@ fn normalized_rotation(rotation: Quat) -> Option<Quat> {
 /// The first point (parameter `t ≥ 0`) where `ray` meets the sphere of radius `radius`
 /// centred on the grain, or `None` when its line passes farther than `radius` from the
 /// centre or the sphere lies behind the origin. A ray starting inside the sphere gets the
-/// exit point (as GrainViewer's `intersectRaySphere`).
+/// exit point (as `GrainViewer`'s `intersectRaySphere`).
 ///
 /// Computed from the closest point `c` of the line: `hit = c ∓ h·direction` with
 /// `h = √(radius² − |c|²)`, so the result does not lose precision when the origin is far

@@ -22,4 +22,5 @@
 //! looking along `-ω_i`, covering the square `[-R, R]²` of the plane through the grain's
 //! centre, `R` the grain's outer radius.
 
+pub mod cloud;
 pub mod scene;

@@ -20,6 +20,27 @@
 //!      the ray's line. Texture coordinates are affine in the point, so the blend is done
 //!      on coordinates.
 //!
+//! ```
+//! use glam::{Quat, Vec3};
+//! use octahedral_map::{GrainRay, ImpostorSampler, OctahedralViews, SamplingMode, ViewLayout, ViewSelection};
+//!
+//! let views = OctahedralViews::new(8).unwrap();
+//! // R = 1.2 (also the half-size of each view's square), r = 0.8.
+//! let sampler =
+//!     ImpostorSampler::new(views, 1.2, 0.8, SamplingMode::Mixed, ViewLayout::Compact, ViewSelection::PerGrainFromEye)
+//!         .unwrap();
+//! // A camera at (0, -10, 2) looking at a grain at the origin, scaled by 2 and turned.
+//! let eye = Vec3::new(0.0, -10.0, 2.0);
+//! let ray = GrainRay::from_world(eye, Vec3::new(0.05, 1.0, -0.2), Vec3::ZERO, 2.0, Quat::from_rotation_z(0.3));
+//! let sample = sampler.sample(&ray);
+//! assert!((sample.weights.element_sum() - 1.0).abs() < 1e-6);
+//! for k in 0..4 {
+//!     let uv = sample.view_texture_coordinates(k); // read layer sample.indices[k] at uv
+//!     assert!(uv.x.is_finite() && uv.y.is_finite());
+//! }
+//! assert!(sample.distance_ratio < 1.0 && sample.proxy_hit == 1);
+//! ```
+//!
 //! # Misses and edge cases (decisions)
 //!
 //! - **`d > R`** (the ray passes outside the outer sphere): a miss in every mode. The grain

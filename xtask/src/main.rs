@@ -47,7 +47,10 @@ fn codegen() -> Result<(), String> {
         write_if_changed(module.generated.path, &text)?;
     }
     // Pipeline crates keep their generated declarations beside their own shaders.
-    let pipelines = [(grain_impostor::scene::GENERATED_WGSL_PATH, grain_impostor::scene::generated_wgsl())];
+    let pipelines = [
+        (grain_impostor::scene::GENERATED_WGSL_PATH, grain_impostor::scene::generated_wgsl()),
+        (grain_impostor::cloud::CLOUD_GENERATED_WGSL_PATH, grain_impostor::cloud::cloud_generated_wgsl()),
+    ];
     for (relative, text) in pipelines {
         write_if_changed(relative, &text.map_err(|e| format!("{relative}: {e}"))?)?;
     }

@@ -31,6 +31,8 @@
 //! - [`atlas`]: the CPU atlas, its texel encodings and memory; [`mips`]: premultiplied,
 //!   dilated mip chains; [`atlas_gpu`]: upload to texture arrays; [`atlas_file`]:
 //!   save/load with checked errors; [`packed`]: the 8-byte packed layout and its cost.
+//! - [`cloud`]: the impostor cloud pass (compute splats + resolve into the screen G-buffer,
+//!   sampling with `octahedral_map::sampling`).
 //! - [`shading`]: deferred shading of the G-buffer into a displayable image.
 //! - [`accuracy`]: the view set, comparison scene and image metrics of the accuracy
 //!   experiment (SSIM, RMSE against the mesh).
@@ -45,6 +47,7 @@ pub mod atlas;
 pub mod atlas_file;
 pub mod atlas_gpu;
 pub mod bake;
+pub mod cloud;
 pub mod gpu_util;
 pub mod half;
 pub mod mesh_gbuffer;

@@ -45,13 +45,20 @@ impl ViewFrame {
         if !direction.is_finite() || (direction.length_squared() - 1.0).abs() > 2e-4 {
             return None;
         }
+        Some(Self::from_unit_direction(direction))
+    }
+
+    /// [`from_direction`](Self::from_direction) without the unit-length check, for
+    /// directions known to be unit (the views of a layout). Mirrored by the WGSL
+    /// `octahedral_view_frame`.
+    pub(crate) fn from_unit_direction(direction: Vec3) -> Self {
         let Vec3 { x, y, z } = direction;
         let sign = if z >= 0.0 { 1.0 } else { -1.0 };
         let a = -1.0 / (sign + z);
         let b = x * y * a;
         let right = Vec3::new(1.0 + sign * x * x * a, sign * b, -sign * x);
         let up = Vec3::new(b, sign + y * y * a, -y);
-        Some(Self { right, up, direction })
+        Self { right, up, direction }
     }
 
     /// The texture coordinates in `[0, 1]²` (for points inside the square) of the

@@ -13,6 +13,9 @@
 //!   coverage error, and Fig. 9 at quick settings.
 //! - `cargo xtask abuffer-chart [OUT_DIR]`: coverage error of the A-buffer mask tables
 //!   against N (default `target/showcase`).
+//! - `cargo xtask impostor-accuracy [OUT_DIR] [--quick]`: SSIM/RMSE of octahedral impostors
+//!   against the mesh for four grains, every `(n, p)`, three sampling modes, two screen sizes
+//!   (Michel & Boubekeur's Fig. 13; default `target/impostor-accuracy`).
 //! - `cargo xtask ddm-compression [OUT_DIR] [--quick]`: compression efficiency of the
 //!   distance maps and DDMs of four mesostructures (Mehra & Kumar's Table 3; default
 //!   `target/ddm-compression`).
@@ -21,6 +24,7 @@ mod abuffer_chart;
 mod chart;
 mod ddm_compression;
 mod fig9;
+mod impostor_accuracy;
 mod showcase;
 
 use std::path::{Path, PathBuf};
@@ -111,9 +115,12 @@ fn run(args: &[String]) -> Result<(), String> {
             let out = rest.first().map_or_else(|| workspace_root().join("target/showcase"), PathBuf::from);
             abuffer_chart::run(&out)
         }
+        Some("impostor-accuracy") => {
+            impostor_accuracy::run(&rest, workspace_root().join("target/impostor-accuracy"))
+        }
         Some("ddm-compression") => ddm_compression::run(&rest, workspace_root().join("target/ddm-compression")),
         _ => Err(
-            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] [--size WxHxD]>"
+            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] [--size WxHxD] | impostor-accuracy [OUT_DIR] [--quick]>"
                 .into(),
         ),
     }

@@ -4,9 +4,12 @@
 //! - [`view_set`]: the view directions and the grid scene that shows one grain from each of
 //!   them in a single image.
 //! - [`metrics`]: SSIM and RMSE between two renders.
+//! - [`sweep`]: bakes, renders and measures every configuration.
 
 pub mod metrics;
+pub mod sweep;
 pub mod view_set;
 
 pub use metrics::{ImageError, MetricError, compare_images};
+pub use sweep::{AccuracySweep, SweepError, SweepRow, SweepSettings};
 pub use view_set::{ComparisonScene, fibonacci_directions};

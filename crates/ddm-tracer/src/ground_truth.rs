@@ -85,7 +85,9 @@ impl MeshRaycaster {
                 return None;
             }
         } else {
-            let (a, b) = ((root.min.z - origin.z) / direction.z, (root.max.z - origin.z) / direction.z);
+            // Widened by a little, so that hits on the bounding planes are not lost to rounding.
+            let (lo, hi) = (root.min.z - 1e-9, root.max.z + 1e-9);
+            let (a, b) = ((lo - origin.z) / direction.z, (hi - origin.z) / direction.z);
             t0 = t0.max(a.min(b));
             t1 = t1.min(a.max(b));
         }

@@ -32,7 +32,9 @@ use crate::gpu::TracePatch;
 /// Settings of [`VoxelPatches::build`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PatchSettings {
-    /// How far around the voxel (in voxels) the surface samples of the fit reach.
+    /// How far around the voxel (in voxels) the surface samples of the fit reach. 0 (the
+    /// default: samples inside the closed voxel only) measured best on the maze and bricks,
+    /// whose sharp edges otherwise tilt the fits of the flat voxels next to them.
     pub margin: f32,
     /// Subdivisions per triangle edge when sampling (`n (n + 1) / 2` barycentric points).
     pub samples_per_edge: u32,
@@ -40,7 +42,7 @@ pub struct PatchSettings {
 
 impl Default for PatchSettings {
     fn default() -> Self {
-        Self { margin: 0.25, samples_per_edge: 16 }
+        Self { margin: 0.0, samples_per_edge: 16 }
     }
 }
 

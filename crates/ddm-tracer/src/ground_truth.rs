@@ -53,11 +53,8 @@ impl MeshRaycaster {
     /// components ≤ 0 or not finite disable the repetition along that axis). Non-finite
     /// triangles are dropped.
     pub fn new(triangles: &[Triangle], period: Vec2) -> Self {
-        let mut tris: Vec<[DVec3; 3]> = triangles
-            .iter()
-            .filter(|t| t.0.iter().all(|v| v.is_finite()))
-            .map(|t| t.0.map(Vec3::as_dvec3))
-            .collect();
+        let mut tris: Vec<[DVec3; 3]> =
+            triangles.iter().filter(|t| t.0.iter().all(|v| v.is_finite())).map(|t| t.0.map(Vec3::as_dvec3)).collect();
         let mut nodes = Vec::new();
         if !tris.is_empty() {
             let len = tris.len();

@@ -35,8 +35,8 @@
 
 extern crate alloc;
 
-pub mod ground_truth;
 pub mod gpu;
+pub mod ground_truth;
 pub mod maps;
 pub mod patches;
 pub mod relief;

@@ -35,7 +35,9 @@ impl ConeSelector {
         let (Some(first), Some(last)) = (first, last) else {
             return Self { azimuths: 0, elevations: 0, elevation_min: -FRAC_PI_2, elevation_max: FRAC_PI_2 };
         };
-        let azimuths = (0..cones.count()).filter(|&i| cones.cone(i).map(|c| c.elevation_min) == Some(first.elevation_min)).count() as u32;
+        let azimuths = (0..cones.count())
+            .filter(|&i| cones.cone(i).map(|c| c.elevation_min) == Some(first.elevation_min))
+            .count() as u32;
         Self {
             azimuths,
             elevations: cones.count() / azimuths.max(1),

@@ -248,8 +248,9 @@ mod tests {
         let field = |x: f32, y: f32| 1.3 + 0.2 * x + 0.1 * y;
         // A plane is not periodic; build it over the tile only and check interior voxels.
         let tris = mesostructure::HeightField::from_fn(6, 6, field).triangles();
-        let maps = compute_distance_maps(dims, &tris, None, DistanceMapSettings { tolerance: 0.25, periodic_xy: false })
-            .unwrap();
+        let maps =
+            compute_distance_maps(dims, &tris, None, DistanceMapSettings { tolerance: 0.25, periodic_xy: false })
+                .unwrap();
         let patches = VoxelPatches::build(dims, &tris, &maps.surface, PatchSettings::default()).unwrap();
         let mut checked = 0;
         for z in 0..4 {

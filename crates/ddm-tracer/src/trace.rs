@@ -184,11 +184,8 @@ pub fn trace<S: DistanceSource>(
             libm::floorf(probe.y) as i32,
             (libm::floorf(probe.z) as i32).min(dims.z as i32 - 1),
         );
-        let wrapped = UVec3::new(
-            v.x.rem_euclid(dims.x as i32) as u32,
-            v.y.rem_euclid(dims.y as i32) as u32,
-            v.z as u32,
-        );
+        let wrapped =
+            UVec3::new(v.x.rem_euclid(dims.x as i32) as u32, v.y.rem_euclid(dims.y as i32) as u32, v.z as u32);
         steps += 1;
         let value = source.distance(cone, wrapped);
         if value > 0.0 {

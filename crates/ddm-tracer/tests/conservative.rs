@@ -61,7 +61,8 @@ fn sphere_tracing_never_steps_past_the_first_true_hit() {
                 let out = trace(maps, None, origin, direction, sphere);
                 assert!(!out.exhausted, "{} {origin} {direction}", which.name());
                 if let Some(truth) = truth {
-                    let hit = out.hit.unwrap_or_else(|| panic!("{}: missed a true hit {origin} {direction}", which.name()));
+                    let hit =
+                        out.hit.unwrap_or_else(|| panic!("{}: missed a true hit {origin} {direction}", which.name()));
                     // The entry of the first zero voxel lies before the true hit (the
                     // slack is the f32 rounding of a point ~20 voxels along the ray).
                     assert!(
@@ -126,4 +127,3 @@ fn compression_is_transparent_and_the_quadric_hits_are_accurate() {
         }
     }
 }
-

@@ -1,0 +1,206 @@
+// WGSL twin of crates/ddm-tracer's tracer (Mehra & Kumar, Algorithms 3.1-3.3). Composed
+// after shaders/generated/quadric_fit.wgsl + shaders/quadric_fit.wgsl (quadric_first_hit,
+// quadric_normal), shaders/generated/ddm_compress.wgsl + shaders/ddm_compress.wgsl (the
+// compressed-map access of Algorithm A.2) and shaders/generated/ddm_tracer.wgsl (the
+// structs and constants, from the Rust source). Each function mirrors the Rust function
+// named in its comment; tests/ddm_tracer_gpu.rs proves them equal.
+//
+// The scene lives in read-only storage buffers at bindings 3-7 (ddm_tracer::gpu::GpuScene);
+// a kernel declares the uniforms (binding 0) and its own input and output.
+
+@group(0) @binding(3) var<storage, read> trace_cone_maps: array<TraceConeMap>;
+@group(0) @binding(4) var<storage, read> trace_grid: array<u32>;
+@group(0) @binding(5) var<storage, read> trace_atlas: array<f32>;
+@group(0) @binding(6) var<storage, read> trace_patch_offsets: array<u32>;
+@group(0) @binding(7) var<storage, read> trace_patches: array<TracePatch>;
+
+const TRACE_TAU: f32 = 6.28318530717958647692;
+
+// Rust: ddm_tracer::maps::ConeSelector::select. Returns -1 outside the band (Rust: None).
+fn trace_select_cone(u: TraceUniforms, direction: vec3<f32>) -> i32 {
+    let azimuths = u.cones_method.x;
+    let elevations = u.cones_method.y;
+    if azimuths == 0u {
+        return 0;
+    }
+    let horizontal = sqrt(direction.x * direction.x + direction.y * direction.y);
+    let elevation = atan2(direction.z, horizontal);
+    var azimuth = atan2(direction.y, direction.x);
+    if azimuth < 0.0 {
+        azimuth += TRACE_TAU;
+    }
+    if azimuth >= TRACE_TAU {
+        azimuth = 0.0;
+    }
+    let band = u.elevation_band;
+    if !(elevation >= band.x && elevation <= band.y) {
+        return -1;
+    }
+    let a = min(u32(azimuth / TRACE_TAU * f32(azimuths)), azimuths - 1u);
+    let t = (elevation - band.x) / (band.y - band.x);
+    let e = min(u32(t * f32(elevations)), elevations - 1u);
+    return i32(a + azimuths * e);
+}
+
+// Rust: ddm_tracer::trace::unit.
+fn trace_unit(direction: vec3<f32>) -> vec3<f32> {
+    return direction * (1.0 / sqrt(dot(direction, direction)));
+}
+
+// Rust: ddm_tracer::trace::slab_entry.
+fn trace_slab_entry(origin: vec3<f32>, direction: vec3<f32>, size_z: f32) -> f32 {
+    return select(0.0, (size_z - origin.z) / direction.z, origin.z > size_z);
+}
+
+// Rust: ddm_tracer::trace::voxel_exit.
+fn trace_voxel_exit(local: vec3<f32>, direction: vec3<f32>) -> f32 {
+    var exit = 3.40282347e38;
+    for (var axis = 0u; axis < 3u; axis++) {
+        let r = direction[axis];
+        if r != 0.0 {
+            let wall = select(0.0, 1.0, r > 0.0);
+            exit = min(exit, (wall - local[axis]) / r);
+        }
+    }
+    return max(exit, 0.0);
+}
+
+// Rust: ddm_tracer::trace::entry_wall_normal.
+fn trace_entry_wall_normal(local: vec3<f32>, direction: vec3<f32>) -> vec3<f32> {
+    var best = 3.40282347e38;
+    var normal = vec3<f32>(0.0, 0.0, 1.0);
+    for (var axis = 0u; axis < 3u; axis++) {
+        let r = direction[axis];
+        if r == 0.0 {
+            continue;
+        }
+        let wall = select(0.0, 1.0, r < 0.0);
+        let distance = abs(local[axis] - wall);
+        if distance < best {
+            best = distance;
+            normal = vec3<f32>(0.0);
+            normal[axis] = select(-1.0, 1.0, r < 0.0);
+        }
+    }
+    return normal;
+}
+
+// Rust: ddm_tracer::trace::quadric_of.
+fn trace_quadric_of(piece: TracePatch) -> GpuQuadric {
+    return GpuQuadric(piece.abcd, piece.efgh, piece.ij_corners.xy, vec2<f32>(0.0));
+}
+
+// Rust: ddm_tracer::patches::inside_polygon.
+fn trace_inside_polygon(piece: TracePatch, p: vec3<f32>) -> bool {
+    let n = piece.normal.xyz;
+    var corners = array<vec3<f32>, 4>(piece.p0.xyz, piece.p1.xyz, piece.p2.xyz, piece.p3.xyz);
+    let count = select(3u, 4u, piece.ij_corners.z > 3.5);
+    for (var i = 0u; i < count; i++) {
+        let a = corners[i];
+        let b = corners[(i + 1u) % count];
+        let edge = b - a;
+        let side = dot(cross(edge, p - a), n);
+        if side < -TRACE_POLYGON_TOLERANCE * length(edge) {
+            return false;
+        }
+    }
+    return true;
+}
+
+// Rust: <CompressedMaps as DistanceSource>::distance (CompressedMap::access, Algorithm A.2).
+fn trace_map_distance(cone: u32, voxel: vec3<u32>) -> f32 {
+    let entry_map = trace_cone_maps[cone];
+    let map = CompressedMapUniforms(entry_map.dims_block, entry_map.grid_atlas_base);
+    if !ddm_voxel_in_map(voxel, map) {
+        return 0.0;
+    }
+    let entry = trace_grid[entry_map.grid_base.x + ddm_grid_index(voxel, map)];
+    if ddm_entry_is_surface(entry) {
+        return trace_atlas[map.grid_atlas_base.w + ddm_atlas_index(entry, voxel, map.dims_block.w)];
+    }
+    return ddm_entry_distance(entry);
+}
+
+// Rust: ddm_tracer::trace::patch_hit. Returns vec3(t, piece index, 1) for a hit and
+// vec3(0) for a miss; `first` and `count` select the voxel's patches.
+fn trace_patch_hit(first: u32, count: u32, local: vec3<f32>, direction: vec3<f32>, t_exit: f32) -> vec3<f32> {
+    var best = vec3<f32>(0.0);
+    for (var k = 0u; k < count; k++) {
+        let piece = trace_patches[first + k];
+        let hit = quadric_first_hit(trace_quadric_of(piece), local, direction, 0.0, t_exit);
+        if hit.y == 0.0 {
+            continue;
+        }
+        if count > 1u && !trace_inside_polygon(piece, local + direction * hit.x) {
+            continue;
+        }
+        if best.z == 0.0 || hit.x < best.x {
+            best = vec3<f32>(hit.x, f32(k), 1.0);
+        }
+    }
+    return best;
+}
+
+fn trace_miss(steps: u32, cone: u32, exhausted: u32) -> TraceResult {
+    return TraceResult(vec4<f32>(0.0), vec4<f32>(0.0), vec4<u32>(steps, cone, exhausted, 0u));
+}
+
+// Rust: ddm_tracer::trace::trace (Algorithm 3.1 with 3.2 and 3.3), reading the compressed
+// maps and patches of the storage buffers. The caller guarantees finite input.
+fn trace_ray(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>) -> TraceResult {
+    let dims = u.dims_max_steps.xyz;
+    if any(dims == vec3<u32>(0u)) {
+        return trace_miss(0u, 0u, 0u);
+    }
+    let d = trace_unit(direction);
+    if !(d.z < 0.0) {
+        return trace_miss(0u, 0u, 0u);
+    }
+    let selected = trace_select_cone(u, d);
+    if selected < 0 {
+        return trace_miss(0u, 0u, 0u);
+    }
+    let cone = u32(selected);
+    let size = vec3<f32>(dims);
+    let t_enter = trace_slab_entry(origin, d, size.z);
+    let start = origin + d * t_enter;
+    let step_cap = min(size.x, size.y);
+    let idims = vec3<i32>(dims);
+    var t = 0.0;
+    var steps = 0u;
+    while steps < u.dims_max_steps.w {
+        let p = start + d * t;
+        let probe = p + d * TRACE_NUDGE;
+        if probe.z < 0.0 {
+            return trace_miss(steps, cone, 0u);
+        }
+        let v = vec3<i32>(i32(floor(probe.x)), i32(floor(probe.y)), min(i32(floor(probe.z)), idims.z - 1));
+        let wrapped = vec3<u32>(u32(((v.x % idims.x) + idims.x) % idims.x), u32(((v.y % idims.y) + idims.y) % idims.y), u32(v.z));
+        steps += 1u;
+        let value = trace_map_distance(cone, wrapped);
+        if value > 0.0 {
+            t += min(value, step_cap);
+            continue;
+        }
+        let local = p - vec3<f32>(v);
+        let voxel_index = wrapped.x + dims.x * (wrapped.y + dims.y * wrapped.z);
+        if u.cones_method.z == TRACE_METHOD_SPHERE_TRACING {
+            let normal = trace_entry_wall_normal(local, d);
+            return TraceResult(vec4<f32>(p, t_enter + t), vec4<f32>(normal, 1.0), vec4<u32>(steps, cone, 0u, voxel_index));
+        }
+        let t_exit = trace_voxel_exit(local, d);
+        let first = trace_patch_offsets[voxel_index];
+        let count = trace_patch_offsets[voxel_index + 1u] - first;
+        let hit = trace_patch_hit(first, count, local, d, t_exit);
+        if hit.z != 0.0 {
+            let th = hit.x;
+            var n = quadric_normal(trace_quadric_of(trace_patches[first + u32(hit.y)]), local + d * th);
+            if dot(n, d) > 0.0 {
+                n = -n;
+            }
+            return TraceResult(vec4<f32>(p + d * th, t_enter + t + th), vec4<f32>(n, 1.0), vec4<u32>(steps, cone, 0u, voxel_index));
+        }
+        t += t_exit;
+    }
+    return trace_miss(steps, cone, 1u);
+}

@@ -127,3 +127,4 @@ fn compression_is_transparent_and_the_quadric_hits_are_accurate() {
         }
     }
 }
+

@@ -7,7 +7,9 @@
 //!    the neighborhood of V") are sampled densely and a quadric is fitted to the samples
 //!    (eq. 2, [`quadric_fit::fit_quadric`]);
 //! b–c. [`quadric_fit::build_surface`] averages the edge hits and builds the C⁰ triangle /
-//!    bilinear patches (Appendix B).
+//!    bilinear patches (Appendix B). A voxel whose quadric crosses none of its edges is
+//!    rebuilt from the least-squares plane of its samples (a documented fallback: without
+//!    it the voxel would have no patch and rays would pass through it).
 //!
 //! The tile repeats in x and y, so the construction runs on the grid padded by one voxel
 //! on each side in x and y with copies of the opposite border: the edges on the tile's
@@ -25,7 +27,8 @@ use alloc::vec::Vec;
 
 use ddm_compress::Triangle;
 use glam::{DVec3, UVec3, Vec3, Vec4};
-use quadric_fit::{GpuQuadric, Quadric, build_surface, fit_quadric};
+use quadric_fit::surface::Skipped;
+use quadric_fit::{GpuQuadric, Quadric, build_surface, fit_plane, fit_quadric};
 
 use crate::gpu::TracePatch;
 
@@ -38,11 +41,16 @@ pub struct PatchSettings {
     pub margin: f32,
     /// Subdivisions per triangle edge when sampling (`n (n + 1) / 2` barycentric points).
     pub samples_per_edge: u32,
+    /// `true` (default): the C⁰ patches of steps b–c. `false`: each voxel keeps its fitted
+    /// quadric of step a as its only patch, intersected anywhere inside the voxel (Algorithm
+    /// 3.2 on `Q_V` itself; not C⁰ across voxels, but it follows sharp edges and corners
+    /// that the sign-based polygons of step c cut off).
+    pub c0: bool,
 }
 
 impl Default for PatchSettings {
     fn default() -> Self {
-        Self { margin: 0.0, samples_per_edge: 16 }
+        Self { margin: 0.0, samples_per_edge: 16, c0: true }
     }
 }
 
@@ -126,8 +134,31 @@ impl VoxelPatches {
                 quadrics.insert((i, j, k), fit.quadric);
             }
         }
-        // Steps b–c.
-        let built = build_surface(&quadrics);
+        // Steps b–c. A fitted quadric that crosses none of its voxel's edges (a surface
+        // curving inside the voxel, or a fit whose second sheet takes over) leaves a hole;
+        // such voxels get the least-squares plane of their samples instead (it passes
+        // through their centroid, inside the voxel, so it crosses some edges).
+        let mut built = build_surface(&quadrics);
+        let mut replaced = false;
+        for (&key, &why) in &built.skipped {
+            if why != Skipped::NoCrossing {
+                continue;
+            }
+            let Some(list) = bins.get(&key) else { continue };
+            let lo = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2)) - f64::from(settings.margin);
+            let hi = lo + 1.0 + 2.0 * f64::from(settings.margin);
+            points.clear();
+            for &t in list {
+                sample_triangle(&tiled[t as usize], settings.samples_per_edge, lo, hi, &mut points);
+            }
+            if let Some(plane) = fit_plane(&points) {
+                quadrics.insert(key, plane.quadric);
+                replaced = true;
+            }
+        }
+        if replaced {
+            built = build_surface(&quadrics);
+        }
         let mut offsets = Vec::with_capacity(voxels + 1);
         let mut patches = Vec::new();
         let mut voxels_without_patch = 0;
@@ -138,7 +169,18 @@ impl VoxelPatches {
                     let index = (x + dims.x * (y + dims.y * z)) as usize;
                     let key = (x + 1, y + 1, z);
                     let before = patches.len();
-                    if let Some(voxel) = built.voxels.get(&key) {
+                    if !settings.c0 {
+                        let origin = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2));
+                        if let Some(local) = quadrics.get(&key).and_then(|q| q.in_frame(origin, 1.0)) {
+                            let gpu = GpuQuadric::from_quadric(&local);
+                            patches.push(TracePatch {
+                                abcd: gpu.abcd,
+                                efgh: gpu.efgh,
+                                ij_corners: Vec4::new(gpu.ij.x, gpu.ij.y, 0.0, 0.0),
+                                ..bytemuck::Zeroable::zeroed()
+                            });
+                        }
+                    } else if let Some(voxel) = built.voxels.get(&key) {
                         let origin = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2));
                         for surface_loop in &voxel.loops {
                             for patch in &surface_loop.patches {

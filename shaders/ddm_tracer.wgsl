@@ -127,7 +127,7 @@ fn trace_patch_hit(first: u32, count: u32, local: vec3<f32>, direction: vec3<f32
     var best = vec3<f32>(0.0);
     for (var k = 0u; k < count; k++) {
         let piece = trace_patches[first + k];
-        let hit = quadric_first_hit(trace_quadric_of(piece), local, direction, 0.0, t_exit);
+        let hit = quadric_first_hit(trace_quadric_of(piece), local, direction, -TRACE_NUDGE, t_exit);
         if hit.y == 0.0 {
             continue;
         }

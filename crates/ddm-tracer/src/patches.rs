@@ -93,7 +93,9 @@ impl VoxelPatches {
             }
         }
         let padded = UVec3::new(dims.x + 2, dims.y + 2, dims.z);
-        // Triangles per padded voxel, from their grown bounding boxes.
+        // Triangles per padded voxel, from their grown bounding boxes; a box touching a
+        // voxel's face counts (a floor at an integer height belongs to the voxels on both
+        // sides of it).
         let mut bins: BTreeMap<(u32, u32, u32), Vec<u32>> = BTreeMap::new();
         let is_surface = |i: u32, j: u32, k: u32| {
             let x = (i + dims.x - 1) % dims.x;
@@ -104,7 +106,7 @@ impl VoxelPatches {
             let lo = t[0].min(t[1]).min(t[2]) - Vec3::splat(settings.margin);
             let hi = t[0].max(t[1]).max(t[2]) + Vec3::splat(settings.margin);
             let range = |lo: f32, hi: f32, n: u32| {
-                (libm::floorf(lo).max(0.0) as i64, (libm::floorf(hi) as i64).min(i64::from(n) - 1))
+                ((libm::ceilf(lo) - 1.0).max(0.0) as i64, (libm::floorf(hi) as i64).min(i64::from(n) - 1))
             };
             let (x0, x1) = range(lo.x, hi.x, padded.x);
             let (y0, y1) = range(lo.y, hi.y, padded.y);

@@ -120,13 +120,16 @@ pub fn voxel_exit(local: Vec3, direction: Vec3) -> f32 {
     exit.max(0.0)
 }
 
-/// The nearest hit of the ray `local + t direction`, `t ∈ [0, t_exit]`, with `patches`
-/// (voxel-local): `(t, patch index)`. With one patch any hit in the segment counts; with
-/// several only hits inside the patch's polygon (Algorithm 3.2 over the voxel's patches).
+/// The nearest hit of the ray `local + t direction`, `t ∈ [-NUDGE, t_exit]`, with
+/// `patches` (voxel-local): `(t, patch index)`. With one patch any hit in the segment
+/// counts; with several only hits inside the patch's polygon (Algorithm 3.2 over the
+/// voxel's patches). The segment starts [`NUDGE`] before the voxel wall: a surface lying on
+/// the wall (a floor at an integer height) is otherwise lost whenever the rounded entry
+/// point lands a few ulps past it.
 pub fn patch_hit(patches: &[TracePatch], local: Vec3, direction: Vec3, t_exit: f32) -> Option<(f32, usize)> {
     let mut best: Option<(f32, usize)> = None;
     for (index, patch) in patches.iter().enumerate() {
-        let Some(t) = first_hit(&quadric_of(patch), local, direction, 0.0, t_exit) else { continue };
+        let Some(t) = first_hit(&quadric_of(patch), local, direction, -NUDGE, t_exit) else { continue };
         if patches.len() > 1 && !inside_polygon(patch, local + direction * t) {
             continue;
         }
@@ -244,25 +247,35 @@ mod tests {
 
     #[test]
     fn a_flat_floor_is_hit_exactly_by_the_quadric_method() {
+        // 2.0 lies on voxel walls: both voxels around it are surface voxels and only one
+        // of them gets the patch (it was lost before the patch segment started at -NUDGE).
+        for floor in [1.37, 2.0] {
+            let dims = UVec3::new(8, 8, 4);
+            let tris = mesostructure::plane(dims, floor);
+            let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+            let maps = compute_distance_maps(dims, &tris, DirectionCones::downward(4, 1), settings).unwrap();
+            let patches = VoxelPatches::build(dims, &tris, &maps.surface, PatchSettings::default()).unwrap();
+            let quadric = TraceSettings { method: Method::Quadric, max_steps: 64 };
+            let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 64 };
+            for k in 0..200 {
+                let a = k as f32 * 0.7;
+                let origin = Vec3::new(3.3 + k as f32 * 0.37, 2.1 + k as f32 * 0.13, 6.0);
+                let direction = Vec3::new(libm::cosf(a) * 0.8, libm::sinf(a) * 0.8, -1.0 - (k % 7) as f32 * 0.3);
+                let out = trace(&maps, Some(&patches), origin, direction, quadric);
+                let hit = out.hit.unwrap_or_else(|| panic!("floor {floor}, ray {k}: {out:?}"));
+                assert!((hit.point.z - floor).abs() < 1e-5, "{hit:?}");
+                assert!((hit.normal - Vec3::Z).length() < 1e-4);
+                let coarse = trace(&maps, None, origin, direction, sphere).hit.unwrap();
+                // Sphere tracing stops at the entry of the floor's voxel, above the floor.
+                assert!(coarse.point.z >= floor - 1e-5 && coarse.point.z <= libm::floorf(floor) + 1.0 + 1e-4);
+            }
+        }
         let dims = UVec3::new(8, 8, 4);
         let tris = mesostructure::plane(dims, 1.37);
         let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
         let maps = compute_distance_maps(dims, &tris, DirectionCones::downward(4, 1), settings).unwrap();
         let patches = VoxelPatches::build(dims, &tris, &maps.surface, PatchSettings::default()).unwrap();
         let quadric = TraceSettings { method: Method::Quadric, max_steps: 64 };
-        let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 64 };
-        for k in 0..50 {
-            let a = k as f32 * 0.7;
-            let origin = Vec3::new(3.3 + k as f32 * 0.37, 2.1, 6.0);
-            let direction = Vec3::new(libm::cosf(a) * 0.8, libm::sinf(a) * 0.8, -1.0);
-            let out = trace(&maps, Some(&patches), origin, direction, quadric);
-            let hit = out.hit.unwrap();
-            assert!((hit.point.z - 1.37).abs() < 1e-5, "{hit:?}");
-            assert!((hit.normal - Vec3::Z).length() < 1e-4);
-            let coarse = trace(&maps, None, origin, direction, sphere).hit.unwrap();
-            // Sphere tracing stops at the entry of the floor's voxel, above the floor.
-            assert!(coarse.point.z >= 1.37 - 1e-5 && coarse.point.z <= 2.0 + 1e-4, "{coarse:?}");
-        }
         // Upward rays and rays outside the downward cones miss without a step.
         let up = trace(&maps, Some(&patches), Vec3::new(1.0, 1.0, 2.0), Vec3::Z, quadric);
         assert_eq!((up.hit, up.steps), (None, 0));

@@ -88,7 +88,8 @@ impl MeshRaycaster {
             t0 = t0.max(a.min(b));
             t1 = t1.min(a.max(b));
         }
-        if !(t0 <= t1) {
+        // Also rejects NaN bounds.
+        if t0.partial_cmp(&t1).is_none_or(|o| o == core::cmp::Ordering::Greater) {
             return None;
         }
         let (p0, p1) = (origin + direction * t0, origin + direction * t1);
@@ -113,10 +114,10 @@ impl MeshRaycaster {
                 let shift = DVec3::new(copy(kx, self.period.x), copy(ky, self.period.y), 0.0);
                 let local = origin - shift;
                 let limit = best.map_or(t1, |b| b.0);
-                if let Some((t, index)) = self.first_hit_local(local, direction, t0, limit, &mut stack) {
-                    if best.is_none_or(|b| t < b.0) {
-                        best = Some((t, index, shift));
-                    }
+                if let Some((t, index)) = self.first_hit_local(local, direction, t0, limit, &mut stack)
+                    && best.is_none_or(|b| t < b.0)
+                {
+                    best = Some((t, index, shift));
                 }
             }
         }
@@ -152,11 +153,12 @@ impl MeshRaycaster {
                 continue;
             }
             for i in node.first..node.first + node.count {
-                if let Some(t) = ray_triangle(&self.triangles[i as usize], origin, direction) {
-                    if t >= t_min && t <= t_max {
-                        t_max = t;
-                        best = Some((t, i as usize));
-                    }
+                if let Some(t) = ray_triangle(&self.triangles[i as usize], origin, direction)
+                    && t >= t_min
+                    && t <= t_max
+                {
+                    t_max = t;
+                    best = Some((t, i as usize));
                 }
             }
         }
@@ -256,10 +258,11 @@ mod tests {
                 let shift = DVec3::new(f64::from(kx as f32 * period.x), f64::from(ky as f32 * period.y), 0.0);
                 for t in tris {
                     let t = t.0.map(|v| v.as_dvec3() + shift);
-                    if let Some(h) = ray_triangle(&t, origin, direction) {
-                        if h >= 0.0 && best.is_none_or(|b| h < b) {
-                            best = Some(h);
-                        }
+                    if let Some(h) = ray_triangle(&t, origin, direction)
+                        && h >= 0.0
+                        && best.is_none_or(|b| h < b)
+                    {
+                        best = Some(h);
                     }
                 }
             }

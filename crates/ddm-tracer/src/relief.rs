@@ -79,7 +79,8 @@ pub fn relief_trace(
         return miss(0);
     }
     let d = unit(direction);
-    if !(d.z < 0.0) {
+    // `d.z >= 0` or NaN: not a viewing ray.
+    if d.z.partial_cmp(&0.0) != Some(core::cmp::Ordering::Less) {
         return miss(0);
     }
     let t_enter = slab_entry(origin, d, size_z);

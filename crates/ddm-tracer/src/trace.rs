@@ -166,7 +166,8 @@ pub fn trace<S: DistanceSource>(
         return TraceOutcome::miss(0, 0);
     }
     let d = unit(direction);
-    if !(d.z < 0.0) {
+    // `d.z >= 0` or NaN: not a viewing ray.
+    if d.z.partial_cmp(&0.0) != Some(core::cmp::Ordering::Less) {
         return TraceOutcome::miss(0, 0);
     }
     let Some(cone) = source.selector().select(d) else { return TraceOutcome::miss(0, 0) };

@@ -153,3 +153,21 @@ fn gpu_tracer_equals_the_cpu_reference() {
         }
     }
 }
+
+#[test]
+fn scene_buffers_are_checked_against_the_adapter() {
+    let kernel = kernel_source();
+    let uniforms = [0_u8; 48];
+    let rays = [TraceRay::new(Vec3::ZERO, Vec3::NEG_Z)];
+    // An empty storage buffer is a request error, not a wgpu panic.
+    let empty: [&[u8]; 5] = [&[0; 48], &[0; 4], &[], &[0; 8], &[0; 128]];
+    let result =
+        gpu().compute_map_with_storage::<TraceRay, TraceResult>(&kernel, "trace_rays", &uniforms, &rays, &empty);
+    assert!(matches!(result, Err(gpu_harness::HarnessError::InvalidRequest(_))), "{result:?}");
+    // More storage bindings than the adapter allows per stage.
+    let limit = gpu().limits().max_storage_buffers_per_shader_stage as usize;
+    let many: Vec<&[u8]> = vec![&[0_u8; 16][..]; limit];
+    let result =
+        gpu().compute_map_with_storage::<TraceRay, TraceResult>(&kernel, "trace_rays", &uniforms, &rays, &many);
+    assert!(matches!(result, Err(gpu_harness::HarnessError::TooLarge { .. })), "{result:?}");
+}

@@ -429,7 +429,10 @@ fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), Str
     let (y_min, y_max) = points.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| (lo.min(p.3), hi.max(p.3)));
     render_png(path, (900, 620), |root| {
         let mut chart = ChartBuilder::on(root)
-            .caption("Hit error vs CPU time per ray (maze ●, bricks ■, beads ▲, ball ◆)", ("sans-serif", 22))
+            .caption(
+                "Hit error vs CPU time per ray (maze: circle, bricks: square, beads: triangle, ball: cross)",
+                ("sans-serif", 20),
+            )
             .margin(16)
             .x_label_area_size(48)
             .y_label_area_size(70)
@@ -437,6 +440,8 @@ fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), Str
             .map_err(drawing_error)?;
         chart
             .configure_mesh()
+            .x_labels(6)
+            .y_labels(6)
             .x_desc("CPU time per ray (µs, one thread)")
             .y_desc("mean hit error (voxels) where both hit")
             .label_style(("sans-serif", 16))

@@ -440,8 +440,10 @@ fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), Str
             .map_err(drawing_error)?;
         chart
             .configure_mesh()
-            .x_labels(6)
-            .y_labels(6)
+            .x_labels(12)
+            .y_labels(12)
+            .x_label_formatter(&|x| format!("{x:.2}"))
+            .y_label_formatter(&|y| format!("{y:.3}"))
             .x_desc("CPU time per ray (µs, one thread)")
             .y_desc("mean hit error (voxels) where both hit")
             .label_style(("sans-serif", 16))

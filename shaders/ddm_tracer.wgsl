@@ -5,7 +5,7 @@
 // structs and constants, from the Rust source). Each function mirrors the Rust function
 // named in its comment; tests/ddm_tracer_gpu.rs proves them equal.
 //
-// The scene lives in read-only storage buffers at bindings 3-7 (ddm_tracer::gpu::GpuScene);
+// The scene lives in read-only storage buffers at bindings 3-8 (ddm_tracer::gpu::GpuScene);
 // a kernel declares the uniforms (binding 0) and its own input and output.
 
 @group(0) @binding(3) var<storage, read> trace_cone_maps: array<TraceConeMap>;
@@ -13,6 +13,7 @@
 @group(0) @binding(5) var<storage, read> trace_atlas: array<f32>;
 @group(0) @binding(6) var<storage, read> trace_patch_offsets: array<u32>;
 @group(0) @binding(7) var<storage, read> trace_patches: array<TracePatch>;
+@group(0) @binding(8) var<storage, read> trace_heights: array<f32>;
 
 const TRACE_TAU: f32 = 6.28318530717958647692;
 
@@ -145,9 +146,98 @@ fn trace_miss(steps: u32, cone: u32, exhausted: u32) -> TraceResult {
     return TraceResult(vec4<f32>(0.0), vec4<f32>(0.0), vec4<u32>(steps, cone, exhausted, 0u));
 }
 
+// Rust: ddm_tracer::relief::HeightMap::texel.
+fn relief_texel(x: i32, y: i32, w: i32, h: i32) -> f32 {
+    return trace_heights[((x % w) + w) % w + w * (((y % h) + h) % h)];
+}
+
+// Rust: ddm_tracer::relief::HeightMap::height (bilinear, periodic).
+fn relief_height(u: TraceUniforms, p: vec2<f32>) -> f32 {
+    let s = u.relief.z;
+    let w = i32(u.dims_max_steps.x * s);
+    let h = i32(u.dims_max_steps.y * s);
+    let q = p * f32(s) - 0.5;
+    let fx = floor(q.x);
+    let fy = floor(q.y);
+    let x = i32(fx);
+    let y = i32(fy);
+    let a = q.x - fx;
+    let b = q.y - fy;
+    let lower = relief_texel(x, y, w, h) * (1.0 - a) + relief_texel(x + 1, y, w, h) * a;
+    let upper = relief_texel(x, y + 1, w, h) * (1.0 - a) + relief_texel(x + 1, y + 1, w, h) * a;
+    return lower * (1.0 - b) + upper * b;
+}
+
+// Rust: ddm_tracer::relief::HeightMap::normal.
+fn relief_normal(u: TraceUniforms, p: vec2<f32>) -> vec3<f32> {
+    let h = 1.0 / f32(u.relief.z);
+    let dx = relief_height(u, p + vec2<f32>(h, 0.0)) - relief_height(u, p - vec2<f32>(h, 0.0));
+    let dy = relief_height(u, p + vec2<f32>(0.0, h)) - relief_height(u, p - vec2<f32>(0.0, h));
+    return normalize(vec3<f32>(-dx, -dy, 2.0 * h));
+}
+
+// Rust: the below-the-height-map test of ddm_tracer::relief::relief_trace.
+fn relief_below(u: TraceUniforms, start: vec3<f32>, d: vec3<f32>, t: f32) -> bool {
+    let p = start + d * t;
+    return p.z <= relief_height(u, p.xy);
+}
+
+// Rust: ddm_tracer::relief::relief_trace (linear then binary search).
+fn relief_trace_ray(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>) -> TraceResult {
+    let d = trace_unit(direction);
+    if !(d.z < 0.0) {
+        return trace_miss(0u, 0u, 0u);
+    }
+    let dims = u.dims_max_steps.xyz;
+    let size_z = f32(dims.z);
+    let t_enter = trace_slab_entry(origin, d, size_z);
+    let start = origin + d * t_enter;
+    let t_bottom = -start.z / d.z;
+    let linear = max(u.relief.x, 1u);
+    let dt = t_bottom / f32(linear);
+    var steps = 0u;
+    var lo = 0.0;
+    var hi = 0.0;
+    var found = false;
+    for (var i = 1u; i <= linear; i++) {
+        let t = dt * f32(i);
+        steps += 1u;
+        if relief_below(u, start, d, t) {
+            hi = t;
+            found = true;
+            break;
+        }
+        lo = t;
+    }
+    if !found {
+        return trace_miss(steps, 0u, 0u);
+    }
+    for (var k = 0u; k < u.relief.y; k++) {
+        let mid = 0.5 * (lo + hi);
+        steps += 1u;
+        if relief_below(u, start, d, mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let t = 0.5 * (lo + hi);
+    let p = start + d * t;
+    let idims = vec3<i32>(dims);
+    let vx = ((i32(floor(p.x)) % idims.x) + idims.x) % idims.x;
+    let vy = ((i32(floor(p.y)) % idims.y) + idims.y) % idims.y;
+    let vz = u32(clamp(floor(p.z), 0.0, max(size_z - 1.0, 0.0)));
+    let voxel_index = u32(vx) + dims.x * (u32(vy) + dims.y * vz);
+    return TraceResult(vec4<f32>(p, t_enter + t), vec4<f32>(relief_normal(u, p.xy), 1.0), vec4<u32>(steps, 0u, 0u, voxel_index));
+}
+
 // Rust: ddm_tracer::trace::trace (Algorithm 3.1 with 3.2 and 3.3), reading the compressed
 // maps and patches of the storage buffers. The caller guarantees finite input.
+// With TRACE_METHOD_RELIEF it runs relief_trace_ray instead.
 fn trace_ray(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>) -> TraceResult {
+    if u.cones_method.z == TRACE_METHOD_RELIEF {
+        return relief_trace_ray(u, origin, direction);
+    }
     let dims = u.dims_max_steps.xyz;
     if any(dims == vec3<u32>(0u)) {
         return trace_miss(0u, 0u, 0u);

@@ -5,6 +5,8 @@ const TRACE_METHOD_SPHERE_TRACING: u32 = 0u;
 
 const TRACE_METHOD_QUADRIC: u32 = 1u;
 
+const TRACE_METHOD_RELIEF: u32 = 2u;
+
 const TRACE_NUDGE: f32 = 0x1.a36e2ep-14f; // 1e-4
 
 const TRACE_POLYGON_TOLERANCE: f32 = 0x1.a36e2ep-14f; // 1e-4
@@ -21,11 +23,12 @@ struct TracePatch {
     p3: vec4<f32>, // offset 112
 }
 
-// Rust size 48 bytes.
+// Rust size 64 bytes.
 struct TraceUniforms {
     dims_max_steps: vec4<u32>, // offset 0
     cones_method: vec4<u32>, // offset 16
     elevation_band: vec4<f32>, // offset 32
+    relief: vec4<u32>, // offset 48
 }
 
 // Rust size 48 bytes.

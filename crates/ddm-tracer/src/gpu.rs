@@ -8,12 +8,15 @@ use gpu_layout::{GpuConst, gpu_const, gpu_struct};
 
 use crate::maps::{CompressedMaps, ConeSelector};
 use crate::patches::{POLYGON_TOLERANCE, VoxelPatches};
+use crate::relief::HeightMap;
 use crate::trace::{NUDGE, TraceSettings};
 
 /// `TraceUniforms::cones_method.z` for [`crate::Method::SphereTracing`].
 pub const METHOD_SPHERE_TRACING: u32 = 0;
 /// `TraceUniforms::cones_method.z` for [`crate::Method::Quadric`].
 pub const METHOD_QUADRIC: u32 = 1;
+/// `TraceUniforms::cones_method.z` for relief mapping ([`crate::relief_trace`]).
+pub const METHOD_RELIEF: u32 = 2;
 
 gpu_struct! {
     /// One quadric patch of a zero-distance voxel, voxel-local (see
@@ -47,6 +50,8 @@ gpu_struct! {
         pub cones_method: UVec4,
         /// `(elevation_min, elevation_max, 0, 0)` of the cone band, radians.
         pub elevation_band: Vec4,
+        /// Relief mapping: `(linear_steps, binary_steps, texels_per_voxel, 0)`.
+        pub relief: UVec4,
     }
 }
 
@@ -88,6 +93,7 @@ gpu_struct! {
 pub const WGSL_CONSTANTS: &[GpuConst] = &[
     gpu_const!(METHOD_SPHERE_TRACING: u32 as "TRACE_METHOD_SPHERE_TRACING"),
     gpu_const!(METHOD_QUADRIC: u32 as "TRACE_METHOD_QUADRIC"),
+    gpu_const!(METHOD_RELIEF: u32 as "TRACE_METHOD_RELIEF"),
     gpu_const!(NUDGE: f32 as "TRACE_NUDGE"),
     gpu_const!(POLYGON_TOLERANCE: f32 as "TRACE_POLYGON_TOLERANCE"),
 ];
@@ -99,8 +105,8 @@ impl TraceRay {
     }
 }
 
-/// Everything the compute pass reads, as flat buffers (storage bindings 3–7 of
-/// `shaders/kernels/ddm_tracer_compute.wgsl`).
+/// Everything the compute pass reads, as flat buffers (storage bindings 3–8 of
+/// `shaders/ddm_tracer.wgsl`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct GpuScene {
     /// The uniforms (binding 0), `ray_count` filled by [`GpuScene::uniforms`].
@@ -115,6 +121,8 @@ pub struct GpuScene {
     pub patch_offsets: Vec<u32>,
     /// The patches (one zero patch when there are none: WGSL arrays are never empty).
     pub patches: Vec<TracePatch>,
+    /// The relief height map, `HeightMap::heights` (one zero when there is none).
+    pub heights: Vec<f32>,
 }
 
 impl GpuScene {
@@ -151,8 +159,27 @@ impl GpuScene {
             dims_max_steps: dims.extend(settings.max_steps),
             cones_method: UVec4::new(selector.azimuths, selector.elevations, settings.method.code(), 0),
             elevation_band: Vec4::new(selector.elevation_min, selector.elevation_max, 0.0, 0.0),
+            relief: UVec4::ZERO,
         };
-        Some(Self { uniforms, cone_maps, grid, atlas, patch_offsets, patches: patch_list })
+        Some(Self { uniforms, cone_maps, grid, atlas, patch_offsets, patches: patch_list, heights: alloc::vec![0.0] })
+    }
+
+    /// The scene switched to relief mapping of `map` with `linear_steps` and `binary_steps`
+    /// (the maps and patches stay bound but unused). `None` when the map does not cover
+    /// the tile at a whole number of texels per voxel.
+    pub fn with_relief(mut self, map: &HeightMap, linear_steps: u32, binary_steps: u32) -> Option<Self> {
+        let dims = self.uniforms.dims_max_steps.truncate();
+        let s = map.texels_per_voxel;
+        if map.texels.x != dims.x * s
+            || map.texels.y != dims.y * s
+            || map.heights.len() != (map.texels.x * map.texels.y) as usize
+        {
+            return None;
+        }
+        self.uniforms.cones_method.z = METHOD_RELIEF;
+        self.uniforms.relief = UVec4::new(linear_steps, binary_steps, s, 0);
+        self.heights = map.heights.clone();
+        Some(self)
     }
 
     /// The uniforms for `ray_count` rays.
@@ -162,14 +189,15 @@ impl GpuScene {
         u
     }
 
-    /// Bytes of the storage buffers, in binding order 3, 4, 5, 6, 7.
-    pub fn storage_bytes(&self) -> [&[u8]; 5] {
+    /// Bytes of the storage buffers, in binding order 3 to 8.
+    pub fn storage_bytes(&self) -> [&[u8]; 6] {
         [
             bytemuck::cast_slice(&self.cone_maps),
             bytemuck::cast_slice(&self.grid),
             bytemuck::cast_slice(&self.atlas),
             bytemuck::cast_slice(&self.patch_offsets),
             bytemuck::cast_slice(&self.patches),
+            bytemuck::cast_slice(&self.heights),
         ]
     }
 }

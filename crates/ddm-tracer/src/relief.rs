@@ -43,7 +43,7 @@ impl HeightMap {
         self.heights[(x.rem_euclid(w) + w * y.rem_euclid(h)) as usize]
     }
 
-    /// The bilinear height at `p` (voxel units, periodic).
+    /// The bilinear height at `p` (voxel units, periodic). WGSL twin: `relief_height`.
     pub fn height(&self, p: Vec2) -> f32 {
         let q = p * self.texels_per_voxel as f32 - 0.5;
         let (fx, fy) = (libm::floorf(q.x), libm::floorf(q.y));
@@ -54,7 +54,8 @@ impl HeightMap {
         a * (1.0 - v) + b * v
     }
 
-    /// The normal of the height map at `p` by central differences over one texel.
+    /// The normal of the height map at `p` by central differences over one texel. WGSL
+    /// twin: `relief_normal`.
     pub fn normal(&self, p: Vec2) -> Vec3 {
         let h = 1.0 / self.texels_per_voxel as f32;
         let dx = self.height(p + Vec2::new(h, 0.0)) - self.height(p - Vec2::new(h, 0.0));
@@ -65,7 +66,9 @@ impl HeightMap {
 
 /// Relief mapping of the ray through the slab of height `size_z`: `linear_steps` equal
 /// steps from the slab top to `z = 0`, then `binary_steps` bisections of the first
-/// interval that ends below the height map. Steps count height-map reads.
+/// interval that ends below the height map. Steps count height-map reads. WGSL twin:
+/// `relief_trace_ray` (the hit's `voxel` is the tile voxel of the hit point, z clamped
+/// to the slab).
 pub fn relief_trace(
     map: &HeightMap,
     size_z: f32,
@@ -119,7 +122,7 @@ pub fn relief_trace(
     let voxel = UVec3::new(
         (libm::floorf(p.x) as i64).rem_euclid(i64::from(map.texels.x / map.texels_per_voxel)) as u32,
         (libm::floorf(p.y) as i64).rem_euclid(i64::from(map.texels.y / map.texels_per_voxel)) as u32,
-        libm::floorf(p.z).max(0.0) as u32,
+        libm::floorf(p.z).clamp(0.0, (size_z - 1.0).max(0.0)) as u32,
     );
     let hit = TraceHit { t: t_enter + t, point: p, normal: map.normal(p.truncate()), voxel };
     TraceOutcome { hit: Some(hit), steps, exhausted: false, cone: 0 }

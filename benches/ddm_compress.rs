@@ -1,10 +1,15 @@
-//! CPU cost of the compressed distance map's access (Algorithm A.2) and of computing a
-//! small conservative directional distance map (§3.1).
+//! CPU cost of the compressed distance map's access (Algorithm A.2) and of computing
+//! conservative directional distance maps (§3.1): the current search
+//! (`compute_distance_maps`, all threads) against the previous per-cone computation
+//! (`reference_distance_maps`, one thread) on a small grid, and the current one at the
+//! paper's resolution (64 × 64 × 16, 8 cones).
 
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, Triangle, compute_distance_maps};
+use ddm_compress::{
+    CompressedMap, DirectionCones, DistanceMapSettings, Triangle, compute_distance_maps, reference_distance_maps,
+};
 use glam::UVec3;
 use mesostructure::HeightField;
 
@@ -24,6 +29,23 @@ fn ddm(c: &mut Criterion) {
     group.bench_function("compute_distance_maps/8x8x6/4x1_cones", |b| {
         b.iter(|| compute_distance_maps(black_box(dims), &triangles, cones, settings));
     });
+    group.bench_function("reference_distance_maps/8x8x6/4x1_cones", |b| {
+        b.iter(|| reference_distance_maps(black_box(dims), &triangles, cones, settings));
+    });
+    group.finish();
+
+    // The paper's resolution: a 64 × 64 × 16 tile, downward DDM 8×1 and 4×2.
+    let large = UVec3::new(64, 64, 16);
+    let large_floor = HeightField::from_fn(64, 64, |x, y| 5.0 + 3.0 * ((x * 0.3).sin() + (y * 0.25).cos())).triangles();
+    let large_settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+    let mut group = c.benchmark_group("ddm_compress");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(u64::from(large.x * large.y * large.z)));
+    for (name, cones) in [("8x1", DirectionCones::downward(8, 1)), ("4x2", DirectionCones::downward(4, 2))] {
+        group.bench_function(format!("compute_distance_maps/64x64x16/{name}_cones"), |b| {
+            b.iter(|| compute_distance_maps(black_box(large), &large_floor, cones, large_settings));
+        });
+    }
     group.finish();
 
     let maps = compute_distance_maps(dims, &triangles, cones, settings).expect("valid scene");

@@ -5,6 +5,22 @@ const OCTAHEDRAL_MAX_SUBDIVISIONS: u32 = 46340u;
 
 const OCTAHEDRAL_FALLBACK_DIRECTION: vec3<f32> = vec3<f32>(0.0f, 0.0f, -0x1.000000p+0f); // [0.0, 0.0, -1.0]
 
+const IMPOSTOR_MISS_TEXTURE_COORDINATE: f32 = -0x1.000000p+0f; // -1e0
+
+const IMPOSTOR_MAX_TEXTURE_COORDINATE: f32 = 0x1.000000p+1f; // 2e0
+
+const IMPOSTOR_MIN_PLANE_COSINE: f32 = 0x1.0624dep-10f; // 1e-3
+
+const IMPOSTOR_MAX_DISTANCE_RATIO: f32 = 0x1.000000p+1f; // 2e0
+
+const IMPOSTOR_MAX_RAY_ORIGIN_COMPONENT: f32 = 0x1.bc16d6p+59f; // 1e18
+
+const IMPOSTOR_MAX_WORLD_COMPONENT: f32 = 0x1.812f9cp+119f; // 1e36
+
+const IMPOSTOR_MIN_GRAIN_SCALE: f32 = 0x1.2725dep-60f; // 1e-18
+
+const IMPOSTOR_MAX_GRAIN_SCALE: f32 = 0x1.bc16d6p+59f; // 1e18
+
 // Rust size 32 bytes.
 struct ViewSample {
     indices: vec4<u32>, // offset 0
@@ -17,4 +33,33 @@ struct OctahedralUniforms {
     subdivisions: u32, // offset 0
     view_count: u32, // offset 4
     padding: vec2<u32>, // offset 8
+}
+
+// Rust size 32 bytes.
+struct ImpostorSamplingUniforms {
+    subdivisions: u32, // offset 0
+    mode: u32, // offset 4
+    view_layout: u32, // offset 8
+    selection: u32, // offset 12
+    outer_radius: f32, // offset 16
+    inner_radius: f32, // offset 20
+    padding: vec2<f32>, // offset 24
+}
+
+// Rust size 64 bytes.
+struct ImpostorRayQuery {
+    world_origin: vec4<f32>, // offset 0
+    world_direction: vec4<f32>, // offset 16
+    centre_scale: vec4<f32>, // offset 32
+    rotation: vec4<f32>, // offset 48
+}
+
+// Rust size 80 bytes.
+struct ImpostorSample {
+    indices: vec4<u32>, // offset 0
+    weights: vec4<f32>, // offset 16
+    texture_coordinates: array<vec4<f32>, 2>, // offset 32
+    distance_ratio: f32, // offset 64
+    proxy_hit: u32, // offset 68
+    padding: vec2<f32>, // offset 72
 }

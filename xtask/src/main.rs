@@ -47,13 +47,27 @@ fn cargo(args: &[&str]) -> Result<(), String> {
 fn codegen() -> Result<(), String> {
     for module in shader_registry::modules() {
         let text = module.generate().map_err(|e| format!("{}: {e}", module.generated.path))?;
-        let path = workspace_root().join(module.generated.path);
-        let unchanged = std::fs::read_to_string(&path).is_ok_and(|old| old == text);
-        if !unchanged {
-            std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        }
-        println!("{} {}", if unchanged { "unchanged" } else { "wrote    " }, module.generated.path);
+        write_if_changed(module.generated.path, &text)?;
     }
+    // Pipeline crates keep their generated declarations beside their own shaders.
+    let pipelines = [
+        (grain_impostor::scene::GENERATED_WGSL_PATH, grain_impostor::scene::generated_wgsl()),
+        (grain_impostor::cloud::CLOUD_GENERATED_WGSL_PATH, grain_impostor::cloud::cloud_generated_wgsl()),
+    ];
+    for (relative, text) in pipelines {
+        write_if_changed(relative, &text.map_err(|e| format!("{relative}: {e}"))?)?;
+    }
+    Ok(())
+}
+
+/// Writes `text` to `relative` (from the workspace root) unless the file already holds it.
+fn write_if_changed(relative: &str, text: &str) -> Result<(), String> {
+    let path = workspace_root().join(relative);
+    let unchanged = std::fs::read_to_string(&path).is_ok_and(|old| old == text);
+    if !unchanged {
+        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
+    println!("{} {relative}", if unchanged { "unchanged" } else { "wrote    " });
     Ok(())
 }
 
@@ -103,7 +117,7 @@ fn run(args: &[String]) -> Result<(), String> {
         Some("ddm-compression") => ddm_compression::run(&rest, workspace_root().join("target/ddm-compression")),
         Some("ddm-trace") => ddm_trace::run(&rest, workspace_root().join("target/ddm-trace")),
         _ => Err(
-            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] | ddm-trace [OUT_DIR] [--quick]>"
+            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] [--size WxHxD] | ddm-trace [OUT_DIR] [--quick]>"
                 .into(),
         ),
     }

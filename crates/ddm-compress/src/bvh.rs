@@ -110,6 +110,27 @@ impl TriangleBvh {
         index
     }
 
+    /// The box of node `index`'s triangles' vertices (node 0 is the root), or `None` past
+    /// the end.
+    pub(crate) fn node_bounds(&self, index: u32) -> Option<Aabb> {
+        self.nodes.get(index as usize).map(|node| node.vertex_bounds)
+    }
+
+    /// The triangles of node `index` if it is a leaf.
+    pub(crate) fn leaf(&self, index: u32) -> Option<impl Iterator<Item = &Triangle>> {
+        let node = self.nodes.get(index as usize)?;
+        (node.count > 0).then(|| {
+            let first = node.first_or_child as usize;
+            self.order[first..first + node.count as usize].iter().map(|&i| &self.triangles[i as usize])
+        })
+    }
+
+    /// The two children of node `index` if it is an inner node.
+    pub(crate) fn children(&self, index: u32) -> Option<[u32; 2]> {
+        let node = self.nodes.get(index as usize)?;
+        (node.count == 0).then_some([index + 1, node.first_or_child])
+    }
+
     /// Whether any triangle intersects `aabb` ([`triangle_overlaps_box`]).
     pub fn any_overlaps(&self, aabb: &Aabb, stack: &mut Vec<u32>) -> bool {
         // A margin keeps the box test from rejecting what the exact test, computed

@@ -122,6 +122,13 @@ impl Cone {
     /// each term bounded below separately over the cone.
     pub fn angle_lower_bound(&self, direction: Vec3) -> f32 {
         let Some((azimuth, elevation)) = azimuth_elevation(direction) else { return 0.0 };
+        self.angle_lower_bound_at(azimuth, elevation)
+    }
+
+    /// [`Cone::angle_lower_bound`] of the direction with azimuth `azimuth ∈ [0, 2π)` and
+    /// elevation `elevation` (as [`azimuth_elevation`] gives them), so that one
+    /// conversion serves several cones.
+    pub fn angle_lower_bound_at(&self, azimuth: f32, elevation: f32) -> f32 {
         let delta_elevation = if elevation < self.elevation_min {
             self.elevation_min - elevation
         } else if elevation > self.elevation_max {
@@ -132,8 +139,7 @@ impl Cone {
         let delta_azimuth = if self.azimuth_max - self.azimuth_min >= TAU {
             0.0
         } else {
-            let wrap = |x: f32| x - TAU * libm::floorf(x / TAU);
-            let from_start = wrap(azimuth - self.azimuth_min);
+            let from_start = wrap_angle(azimuth - self.azimuth_min);
             let width = self.azimuth_max - self.azimuth_min;
             if from_start <= width { 0.0 } else { (from_start - width).min(TAU - from_start).min(PI) }
         };
@@ -144,6 +150,164 @@ impl Cone {
         let h = (s_e * s_e + libm::cosf(elevation) * cos_min * s_a * s_a).clamp(0.0, 1.0);
         2.0 * libm::asinf(libm::sqrtf(h))
     }
+
+    /// A lower bound of the angle between the direction `(azimuth, elevation)` and every
+    /// direction *outside* the cone: 0 when the direction is outside or on the boundary.
+    /// A set of directions within this angle of the direction lies wholly inside the cone.
+    ///
+    /// The cone's boundary is made of two arcs of latitude circles (great-circle distance
+    /// `|φ − φ_b|` to the whole circle) and two meridian arcs (distance
+    /// `asin(cos φ sin Δθ)` to the whole meridian half-circle when `Δθ ≤ π/2`, else the
+    /// distance `π/2 − |φ|` to its nearer pole); each arc is farther than its whole circle.
+    pub fn inside_margin_at(&self, azimuth: f32, elevation: f32) -> f32 {
+        if elevation < self.elevation_min || elevation > self.elevation_max {
+            return 0.0;
+        }
+        let mut margin = PI;
+        if self.elevation_min > -FRAC_PI_2 {
+            margin = margin.min(elevation - self.elevation_min);
+        }
+        if self.elevation_max < FRAC_PI_2 {
+            margin = margin.min(self.elevation_max - elevation);
+        }
+        let width = self.azimuth_max - self.azimuth_min;
+        if width < TAU {
+            let from_start = wrap_angle(azimuth - self.azimuth_min);
+            if from_start > width {
+                return 0.0;
+            }
+            let cos_elevation = libm::cosf(elevation).max(0.0);
+            for delta in [from_start, width - from_start] {
+                let delta = delta.min(TAU - delta);
+                let to_meridian = if delta <= FRAC_PI_2 {
+                    libm::asinf((cos_elevation * libm::sinf(delta)).clamp(0.0, 1.0))
+                } else {
+                    FRAC_PI_2 - elevation.abs()
+                };
+                margin = margin.min(to_meridian);
+            }
+        }
+        margin.max(0.0)
+    }
+
+    /// Whether the direction `(azimuth, elevation)` lies in the cone (boundaries included).
+    pub fn contains_at(&self, azimuth: f32, elevation: f32) -> bool {
+        if elevation < self.elevation_min || elevation > self.elevation_max {
+            return false;
+        }
+        let width = self.azimuth_max - self.azimuth_min;
+        width >= TAU || wrap_angle(azimuth - self.azimuth_min) <= width
+    }
+}
+
+/// How a set of directions lies relative to a cone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConeRelation {
+    /// No direction of the set is in the cone.
+    Outside,
+    /// Every direction of the set is in the cone.
+    Inside,
+    /// Possibly some in, some out.
+    Partial,
+}
+
+/// An azimuth–elevation rectangle holding every direction of a set: the directions of the
+/// points of a box that does not contain the origin.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DirectionRange {
+    /// Start of the azimuth arc, in `[0, 2π)`.
+    pub azimuth_start: f32,
+    /// Length of the azimuth arc (`2π`: every azimuth).
+    pub azimuth_width: f32,
+    /// Smallest elevation.
+    pub elevation_min: f32,
+    /// Largest elevation.
+    pub elevation_max: f32,
+}
+
+/// Widening of [`DirectionRange`]s against rounding, in radians.
+const RANGE_MARGIN: f32 = 2e-5;
+
+impl DirectionRange {
+    /// The directions of the points of the box `[min, max]`, or `None` when the box
+    /// contains the origin or is not finite.
+    ///
+    /// Azimuths: the arc spanned by the four corners of the box's `xy` rectangle (every
+    /// azimuth when that rectangle holds the origin). Elevations: `φ = atan2(z, h)` grows
+    /// with `z` and, for `z ≥ 0`, falls with the horizontal distance `h`, so its extremes
+    /// are at `z_max` with the smallest (`z_max ≥ 0`) or largest `h`, and at `z_min` with the
+    /// largest (`z_min ≥ 0`) or smallest `h`.
+    pub fn of_box(min: Vec3, max: Vec3) -> Option<Self> {
+        if !(min.is_finite() && max.is_finite()) || (min.cmple(Vec3::ZERO).all() && max.cmpge(Vec3::ZERO).all()) {
+            return None;
+        }
+        let nearest_xy = glam::Vec2::ZERO.clamp(min.truncate(), max.truncate());
+        let h_min = nearest_xy.length();
+        let h_max = libm::hypotf(min.x.abs().max(max.x.abs()), min.y.abs().max(max.y.abs()));
+        let elevation_max = libm::atan2f(max.z, if max.z >= 0.0 { h_min } else { h_max }) + RANGE_MARGIN;
+        let elevation_min = libm::atan2f(min.z, if min.z >= 0.0 { h_max } else { h_min }) - RANGE_MARGIN;
+        let (azimuth_start, azimuth_width) = if h_min == 0.0 {
+            (0.0, TAU)
+        } else {
+            let center = libm::atan2f(min.y + max.y, min.x + max.x);
+            let (mut low, mut high) = (0.0_f32, 0.0_f32);
+            for (x, y) in [(min.x, min.y), (max.x, min.y), (min.x, max.y), (max.x, max.y)] {
+                let mut delta = libm::atan2f(y, x) - center;
+                if delta > PI {
+                    delta -= TAU;
+                } else if delta < -PI {
+                    delta += TAU;
+                }
+                low = low.min(delta);
+                high = high.max(delta);
+            }
+            (wrap_angle(center + low - RANGE_MARGIN), (high - low + 2.0 * RANGE_MARGIN).min(TAU))
+        };
+        Some(Self {
+            azimuth_start,
+            azimuth_width,
+            elevation_min: elevation_min.max(-FRAC_PI_2),
+            elevation_max: elevation_max.min(FRAC_PI_2),
+        })
+    }
+}
+
+impl Cone {
+    /// How the directions of `range` lie relative to the cone (exact for the rectangle, so
+    /// a conservative answer for the set it holds).
+    pub fn relation(&self, range: &DirectionRange) -> ConeRelation {
+        if range.elevation_max < self.elevation_min || range.elevation_min > self.elevation_max {
+            return ConeRelation::Outside;
+        }
+        let elevation_inside = self.elevation_min <= range.elevation_min && range.elevation_max <= self.elevation_max;
+        let width = self.azimuth_max - self.azimuth_min;
+        let azimuth_inside = if width >= TAU {
+            true
+        } else if range.azimuth_width >= TAU {
+            false
+        } else {
+            let range_from_cone = wrap_angle(range.azimuth_start - self.azimuth_min);
+            let cone_from_range = wrap_angle(self.azimuth_min - range.azimuth_start);
+            if range_from_cone > width && cone_from_range > range.azimuth_width {
+                // Neither arc starts inside the other: disjoint, unless the range reaches a
+                // pole, where every azimuth meets.
+                let at_pole =
+                    range.elevation_min <= -FRAC_PI_2 + RANGE_MARGIN || range.elevation_max >= FRAC_PI_2 - RANGE_MARGIN;
+                if !at_pole {
+                    return ConeRelation::Outside;
+                }
+                false
+            } else {
+                range_from_cone + range.azimuth_width <= width
+            }
+        };
+        if elevation_inside && azimuth_inside { ConeRelation::Inside } else { ConeRelation::Partial }
+    }
+}
+
+/// `x` reduced to `[0, 2π)`.
+fn wrap_angle(x: f32) -> f32 {
+    x - TAU * libm::floorf(x / TAU)
 }
 
 #[cfg(test)]
@@ -190,5 +354,92 @@ mod tests {
                 assert!(bound <= best + 1e-4, "cone {index} {d}: bound {bound} > sampled {best}");
             }
         }
+    }
+
+    #[test]
+    fn directions_within_the_inside_margin_stay_in_the_cone() {
+        for cones in [DirectionCones::full(8, 4).unwrap(), DirectionCones::downward(4, 2).unwrap()] {
+            for index in 0..cones.count() {
+                let cone = cones.cone(index).unwrap();
+                let mut inside_seen = 0;
+                for k in 0..600 {
+                    let (s, c) = libm::sincosf(k as f32 * 0.731);
+                    let d = Vec3::new(c * libm::cosf(k as f32 * 0.13), s, libm::sinf(k as f32 * 0.377)).normalize();
+                    let (azimuth, elevation) = azimuth_elevation(d).unwrap();
+                    let margin = cone.inside_margin_at(azimuth, elevation);
+                    assert!(margin == 0.0 || cone.contains_at(azimuth, elevation));
+                    if margin <= 1e-4 {
+                        continue;
+                    }
+                    inside_seen += 1;
+                    // Directions on a circle of radius 0.999 margin around d are inside.
+                    let helper = if d.z.abs() < 0.9 { Vec3::Z } else { Vec3::X };
+                    let (u, v) = (d.cross(helper).normalize(), d.cross(d.cross(helper)).normalize());
+                    for j in 0..64 {
+                        let (sj, cj) = libm::sincosf(j as f32 * TAU / 64.0);
+                        let angle = 0.999 * margin;
+                        let e = d * libm::cosf(angle) + (u * cj + v * sj) * libm::sinf(angle);
+                        let (a, el) = azimuth_elevation(e).unwrap();
+                        assert!(cone.contains_at(a, el), "cone {index}: {d} margin {margin}, {e} outside");
+                    }
+                }
+                assert!(inside_seen > 0, "cone {index}");
+            }
+        }
+    }
+
+    #[test]
+    fn direction_ranges_hold_their_boxes_and_relations_are_right() {
+        let mut state = 0x853c_49e6_748f_ea9b_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let cone_sets = [
+            DirectionCones::full(4, 2).unwrap(),
+            DirectionCones::downward(8, 1).unwrap(),
+            DirectionCones::full(3, 3).unwrap(),
+        ];
+        let (mut outside, mut inside) = (0, 0);
+        for _ in 0..3000 {
+            let a = Vec3::new(next(), next(), next()) * 8.0 - 4.0;
+            let size = Vec3::new(next(), next(), next()) * 3.0;
+            let (min, max) = (a, a + size);
+            let Some(range) = DirectionRange::of_box(min, max) else {
+                assert!(min.cmple(Vec3::ZERO).all() && max.cmpge(Vec3::ZERO).all());
+                continue;
+            };
+            for cones in cone_sets {
+                for index in 0..cones.count() {
+                    let cone = cones.cone(index).unwrap();
+                    let relation = cone.relation(&range);
+                    outside += usize::from(relation == ConeRelation::Outside);
+                    inside += usize::from(relation == ConeRelation::Inside);
+                    for i in 0..125 {
+                        let t = Vec3::new((i % 5) as f32, ((i / 5) % 5) as f32, (i / 25) as f32) / 4.0;
+                        let p = min + size * t;
+                        let Some((azimuth, elevation)) = azimuth_elevation(p) else { continue };
+                        assert!(
+                            elevation >= range.elevation_min && elevation <= range.elevation_max,
+                            "{min} {max} {p} {range:?}"
+                        );
+                        assert!(
+                            wrap_angle(azimuth - range.azimuth_start) <= range.azimuth_width + 1e-6
+                                || wrap_angle(azimuth - range.azimuth_start) >= TAU - 1e-6,
+                            "{min} {max} {p} {range:?}"
+                        );
+                        let contained = cone.contains_at(azimuth, elevation);
+                        match relation {
+                            ConeRelation::Outside => assert!(!contained, "{min} {max} {p} cone {index} {range:?}"),
+                            ConeRelation::Inside => assert!(contained, "{min} {max} {p} cone {index} {range:?}"),
+                            ConeRelation::Partial => {}
+                        }
+                    }
+                }
+            }
+        }
+        assert!(outside > 1000 && inside > 100, "{outside} {inside}");
     }
 }

@@ -11,8 +11,9 @@ use alloc::vec::Vec;
 use glam::{UVec3, Vec3};
 
 use crate::bvh::TriangleBvh;
-use crate::cones::DirectionCones;
+use crate::cones::{Cone, DirectionCones, azimuth_elevation};
 use crate::geometry::{Aabb, Triangle};
+use crate::search::{CONES_PER_SEARCH, VoxelSearch};
 
 /// Distance maps over a grid of unit voxels: one map per direction cone (a single map for
 /// the plain, undirected distance map).
@@ -50,6 +51,12 @@ impl Default for DistanceMapSettings {
 /// Computes the distance maps of `triangles` (in voxel coordinates) on a `dims` grid:
 /// one per cone of `cones`, or the plain distance map for `None`.
 ///
+/// Every value is a lower bound of the true (directional) distance, within about
+/// `2 tolerance` of it; voxels that a triangle crosses store 0. All cones of a voxel are
+/// searched together over a triangle hierarchy, refining box–triangle pairs only where a
+/// cone's value depends on them (see the `search` module's documentation in the source);
+/// with the `std` feature the rows of the grid are shared among the available threads.
+///
 /// Returns `None` for an empty grid, a grid of more than 2²⁴ voxels, a non-positive or
 /// non-finite tolerance, or a non-finite triangle.
 pub fn compute_distance_maps(
@@ -58,73 +65,190 @@ pub fn compute_distance_maps(
     cones: Option<DirectionCones>,
     settings: DistanceMapSettings,
 ) -> Option<DistanceMaps> {
+    let scene = Scene::new(dims, triangles, cones, settings)?;
+    let rows = (dims.y * dims.z) as usize;
+    let per_row = dims.x as usize * scene.cone_list.len();
+    let mut values = alloc::vec![0.0_f32; rows * per_row];
+    let mut surface = alloc::vec![false; rows * dims.x as usize];
+    scene.compute_rows(&mut values, &mut surface);
+    // `values` is voxel-major (all cones of a voxel together); the maps are cone-major.
+    let cone_count = scene.cone_list.len();
+    let maps = (0..cone_count).map(|c| values.iter().skip(c).step_by(cone_count).copied().collect()).collect();
+    Some(DistanceMaps { dims, cones, values: maps, surface, max_distance: scene.max_distance })
+}
+
+/// The previous, slower computation, kept as a reference for tests and benchmarks: every
+/// cone of every voxel on its own, each triangle bounded by
+/// [`crate::geometry::directional_distance_bound`] (bounding spheres, subdivided to
+/// `tolerance`). Its values are lower bounds as well, usually a little looser than
+/// [`compute_distance_maps`]'s. Same inputs and `None` cases.
+pub fn reference_distance_maps(
+    dims: UVec3,
+    triangles: &[Triangle],
+    cones: Option<DirectionCones>,
+    settings: DistanceMapSettings,
+) -> Option<DistanceMaps> {
+    let scene = Scene::new(dims, triangles, cones, settings)?;
     let voxels = dims.x as usize * dims.y as usize * dims.z as usize;
-    if voxels == 0 || voxels > 1 << 24 || !(settings.tolerance > 0.0 && settings.tolerance.is_finite()) {
-        return None;
-    }
-    if triangles.iter().any(|t| !t.is_finite()) {
-        return None;
-    }
-    let mut all = Vec::with_capacity(triangles.len() * if settings.periodic_xy { 9 } else { 1 });
-    let offsets: &[(f32, f32)] = if settings.periodic_xy {
-        &[
-            (0.0, 0.0),
-            (-1.0, 0.0),
-            (1.0, 0.0),
-            (0.0, -1.0),
-            (0.0, 1.0),
-            (-1.0, -1.0),
-            (-1.0, 1.0),
-            (1.0, -1.0),
-            (1.0, 1.0),
-        ]
-    } else {
-        &[(0.0, 0.0)]
-    };
-    for &(ox, oy) in offsets {
-        let shift = Vec3::new(ox * dims.x as f32, oy * dims.y as f32, 0.0);
-        all.extend(triangles.iter().map(|t| Triangle(t.0.map(|v| v + shift))));
-    }
-    let max_distance = dims.as_vec3().length();
-    let cone_list: Vec<Option<crate::cones::Cone>> = match cones {
-        Some(c) => (0..c.count()).map(|i| c.cone(i)).collect(),
-        None => alloc::vec![None],
-    };
-    let bvh = TriangleBvh::new(all);
     let (mut overlap_stack, mut distance_stack) = (Vec::new(), Vec::new());
-    let mut values = alloc::vec![alloc::vec![max_distance; voxels]; cone_list.len()];
+    let mut values = alloc::vec![alloc::vec![scene.max_distance; voxels]; scene.cone_list.len()];
     let mut surface = alloc::vec![false; voxels];
     for z in 0..dims.z {
         for y in 0..dims.y {
             for x in 0..dims.x {
                 let index = (x + dims.x * (y + dims.y * z)) as usize;
                 let voxel = Aabb::voxel(x, y, z);
-                if bvh.any_overlaps(&voxel, &mut overlap_stack) {
+                if scene.bvh.any_overlaps(&voxel, &mut overlap_stack) {
                     surface[index] = true;
                     for map in values.iter_mut() {
                         map[index] = 0.0;
                     }
                     continue;
                 }
-                for (map, cone) in values.iter_mut().zip(&cone_list) {
-                    map[index] = bvh.min_directional_distance(
+                for (map, cone) in values.iter_mut().zip(&scene.cone_list) {
+                    map[index] = scene.bvh.min_directional_distance(
                         &voxel,
                         cone.as_ref(),
                         settings.tolerance,
-                        max_distance,
+                        scene.max_distance,
                         &mut distance_stack,
                     );
                 }
             }
         }
     }
-    Some(DistanceMaps { dims, cones, values, surface, max_distance })
+    Some(DistanceMaps { dims, cones, values, surface, max_distance: scene.max_distance })
+}
+
+/// The validated inputs of a distance-map computation: the triangle hierarchy (with the
+/// 8 neighbouring tiles' copies when periodic), the cone list and the cap.
+struct Scene {
+    dims: UVec3,
+    bvh: TriangleBvh,
+    cone_list: Vec<Option<Cone>>,
+    tolerance: f32,
+    max_distance: f32,
+}
+
+impl Scene {
+    fn new(
+        dims: UVec3,
+        triangles: &[Triangle],
+        cones: Option<DirectionCones>,
+        settings: DistanceMapSettings,
+    ) -> Option<Self> {
+        let voxels = dims.x as usize * dims.y as usize * dims.z as usize;
+        if voxels == 0 || voxels > 1 << 24 || !(settings.tolerance > 0.0 && settings.tolerance.is_finite()) {
+            return None;
+        }
+        if triangles.iter().any(|t| !t.is_finite()) {
+            return None;
+        }
+        let mut all = Vec::with_capacity(triangles.len() * if settings.periodic_xy { 9 } else { 1 });
+        let offsets: &[(f32, f32)] = if settings.periodic_xy {
+            &[
+                (0.0, 0.0),
+                (-1.0, 0.0),
+                (1.0, 0.0),
+                (0.0, -1.0),
+                (0.0, 1.0),
+                (-1.0, -1.0),
+                (-1.0, 1.0),
+                (1.0, -1.0),
+                (1.0, 1.0),
+            ]
+        } else {
+            &[(0.0, 0.0)]
+        };
+        for &(ox, oy) in offsets {
+            let shift = Vec3::new(ox * dims.x as f32, oy * dims.y as f32, 0.0);
+            all.extend(triangles.iter().map(|t| Triangle(t.0.map(|v| v + shift))));
+        }
+        let cone_list: Vec<Option<Cone>> = match cones {
+            Some(c) => (0..c.count()).map(|i| c.cone(i)).collect(),
+            None => alloc::vec![None],
+        };
+        Some(Self {
+            dims,
+            bvh: TriangleBvh::new(all),
+            cone_list,
+            tolerance: settings.tolerance,
+            max_distance: dims.as_vec3().length(),
+        })
+    }
+
+    /// Computes row `row` (`y + dims.y z`): `values` gets every cone of each voxel in
+    /// turn, `surface` whether each voxel is crossed.
+    fn compute_row(&self, row: usize, values: &mut [f32], surface: &mut [bool], scratch: &mut Scratch) {
+        let (y, z) = (row as u32 % self.dims.y, row as u32 / self.dims.y);
+        let cone_count = self.cone_list.len();
+        for x in 0..self.dims.x {
+            let voxel = Aabb::voxel(x, y, z);
+            let out = &mut values[x as usize * cone_count..(x as usize + 1) * cone_count];
+            if self.bvh.any_overlaps(&voxel, &mut scratch.overlap) {
+                surface[x as usize] = true;
+                out.fill(0.0);
+                continue;
+            }
+            for (chunk, out) in self.cone_list.chunks(CONES_PER_SEARCH).zip(out.chunks_mut(CONES_PER_SEARCH)) {
+                let mut search = VoxelSearch::new(chunk, self.tolerance, self.max_distance);
+                search.run(&self.bvh, &voxel, &mut scratch.nodes);
+                for (c, value) in out.iter_mut().enumerate() {
+                    *value = search.value(c);
+                }
+            }
+        }
+    }
+
+    /// Computes every row, on all available threads with the `std` feature.
+    fn compute_rows(&self, values: &mut [f32], surface: &mut [bool]) {
+        let per_row = self.dims.x as usize * self.cone_list.len();
+        let row_surface = self.dims.x as usize;
+        #[cfg(feature = "std")]
+        {
+            let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+            let rows = surface.len() / row_surface;
+            if threads > 1 && rows > 1 {
+                // Rows interleaved over the threads: neighbouring rows cost about the same.
+                let threads = threads.min(rows);
+                let mut slots: Vec<Vec<RowSlices<'_>>> = (0..threads).map(|_| Vec::new()).collect();
+                for (row, (v, s)) in values.chunks_mut(per_row).zip(surface.chunks_mut(row_surface)).enumerate() {
+                    slots[row % threads].push((row, v, s));
+                }
+                std::thread::scope(|scope| {
+                    for slot in slots {
+                        scope.spawn(move || {
+                            let mut scratch = Scratch::default();
+                            for (row, v, s) in slot {
+                                self.compute_row(row, v, s, &mut scratch);
+                            }
+                        });
+                    }
+                });
+                return;
+            }
+        }
+        let mut scratch = Scratch::default();
+        for (row, (v, s)) in values.chunks_mut(per_row).zip(surface.chunks_mut(row_surface)).enumerate() {
+            self.compute_row(row, v, s, &mut scratch);
+        }
+    }
+}
+
+/// A row's index, its values (all cones of each voxel) and its surface flags.
+type RowSlices<'a> = (usize, &'a mut [f32], &'a mut [bool]);
+
+/// Reused traversal stacks.
+#[derive(Default)]
+struct Scratch {
+    overlap: Vec<u32>,
+    nodes: Vec<(u32, f32, u32)>,
 }
 
 /// A brute-force upper estimate of the directional distance from `voxel` to `triangles`
 /// in `cone`: the smallest `|m − v|` over `samples²` point pairs whose direction lies in
 /// the cone. A conservative map must never exceed it.
-pub fn sampled_distance(voxel: UVec3, triangles: &[Triangle], cone: Option<&crate::cones::Cone>, samples: u32) -> f32 {
+pub fn sampled_distance(voxel: UVec3, triangles: &[Triangle], cone: Option<&Cone>, samples: u32) -> f32 {
     let mut best = f32::INFINITY;
     let n = samples.max(1);
     let box_point = |k: u32| {
@@ -152,7 +276,9 @@ pub fn sampled_distance(voxel: UVec3, triangles: &[Triangle], cone: Option<&crat
                 let m = a * (1.0 - su) + b * (su * (1.0 - w)) + c * (su * w);
                 let d = m - v;
                 let inside = match cone {
-                    Some(cone) => cone.angle_lower_bound(d) == 0.0,
+                    Some(cone) => {
+                        azimuth_elevation(d).is_some_and(|(azimuth, elevation)| cone.contains_at(azimuth, elevation))
+                    }
                     None => true,
                 };
                 if inside {
@@ -173,7 +299,7 @@ mod tests {
     fn brute_force(dims: UVec3, triangles: &[Triangle], cones: Option<DirectionCones>, tolerance: f32) -> DistanceMaps {
         let voxels = (dims.x * dims.y * dims.z) as usize;
         let max_distance = dims.as_vec3().length();
-        let cone_list: Vec<Option<crate::cones::Cone>> = match cones {
+        let cone_list: Vec<Option<Cone>> = match cones {
             Some(c) => (0..c.count()).map(|i| c.cone(i)).collect(),
             None => alloc::vec![None],
         };
@@ -223,17 +349,50 @@ mod tests {
     }
 
     #[test]
-    fn hierarchy_gives_the_brute_force_values() {
+    fn reference_hierarchy_gives_the_brute_force_values() {
+        let dims = UVec3::new(7, 6, 5);
+        for seed in [0x9e37_79b9_7f4a_7c15_u64, 0x1234_5678_9abc_def1] {
+            let triangles = random_scene(seed, 40, dims);
+            let settings = DistanceMapSettings { tolerance: 0.1, periodic_xy: false };
+            for cones in [None, DirectionCones::downward(4, 1), DirectionCones::full(3, 2)] {
+                let fast = reference_distance_maps(dims, &triangles, cones, settings).unwrap();
+                let slow = brute_force(dims, &triangles, cones, settings.tolerance);
+                assert_eq!(fast.surface, slow.surface);
+                assert!(fast.surface.iter().any(|&s| s) && !fast.surface.iter().all(|&s| s));
+                assert_eq!(fast.values, slow.values, "cones {cones:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn search_over_the_hierarchy_gives_the_search_over_every_triangle() {
         let dims = UVec3::new(7, 6, 5);
         for seed in [0x9e37_79b9_7f4a_7c15_u64, 0x1234_5678_9abc_def1] {
             let triangles = random_scene(seed, 40, dims);
             let settings = DistanceMapSettings { tolerance: 0.1, periodic_xy: false };
             for cones in [None, DirectionCones::downward(4, 1), DirectionCones::full(3, 2)] {
                 let fast = compute_distance_maps(dims, &triangles, cones, settings).unwrap();
-                let slow = brute_force(dims, &triangles, cones, settings.tolerance);
-                assert_eq!(fast.surface, slow.surface);
-                assert!(fast.surface.iter().any(|&s| s) && !fast.surface.iter().all(|&s| s));
-                assert_eq!(fast.values, slow.values, "cones {cones:?}");
+                let reference = reference_distance_maps(dims, &triangles, cones, settings).unwrap();
+                assert_eq!(fast.surface, reference.surface);
+                let cone_list: Vec<Option<Cone>> = match cones {
+                    Some(c) => (0..c.count()).map(|i| c.cone(i)).collect(),
+                    None => alloc::vec![None],
+                };
+                for z in 0..dims.z {
+                    for y in 0..dims.y {
+                        for x in 0..dims.x {
+                            let index = (x + dims.x * (y + dims.y * z)) as usize;
+                            if fast.surface[index] {
+                                continue;
+                            }
+                            let mut search = VoxelSearch::new(&cone_list, settings.tolerance, fast.max_distance);
+                            search.run_over_every_triangle(&triangles, &Aabb::voxel(x, y, z));
+                            for (c, map) in fast.values.iter().enumerate() {
+                                assert_eq!(map[index], search.value(c), "cones {cones:?} voxel {index} cone {c}");
+                            }
+                        }
+                    }
+                }
             }
         }
     }

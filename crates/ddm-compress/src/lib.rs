@@ -35,7 +35,8 @@
 //! - [`geometry`]: boxes, triangles, overlap and the conservative directional distance
 //!   bound.
 //! - [`bvh`]: the triangle hierarchy that makes [`compute_distance_maps`] fast.
-//! - [`ddm`]: directional and plain distance maps of a triangle mesh.
+//! - [`ddm`]: directional and plain distance maps of a triangle mesh (the per-voxel
+//!   search over all cones at once lives in the private `search` module).
 //! - [`compress`]: the lookup grid and atlas (Algorithm A.1) and access (Algorithm A.2).
 //! - [`serialize`]: a versioned binary form that rejects corrupt data.
 //! - [`gpu`]: the uniforms of the WGSL twin.
@@ -47,6 +48,8 @@
 #![no_std]
 
 extern crate alloc;
+#[cfg(feature = "std")]
+extern crate std;
 
 pub mod bvh;
 pub mod compress;
@@ -54,11 +57,12 @@ pub mod cones;
 pub mod ddm;
 pub mod geometry;
 pub mod gpu;
+mod search;
 pub mod serialize;
 
 pub use bvh::TriangleBvh;
 pub use compress::{CompressedMap, SURFACE_FLAG};
-pub use cones::{Cone, DirectionCones};
-pub use ddm::{DistanceMapSettings, DistanceMaps, compute_distance_maps, sampled_distance};
+pub use cones::{Cone, ConeRelation, DirectionCones, DirectionRange};
+pub use ddm::{DistanceMapSettings, DistanceMaps, compute_distance_maps, reference_distance_maps, sampled_distance};
 pub use geometry::{Aabb, Triangle};
 pub use serialize::DecodeError;

@@ -32,32 +32,56 @@ fn voxel_index(v: UVec3) -> usize {
     (v.x + DIMS.x * (v.y + DIMS.y * v.z)) as usize
 }
 
-#[test]
-fn stored_values_never_exceed_sampled_distances() {
-    let triangles = mesostructure();
-    let cones = DirectionCones::full(4, 2).unwrap();
-    for (directional, maps) in [(true, maps(Some(cones))), (false, maps(None))] {
-        let (mut checked, mut total_gap) = (0, 0.0);
-        for z in 0..DIMS.z {
-            for y in 0..DIMS.y {
-                for x in 0..DIMS.x {
-                    let v = UVec3::new(x, y, z);
-                    for (c, map) in maps.values.iter().enumerate() {
-                        let cone = if directional { cones.cone(c as u32) } else { None };
-                        let sampled = sampled_distance(v, &triangles, cone.as_ref(), 24);
-                        let stored = map[voxel_index(v)];
-                        assert!(stored <= sampled + 1e-4, "voxel {v} cone {c}: stored {stored} > sampled {sampled}");
-                        if sampled.is_finite() {
-                            checked += 1;
-                            total_gap += sampled - stored;
-                        }
+/// Mean and largest `sampled - stored` over the voxel-cones with a finite sampled value,
+/// asserting that no stored value exceeds the sampled one.
+fn gaps(maps: &DistanceMaps, triangles: &[Triangle], cones: Option<DirectionCones>, label: &str) -> (f32, f32) {
+    let (mut checked, mut total_gap, mut largest_gap) = (0, 0.0, 0.0_f32);
+    let dims = maps.dims;
+    for z in 0..dims.z {
+        for y in 0..dims.y {
+            for x in 0..dims.x {
+                let v = UVec3::new(x, y, z);
+                let index = (x + dims.x * (y + dims.y * z)) as usize;
+                for (c, map) in maps.values.iter().enumerate() {
+                    let cone = cones.and_then(|cones| cones.cone(c as u32));
+                    let sampled = sampled_distance(v, triangles, cone.as_ref(), 32);
+                    let stored = map[index];
+                    assert!(
+                        stored <= sampled + 1e-4,
+                        "{label}: voxel {v} cone {c}: stored {stored} > sampled {sampled}"
+                    );
+                    if sampled.is_finite() {
+                        checked += 1;
+                        total_gap += sampled - stored;
+                        largest_gap = largest_gap.max(sampled - stored);
                     }
                 }
             }
         }
-        let mean_gap = total_gap / checked as f32;
-        println!("directional={directional}: {checked} voxel-cones, mean (sampled - stored) = {mean_gap:.3} voxel");
-        assert!(mean_gap < 0.35, "the bound is too loose: {mean_gap}");
+    }
+    assert!(checked > 100, "{label}: only {checked} voxel-cones see the surface");
+    (total_gap / checked as f32, largest_gap)
+}
+
+#[test]
+fn stored_values_never_exceed_sampled_distances() {
+    let triangles = mesostructure();
+    let settings = DistanceMapSettings { tolerance: 0.05, periodic_xy: false };
+    for cones in [Some(DirectionCones::full(4, 2).unwrap()), DirectionCones::downward(8, 1), None] {
+        let fast = compute_distance_maps(DIMS, &triangles, cones, settings).unwrap();
+        let reference = ddm_compress::reference_distance_maps(DIMS, &triangles, cones, settings).unwrap();
+        let (fast_mean, fast_max) = gaps(&fast, &triangles, cones, "search");
+        let (reference_mean, reference_max) = gaps(&reference, &triangles, cones, "reference");
+        println!(
+            "cones {cones:?}: mean / max (sampled - stored): search {fast_mean:.3} / {fast_max:.3}, reference {reference_mean:.3} / {reference_max:.3} voxel"
+        );
+        // The search is at least as tight as the previous computation on average.
+        assert!(fast_mean <= reference_mean + 1e-3, "search {fast_mean} looser than reference {reference_mean}");
+        // Measured mean gaps: 0.298 (full 4×2), 0.312 (downward 8×1), 0.169 (plain map); the
+        // reference: 0.466, 0.525, 0.196. Part of each is the sampling's own error (32²
+        // point pairs per triangle miss the nearest pair), which also makes the largest gap
+        // (3.3 voxel, the same for both) a sampling artefact of grazing directions.
+        assert!(fast_mean < 0.33, "the bound is too loose: {fast_mean}");
     }
 }
 

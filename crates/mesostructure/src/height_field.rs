@@ -93,6 +93,11 @@ fn maze_walls(cells: u32, seed: u64) -> Vec<bool> {
 /// A height-field maze filling a tile of `size` voxels: a perfect maze of 4 × 4 rooms that
 /// tiles periodically, walls `0.75 size.z` high on a floor at `0.125 size.z`.
 pub fn maze(size: UVec3, seed: u64) -> Vec<Triangle> {
+    maze_height_field(size, seed).triangles()
+}
+
+/// The heights of [`maze`].
+pub fn maze_height_field(size: UVec3, seed: u64) -> HeightField {
     let cells = 4;
     let walls = maze_walls(cells, seed);
     let blocks = 2 * cells;
@@ -102,13 +107,17 @@ pub fn maze(size: UVec3, seed: u64) -> Vec<Triangle> {
         let (bx, by) = (block_of(x, size.x), block_of(y, size.y));
         if walls[(bx + blocks * by) as usize] { top } else { floor }
     })
-    .triangles()
 }
 
 /// Rounded bricks filling a tile of `size` voxels: 2 rows of 2 bricks (the second row
 /// shifted by half a brick), mortar at `0.2 size.z`, brick tops at `0.7 size.z`, edges
 /// rounded over a quarter of the brick height.
 pub fn bricks(size: UVec3) -> Vec<Triangle> {
+    bricks_height_field(size).triangles()
+}
+
+/// The heights of [`bricks`].
+pub fn bricks_height_field(size: UVec3) -> HeightField {
     let (rows, per_row) = (2.0_f32, 2.0_f32);
     let (sx, sy, sz) = (size.x as f32, size.y as f32, size.z as f32);
     let (mortar, top) = (0.2 * sz, 0.7 * sz);
@@ -131,5 +140,4 @@ pub fn bricks(size: UVec3) -> Vec<Triangle> {
             mortar + (top - mortar) * (1.0 - t * t).max(0.0).sqrt()
         }
     })
-    .triangles()
 }

@@ -34,6 +34,11 @@
 //!   direction with their weights (Listing 1).
 //! - [`validity`]: the validity half-angle of a view (eq. 4) and the smallest `n` whose
 //!   neighbour spacing fits it (§6, Fig. 6).
+//! - [`view_frame`]: the orthographic camera of each view and the mapping between
+//!   points of a grain and texels (the conventions the baker and samplers share).
+//! - [`compact`]: a layout storing each distinct view once (no duplicated equator).
+//! - [`sampling`]: planar, spherical and mixed sampling of a quasi-spherical impostor
+//!   (§5): the four views, their weights and the texture coordinates to read in each.
 //! - [`gpu`]: the structs and constants shared with the WGSL twin
 //!   (`shaders/octahedral_map.wgsl`).
 //!
@@ -44,12 +49,18 @@
 //!   without `std`.
 #![no_std]
 
+pub mod compact;
 pub mod direction;
 pub mod gpu;
+pub mod sampling;
 pub mod validity;
+pub mod view_frame;
 pub mod views;
 
+pub use compact::CompactViews;
 pub use direction::{FALLBACK_DIRECTION, canonical_direction};
-pub use gpu::{OctahedralUniforms, ViewSample};
+pub use gpu::{ImpostorRayQuery, ImpostorSample, ImpostorSamplingUniforms, OctahedralUniforms, ViewSample};
+pub use sampling::{GrainRay, ImpostorSampler, SamplingMode, ViewLayout, ViewSelection, sample_impostor};
 pub use validity::{max_neighbour_angle, min_subdivisions_for_texels, validity_half_angle};
+pub use view_frame::ViewFrame;
 pub use views::{MAX_SUBDIVISIONS, OctahedralViews};

@@ -45,6 +45,19 @@ impl OctahedralViews {
         if subdivisions == 0 || subdivisions > MAX_SUBDIVISIONS { None } else { Some(Self { subdivisions }) }
     }
 
+    /// The layout with `subdivisions` clamped to `1..=MAX_SUBDIVISIONS`.
+    pub(crate) const fn clamped(subdivisions: u32) -> Self {
+        Self {
+            subdivisions: if subdivisions == 0 {
+                1
+            } else if subdivisions > MAX_SUBDIVISIONS {
+                MAX_SUBDIVISIONS
+            } else {
+                subdivisions
+            },
+        }
+    }
+
     /// `n`, the number of views along an edge of one hemisphere's square.
     pub const fn subdivisions(self) -> u32 {
         self.subdivisions

@@ -75,3 +75,47 @@ proptest! {
         prop_assert!(ours >= best - 1e-12, "n={} d={:?}: ours {} brute force {}", n, d, ours, best);
     }
 }
+
+/// Any f32 at all (bit patterns), for the no-panic property of the samplers.
+fn any_bits() -> impl Strategy<Value = f32> {
+    prop_oneof![3 => component(), 1 => any::<u32>().prop_map(f32::from_bits)]
+}
+
+proptest! {
+    /// Every world ray, grain and sampler configuration has a finite, in-range sample:
+    /// indices below the layout's view count, weights in [0, 1] summing to 1, texture
+    /// coordinates in [MISS_TEXTURE_COORDINATE, MAX_TEXTURE_COORDINATE].
+    #[test]
+    fn impostor_samples_are_defined_for_any_input(
+        origin in direction(),
+        ray_direction in direction(),
+        centre in direction(),
+        scale in any_bits(),
+        rotation in (any_bits(), any_bits(), any_bits(), any_bits()),
+        n in 1_u32..=16,
+        mode in 0_usize..3,
+        compact in any::<bool>(),
+        per_grain in any::<bool>(),
+        inner in 0.01_f32..=1.0,
+    ) {
+        use octahedral_map::sampling::{MAX_TEXTURE_COORDINATE, MISS_TEXTURE_COORDINATE};
+        use octahedral_map::{CompactViews, GrainRay, ImpostorSampler, SamplingMode, ViewLayout, ViewSelection};
+        let views = OctahedralViews::new(n).unwrap();
+        let layout = if compact { ViewLayout::Compact } else { ViewLayout::Listing1 };
+        let selection = if per_grain { ViewSelection::PerGrainFromEye } else { ViewSelection::PerFragment };
+        let sampler = ImpostorSampler::new(views, 1.0, inner, SamplingMode::ALL[mode], layout, selection).unwrap();
+        let rotation = glam::Quat::from_xyzw(rotation.0, rotation.1, rotation.2, rotation.3);
+        let ray = GrainRay::from_world(origin, ray_direction, centre, scale, rotation);
+        prop_assert!(ray.origin.is_finite() && ray.direction.is_finite());
+        prop_assert!((ray.direction.length() - 1.0).abs() < 1e-5);
+        let sample = sampler.sample(&ray);
+        let count = if compact { CompactViews::new(views).view_count() } else { views.view_count() };
+        prop_assert!(sample.indices.max_element() < count);
+        prop_assert!(sample.weights.min_element() >= 0.0 && sample.weights.max_element() <= 1.0);
+        prop_assert!((sample.weights.element_sum() - 1.0).abs() < 1e-5);
+        for t in sample.texture_coordinates {
+            prop_assert!(t.min_element() >= MISS_TEXTURE_COORDINATE && t.max_element() <= MAX_TEXTURE_COORDINATE);
+        }
+        prop_assert!(sample.distance_ratio.is_finite());
+    }
+}

@@ -60,9 +60,18 @@ static MODULES: &[ShaderModule] = &[
         name: "octahedral_map",
         generated: wgsl_file!("shaders/generated/octahedral_map.wgsl"),
         library: wgsl_file!("shaders/octahedral_map.wgsl"),
-        kernels: &[wgsl_file!("shaders/kernels/octahedral_map_differential.wgsl")],
+        kernels: &[
+            wgsl_file!("shaders/kernels/octahedral_map_differential.wgsl"),
+            wgsl_file!("shaders/kernels/impostor_sampling_differential.wgsl"),
+        ],
         structs: || {
-            vec![StructDecl::of::<octahedral_map::ViewSample>(), StructDecl::of::<octahedral_map::OctahedralUniforms>()]
+            vec![
+                StructDecl::of::<octahedral_map::ViewSample>(),
+                StructDecl::of::<octahedral_map::OctahedralUniforms>(),
+                StructDecl::of::<octahedral_map::ImpostorSamplingUniforms>(),
+                StructDecl::of::<octahedral_map::ImpostorRayQuery>(),
+                StructDecl::of::<octahedral_map::ImpostorSample>(),
+            ]
         },
         constants: octahedral_map::gpu::WGSL_CONSTANTS,
     },

@@ -128,18 +128,23 @@ fn compression_is_transparent_and_the_quadric_hits_are_accurate() {
         // four. With the fitted quadrics the ball measured 1 of 1500: a quadric that bulges
         // past the mesh inside a surface voxel can be hit by one stepping and skipped by
         // the other (both conservative for the mesh, not for the quadric).
-        assert_eq!(differ, 0, "{}", which.name());
+        // Chain mail (tori a few voxels thick at this size) measured 1 (C0) and 2 (fitted)
+        // of 1500, for the same reason.
+        let allowed = if which == Mesostructure::ChainMail { 2 } else { 0 };
+        assert!(differ <= allowed, "{}: {differ}", which.name());
         assert!(f_differ <= 2, "{}: {f_differ}", which.name());
         // Regression guards at this tiny size (12 × 12 × 6: maze blocks 1.5 voxels wide,
         // the ball's radius 2.1 voxels), measured out of 1500 rays (wrong hit/miss, hits
         // within 1e-3 voxel of the mesh):
         // C0 patches: maze 52, 917/1416; bricks 91, 895/1409; beads 145, 197/1355; ball 0, 1246/1500.
         // Fitted: maze 15, 1248/1453; bricks 39, 1142/1461; beads 1, 366/1499; ball 0, 1243/1500.
+        // Chain mail: C0 275, 5/952; fitted 178, 31/1056 (too thin for 12 × 12 × 6).
         // The full measurement is `cargo xtask ddm-trace`.
         let (c0_wrong, fitted_wrong) = match which {
             Mesostructure::Maze(_) => (60, 20),
             Mesostructure::Bricks => (100, 45),
             Mesostructure::Beads => (160, 3),
+            Mesostructure::ChainMail => (300, 200),
             _ => (2, 2),
         };
         assert!(wrong <= c0_wrong && f_wrong <= fitted_wrong, "{}: {wrong} / {f_wrong}", which.name());

@@ -250,7 +250,7 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
         "mesostructure,method,mean_steps,max_steps,exhausted,truth_hits,both_hit,holes,false_hits,gross_over_0.5_voxel,mean_error_voxel,max_error_voxel,within_1e-3_of_both_pct,within_1e-3_of_truth_pct,cpu_rays_per_s,gpu_ms,gpu_timing,gpu_differs_from_cpu\n",
     );
     let mut compression_csv = String::from(
-        "mesostructure,method,block,efficiency,raw_mean_steps,compressed_mean_steps,hit_miss_differ,max_point_difference_voxel,cpu_time_ratio,gpu_time_ratio\n",
+        "mesostructure,method,block,efficiency,raw_mean_steps,compressed_mean_steps,hit_miss_differ,points_differ_over_1e-5_voxel,max_point_difference_voxel,cpu_time_ratio,gpu_time_ratio\n",
     );
     let timing_name = if gpu.has_timestamps() { "timestamps" } else { "wall clock" };
     let mut chart_points: Vec<(&'static str, &'static str, f64, f64)> = Vec::new();
@@ -308,10 +308,14 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
             let compressed = CompressedMaps::compress(raw, COMPRESSION_BLOCK).ok_or("cannot compress")?;
             let packed = timed(&view.rays, |o, d| trace(&compressed, patch_set, o, d, trace_settings));
             let packed_gpu = gpu_run(&gpu, &compressed, patch_set, trace_settings, &view.rays, &packed.outcomes)?;
-            let (mut differ, mut worst) = (0, 0.0_f32);
+            let (mut differ, mut moved, mut worst) = (0, 0, 0.0_f32);
             for (a, b) in run.outcomes.iter().zip(&packed.outcomes) {
                 match (a.hit, b.hit) {
-                    (Some(a), Some(b)) => worst = worst.max((a.point - b.point).length()),
+                    (Some(a), Some(b)) => {
+                        let distance = (a.point - b.point).length();
+                        worst = worst.max(distance);
+                        moved += usize::from(distance > 1e-5);
+                    }
                     (None, None) => {}
                     _ => differ += 1,
                 }
@@ -319,7 +323,7 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
             let mean = |o: &[TraceOutcome]| o.iter().map(|o| f64::from(o.steps)).sum::<f64>() / o.len() as f64;
             writeln!(
                 compression_csv,
-                "{},{name},{COMPRESSION_BLOCK},{:.3},{:.3},{:.3},{differ},{worst:e},{:.3},{:.3}",
+                "{},{name},{COMPRESSION_BLOCK},{:.3},{:.3},{:.3},{differ},{moved},{worst:e},{:.3},{:.3}",
                 structure.name(),
                 compressed.compression_efficiency(),
                 mean(&run.outcomes),

@@ -10,11 +10,10 @@
 //! exact first hit of the original mesh. Every method also runs in the WGSL compute pass
 //! (one ray per invocation), on the raw maps for Tables 1/2.
 //!
-//! Known limits of the inputs, visible in the numbers: the downward DDMs m×1 equal the
-//! plain map (the cone angle bound of `ddm-compress` vanishes for cones reaching the pole,
-//! so only the shallow band of DDM 4×2 gains); the maze mesh has a crack along the tile
-//! seam (its corner heights at x = L differ from x = 0), where the mesh truth misses; the
-//! spheres are coarse UV meshes, which a smooth quadric cannot match to 1e-3 voxel.
+//! Known limits of the inputs, visible in the numbers: the maze mesh has a crack along
+//! the tile seam (its corner heights at x = L differ from x = 0), where the mesh truth
+//! misses and every method reports a false hit; the spheres and tori are coarse meshes,
+//! whose facets a smooth quadric cannot match to 1e-3 voxel.
 //!
 //! Writes to `OUT_DIR` (default `target/ddm-trace`):
 //! - `ddm_trace_methods.csv` (Tables 1/2): steps per ray (mean, max), hit error in voxels

@@ -19,10 +19,13 @@
 //! - `cargo xtask ddm-compression [OUT_DIR] [--quick]`: compression efficiency of the
 //!   distance maps and DDMs of four mesostructures (Mehra & Kumar's Table 3; default
 //!   `target/ddm-compression`).
+//! - `cargo xtask ddm-trace [OUT_DIR] [--quick]`: Mehra & Kumar's Tables 1–3 measured with
+//!   the DDM tracer on CPU and GPU against the exact mesh (default `target/ddm-trace`).
 
 mod abuffer_chart;
 mod chart;
 mod ddm_compression;
+mod ddm_trace;
 mod fig9;
 mod impostor_accuracy;
 mod showcase;
@@ -119,8 +122,9 @@ fn run(args: &[String]) -> Result<(), String> {
             impostor_accuracy::run(&rest, workspace_root().join("target/impostor-accuracy"))
         }
         Some("ddm-compression") => ddm_compression::run(&rest, workspace_root().join("target/ddm-compression")),
+        Some("ddm-trace") => ddm_trace::run(&rest, workspace_root().join("target/ddm-trace")),
         _ => Err(
-            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] [--size WxHxD] | impostor-accuracy [OUT_DIR] [--quick]>"
+            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] [--size WxHxD] | ddm-trace [OUT_DIR] [--quick] | impostor-accuracy [OUT_DIR] [--quick]>"
                 .into(),
         ),
     }

@@ -28,6 +28,7 @@
 //! `arrayLength` of its input. Inputs larger than the adapter's storage-binding limit are
 //! split into chunks; each chunk is a separate dispatch over its own buffers.
 
+mod bound;
 mod compute;
 mod context;
 mod error;

@@ -120,7 +120,32 @@ static MODULES: &[ShaderModule] = &[
         },
         constants: smith_micro::gpu::WGSL_CONSTANTS,
     },
+    ShaderModule {
+        name: "ddm_tracer",
+        generated: wgsl_file!("shaders/generated/ddm_tracer.wgsl"),
+        library: wgsl_file!("shaders/ddm_tracer.wgsl"),
+        kernels: &[wgsl_file!("shaders/kernels/ddm_tracer_compute.wgsl")],
+        structs: || {
+            vec![
+                StructDecl::of::<ddm_tracer::gpu::TracePatch>(),
+                StructDecl::of::<ddm_tracer::gpu::TraceUniforms>(),
+                StructDecl::of::<ddm_tracer::gpu::TraceConeMap>(),
+                StructDecl::of::<ddm_tracer::gpu::TraceRay>(),
+                StructDecl::of::<ddm_tracer::gpu::TraceResult>(),
+            ]
+        },
+        constants: ddm_tracer::gpu::WGSL_CONSTANTS,
+    },
 ];
+
+/// Modules whose library calls other modules' functions: the generated declarations and
+/// library of each listed dependency are composed before the module's own, in order.
+static DEPENDENCIES: &[(&str, &[&str])] = &[("ddm_tracer", &["quadric_fit", "ddm_compress"])];
+
+/// The modules that `name`'s library builds on (see [`ShaderModule::library_shader`]).
+pub fn dependencies(name: &str) -> &'static [&'static str] {
+    DEPENDENCIES.iter().find(|(module, _)| *module == name).map_or(&[], |(_, deps)| deps)
+}
 
 /// All modules.
 pub fn modules() -> &'static [ShaderModule] {
@@ -138,11 +163,16 @@ impl ShaderModule {
         generate_declarations(self.name, &(self.structs)(), self.constants)
     }
 
-    /// The committed generated declarations followed by the library.
+    /// The committed generated declarations followed by the library, after those of the
+    /// modules it depends on ([`dependencies`]).
     pub fn library_shader(&self) -> ComposedShader {
-        ComposedShader::new(format!("{}.composed", self.name))
-            .with_part(self.generated.path, self.generated.source)
-            .with_part(self.library.path, self.library.source)
+        let mut shader = ComposedShader::new(format!("{}.composed", self.name));
+        for dependency in dependencies(self.name).iter().filter_map(|name| module(name)) {
+            shader = shader
+                .with_part(dependency.generated.path, dependency.generated.source)
+                .with_part(dependency.library.path, dependency.library.source);
+        }
+        shader.with_part(self.generated.path, self.generated.source).with_part(self.library.path, self.library.source)
     }
 
     /// The library composed with the kernel file whose stem is `kernel`

@@ -1,0 +1,84 @@
+//! CPU rays per second of the DDM tracer (Algorithms 3.1–3.3) and its baselines on a
+//! 16 × 16 × 8 maze tile: sphere tracing with the plain distance map and the DDM 4×1, DDM
+//! 4×1 + quadric patches on raw and compressed maps, relief mapping, and the exact mesh
+//! ground truth. Throughput is in rays (one camera ray per element).
+
+use std::hint::black_box;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
+use ddm_tracer::{
+    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, TraceSettings, VoxelPatches, relief_trace, trace,
+};
+use glam::{UVec3, Vec2, Vec3};
+use mesostructure::Mesostructure;
+
+/// 4096 downward rays from above the tile (fixed xorshift seed), elevations −15° to −85°.
+fn rays(dims: UVec3) -> Vec<(Vec3, Vec3)> {
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    (0..4096)
+        .map(|_| {
+            let origin = Vec3::new(next() * dims.x as f32, next() * dims.y as f32, dims.z as f32 + 1.0);
+            let (azimuth, elevation) = (next() * std::f32::consts::TAU, -(15.0 + 70.0 * next()).to_radians());
+            (origin, Vec3::new(elevation.cos() * azimuth.cos(), elevation.cos() * azimuth.sin(), elevation.sin()))
+        })
+        .collect()
+}
+
+fn tracer(c: &mut Criterion) {
+    let dims = UVec3::new(16, 16, 8);
+    let triangles = Mesostructure::Maze(1).triangles(dims);
+    let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+    let plain = compute_distance_maps(dims, &triangles, None, settings).expect("valid scene");
+    let ddm = compute_distance_maps(dims, &triangles, DirectionCones::downward(4, 1), settings).expect("valid scene");
+    let compressed = CompressedMaps::compress(&ddm, 4).expect("compressible");
+    let patches = VoxelPatches::build(dims, &triangles, &ddm.surface, PatchSettings::default()).expect("patches");
+    let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));
+    let height_map = HeightMap::from_mesh(&mesh, dims, 2);
+    let rays = rays(dims);
+    let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 512 };
+    let quadric = TraceSettings { method: Method::Quadric, max_steps: 512 };
+
+    let mut group = c.benchmark_group("ddm_tracer/maze_16x16x8");
+    group.throughput(Throughput::Elements(rays.len() as u64));
+    group.bench_function("sphere_tracing/plain_dm", |b| {
+        b.iter(|| rays.iter().filter(|&&(o, d)| trace(&plain, None, black_box(o), d, sphere).hit.is_some()).count());
+    });
+    group.bench_function("sphere_tracing/ddm_4x1", |b| {
+        b.iter(|| rays.iter().filter(|&&(o, d)| trace(&ddm, None, black_box(o), d, sphere).hit.is_some()).count());
+    });
+    group.bench_function("quadric/ddm_4x1", |b| {
+        b.iter(|| {
+            rays.iter().filter(|&&(o, d)| trace(&ddm, Some(&patches), black_box(o), d, quadric).hit.is_some()).count()
+        });
+    });
+    group.bench_function("quadric/ddm_4x1_compressed_block4", |b| {
+        b.iter(|| {
+            rays.iter()
+                .filter(|&&(o, d)| trace(&compressed, Some(&patches), black_box(o), d, quadric).hit.is_some())
+                .count()
+        });
+    });
+    group.bench_function("relief/32_linear_8_binary", |b| {
+        b.iter(|| {
+            rays.iter()
+                .filter(|&&(o, d)| relief_trace(&height_map, dims.z as f32, black_box(o), d, 32, 8).hit.is_some())
+                .count()
+        });
+    });
+    group.bench_function("ground_truth/mesh_bvh", |b| {
+        b.iter(|| {
+            rays.iter().filter(|&&(o, d)| mesh.first_hit(black_box(o).as_dvec3(), d.as_dvec3(), 1e4).is_some()).count()
+        });
+    });
+    group.finish();
+}
+
+criterion_group!(benches, tracer);
+criterion_main!(benches);

@@ -1,0 +1,318 @@
+//! The quadric patches of the zero-distance voxels (§3.1 "Quadratic Surface", steps a–c),
+//! stored per voxel for the tracer (Algorithm 3.2), in voxel-local coordinates.
+//!
+//! For every voxel that the mesostructure crosses (DDM value 0):
+//!
+//! a. the triangles inside the voxel grown by [`PatchSettings::margin`] ("inside or in
+//!    the neighborhood of V") are sampled densely and a quadric is fitted to the samples
+//!    (eq. 2, [`quadric_fit::fit_quadric`]);
+//! b–c. [`quadric_fit::build_surface`] averages the edge hits and builds the C⁰ triangle /
+//!    bilinear patches (Appendix B). A voxel whose quadric crosses none of its edges is
+//!    rebuilt from the least-squares plane of its samples (a documented fallback: without
+//!    it the voxel would have no patch and rays would pass through it).
+//!
+//! The tile repeats in x and y, so the construction runs on the grid padded by one voxel
+//! on each side in x and y with copies of the opposite border: the edges on the tile's
+//! border then average the same hit lists on both sides, and the surface stays C⁰ across
+//! tiles too.
+//!
+//! Each patch is kept as a [`TracePatch`]: its quadric in coordinates relative to the
+//! voxel's lowest corner (well scaled in `f32`), and its polygon. A voxel with one patch
+//! accepts any hit inside the voxel (the patch's border lies on the voxel's faces); a voxel
+//! with several patches (a fan, or separate sheets) accepts a hit on a patch only inside
+//! that patch's polygon (see [`inside_polygon`]).
+
+use alloc::collections::BTreeMap;
+use alloc::vec::Vec;
+
+use ddm_compress::Triangle;
+use glam::{DVec3, UVec3, Vec3, Vec4};
+use quadric_fit::surface::Skipped;
+use quadric_fit::{GpuQuadric, Quadric, build_surface, fit_plane, fit_quadric};
+
+use crate::gpu::TracePatch;
+
+/// Settings of [`VoxelPatches::build`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PatchSettings {
+    /// How far around the voxel (in voxels) the surface samples of the fit reach. 0 (the
+    /// default: samples inside the closed voxel only) measured best on the maze and bricks,
+    /// whose sharp edges otherwise tilt the fits of the flat voxels next to them.
+    pub margin: f32,
+    /// Subdivisions per triangle edge when sampling (`n (n + 1) / 2` barycentric points).
+    pub samples_per_edge: u32,
+    /// `true` (default): the C⁰ patches of steps b–c. `false`: each voxel keeps its fitted
+    /// quadric of step a as its only patch, intersected anywhere inside the voxel (Algorithm
+    /// 3.2 on `Q_V` itself; not C⁰ across voxels, but it follows sharp edges and corners
+    /// that the sign-based polygons of step c cut off).
+    pub c0: bool,
+}
+
+impl Default for PatchSettings {
+    fn default() -> Self {
+        Self { margin: 0.0, samples_per_edge: 16, c0: true }
+    }
+}
+
+/// The patches of every voxel, in compressed sparse row form.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VoxelPatches {
+    /// Grid size in voxels.
+    pub dims: UVec3,
+    /// `offsets[v]..offsets[v + 1]` are voxel `v`'s patches (`v = x + dims.x (y + dims.y z)`);
+    /// `voxels + 1` entries.
+    pub offsets: Vec<u32>,
+    /// All patches.
+    pub patches: Vec<TracePatch>,
+    /// Surface voxels that got no patch (the fitted quadric crosses none of their edges).
+    pub voxels_without_patch: u32,
+}
+
+/// Tolerance of the polygon test, in voxels: a hit this far outside a patch's polygon
+/// still counts, so that neighbouring patches of a fan overlap instead of leaving a crack.
+pub const POLYGON_TOLERANCE: f32 = 1e-4;
+
+impl VoxelPatches {
+    /// Fits and builds the patches of every voxel with `surface[v]` (index as in
+    /// [`ddm_compress::DistanceMaps`]) from `triangles` (voxel coordinates, the tile
+    /// `[0, dims.x] × [0, dims.y]` repeating in x and y). `None` when `surface` does not have
+    /// one entry per voxel or the grid is empty or larger than 2²⁴ voxels.
+    pub fn build(dims: UVec3, triangles: &[Triangle], surface: &[bool], settings: PatchSettings) -> Option<Self> {
+        let voxels = dims.x as usize * dims.y as usize * dims.z as usize;
+        if voxels == 0 || voxels > 1 << 24 || surface.len() != voxels {
+            return None;
+        }
+        // The mesh around the padded grid: the tile and its 8 neighbours, moved by +1 voxel
+        // in x and y (padded voxel (i, j, k) is tile voxel (i - 1, j - 1, k) mod dims).
+        let (sx, sy) = (dims.x as f32, dims.y as f32);
+        let mut tiled = Vec::with_capacity(triangles.len() * 9);
+        for oy in -1..=1 {
+            for ox in -1..=1 {
+                let shift = Vec3::new(ox as f32 * sx + 1.0, oy as f32 * sy + 1.0, 0.0);
+                tiled.extend(triangles.iter().filter(|t| t.is_finite()).map(|t| t.0.map(|v| v + shift)));
+            }
+        }
+        let padded = UVec3::new(dims.x + 2, dims.y + 2, dims.z);
+        // Triangles per padded voxel, from their grown bounding boxes; a box touching a
+        // voxel's face counts (a floor at an integer height belongs to the voxels on both
+        // sides of it).
+        let mut bins: BTreeMap<(u32, u32, u32), Vec<u32>> = BTreeMap::new();
+        let is_surface = |i: u32, j: u32, k: u32| {
+            let x = (i + dims.x - 1) % dims.x;
+            let y = (j + dims.y - 1) % dims.y;
+            surface[(x + dims.x * (y + dims.y * k)) as usize]
+        };
+        for (index, t) in tiled.iter().enumerate() {
+            let lo = t[0].min(t[1]).min(t[2]) - Vec3::splat(settings.margin);
+            let hi = t[0].max(t[1]).max(t[2]) + Vec3::splat(settings.margin);
+            let range = |lo: f32, hi: f32, n: u32| {
+                ((libm::ceilf(lo) - 1.0).max(0.0) as i64, (libm::floorf(hi) as i64).min(i64::from(n) - 1))
+            };
+            let (x0, x1) = range(lo.x, hi.x, padded.x);
+            let (y0, y1) = range(lo.y, hi.y, padded.y);
+            let (z0, z1) = range(lo.z, hi.z, padded.z);
+            for k in z0..=z1 {
+                for j in y0..=y1 {
+                    for i in x0..=x1 {
+                        let (i, j, k) = (i as u32, j as u32, k as u32);
+                        if is_surface(i, j, k) {
+                            bins.entry((i, j, k)).or_default().push(index as u32);
+                        }
+                    }
+                }
+            }
+        }
+        // Step a: one quadric per surface voxel of the padded grid.
+        let mut quadrics = BTreeMap::new();
+        let mut points = Vec::new();
+        for (&(i, j, k), list) in &bins {
+            let lo = DVec3::new(f64::from(i), f64::from(j), f64::from(k)) - f64::from(settings.margin);
+            let hi = lo + 1.0 + 2.0 * f64::from(settings.margin);
+            points.clear();
+            for &t in list {
+                sample_triangle(&tiled[t as usize], settings.samples_per_edge, lo, hi, &mut points);
+            }
+            if let Some(fit) = fit_quadric(&points) {
+                quadrics.insert((i, j, k), fit.quadric);
+            }
+        }
+        // Steps b–c. A fitted quadric that crosses none of its voxel's edges (a surface
+        // curving inside the voxel, or a fit whose second sheet takes over) leaves a hole;
+        // such voxels get the least-squares plane of their samples instead (it passes
+        // through their centroid, inside the voxel, so it crosses some edges).
+        let mut built = build_surface(&quadrics);
+        let mut replaced = false;
+        for (&key, &why) in &built.skipped {
+            if why != Skipped::NoCrossing {
+                continue;
+            }
+            let Some(list) = bins.get(&key) else { continue };
+            let lo = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2)) - f64::from(settings.margin);
+            let hi = lo + 1.0 + 2.0 * f64::from(settings.margin);
+            points.clear();
+            for &t in list {
+                sample_triangle(&tiled[t as usize], settings.samples_per_edge, lo, hi, &mut points);
+            }
+            if let Some(plane) = fit_plane(&points) {
+                quadrics.insert(key, plane.quadric);
+                replaced = true;
+            }
+        }
+        if replaced {
+            built = build_surface(&quadrics);
+        }
+        let mut offsets = Vec::with_capacity(voxels + 1);
+        let mut patches = Vec::new();
+        let mut voxels_without_patch = 0;
+        offsets.push(0);
+        for z in 0..dims.z {
+            for y in 0..dims.y {
+                for x in 0..dims.x {
+                    let index = (x + dims.x * (y + dims.y * z)) as usize;
+                    let key = (x + 1, y + 1, z);
+                    let before = patches.len();
+                    if !settings.c0 {
+                        let origin = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2));
+                        if let Some(local) = quadrics.get(&key).and_then(|q| q.in_frame(origin, 1.0)) {
+                            let gpu = GpuQuadric::from_quadric(&local);
+                            patches.push(TracePatch {
+                                abcd: gpu.abcd,
+                                efgh: gpu.efgh,
+                                ij_corners: Vec4::new(gpu.ij.x, gpu.ij.y, 0.0, 0.0),
+                                ..bytemuck::Zeroable::zeroed()
+                            });
+                        }
+                    } else if let Some(voxel) = built.voxels.get(&key) {
+                        let origin = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2));
+                        for surface_loop in &voxel.loops {
+                            for patch in &surface_loop.patches {
+                                if let Some(p) = trace_patch(&patch.quadric, &patch.polygon, origin) {
+                                    patches.push(p);
+                                }
+                            }
+                        }
+                    }
+                    if surface[index] && patches.len() == before {
+                        voxels_without_patch += 1;
+                    }
+                    offsets.push(patches.len() as u32);
+                }
+            }
+        }
+        Some(Self { dims, offsets, patches, voxels_without_patch })
+    }
+
+    /// The patches of voxel `v` (tile coordinates), empty outside the grid.
+    pub fn of_voxel(&self, voxel: UVec3) -> &[TracePatch] {
+        if !voxel.cmplt(self.dims).all() {
+            return &[];
+        }
+        let v = (voxel.x + self.dims.x * (voxel.y + self.dims.y * voxel.z)) as usize;
+        let (a, b) = (self.offsets[v] as usize, self.offsets[v + 1] as usize);
+        &self.patches[a..b]
+    }
+}
+
+/// The [`TracePatch`] of `quadric` (grid coordinates) and its polygon, relative to the
+/// voxel corner `origin`; `None` for more than 4 corners or a quadric that does not survive
+/// the change of frame.
+fn trace_patch(quadric: &Quadric, polygon: &[DVec3], origin: DVec3) -> Option<TracePatch> {
+    if polygon.len() < 3 || polygon.len() > 4 {
+        return None;
+    }
+    let local = quadric.in_frame(origin, 1.0)?;
+    let gpu = GpuQuadric::from_quadric(&local);
+    let corner = |i: usize| {
+        let p = polygon[i.min(polygon.len() - 1)] - origin;
+        p.as_vec3().extend(0.0)
+    };
+    // Newell's normal of the polygon: the projection direction of the polygon test.
+    let mut normal = DVec3::ZERO;
+    for i in 0..polygon.len() {
+        let (a, b) = (polygon[i] - origin, polygon[(i + 1) % polygon.len()] - origin);
+        normal += DVec3::new((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+    }
+    let normal = normal.normalize_or_zero().as_vec3();
+    Some(TracePatch {
+        abcd: gpu.abcd,
+        efgh: gpu.efgh,
+        ij_corners: Vec4::new(gpu.ij.x, gpu.ij.y, polygon.len() as f32, 0.0),
+        normal: normal.extend(0.0),
+        p0: corner(0),
+        p1: corner(1),
+        p2: corner(2),
+        p3: corner(3),
+    })
+}
+
+/// Whether the voxel-local point `p` lies inside the patch's polygon seen along its Newell
+/// normal, up to [`POLYGON_TOLERANCE`]: on the inner side of every edge (the polygons of
+/// §3.1 c are convex in practice; a concave one loses hits near its reflex corner). WGSL
+/// twin: `trace_inside_polygon`.
+pub fn inside_polygon(patch: &TracePatch, p: Vec3) -> bool {
+    let n = patch.normal.truncate();
+    let corners = [patch.p0.truncate(), patch.p1.truncate(), patch.p2.truncate(), patch.p3.truncate()];
+    let count = if patch.ij_corners.z > 3.5 { 4 } else { 3 };
+    for i in 0..count {
+        let a = corners[i];
+        let b = corners[(i + 1) % count];
+        let edge = b - a;
+        let side = edge.cross(p - a).dot(n);
+        let length = edge.length();
+        if side < -POLYGON_TOLERANCE * length {
+            return false;
+        }
+    }
+    true
+}
+
+/// Barycentric samples of `triangle` on an `n`-step grid, kept when inside `[lo, hi]`.
+fn sample_triangle(triangle: &[Vec3; 3], n: u32, lo: DVec3, hi: DVec3, out: &mut Vec<DVec3>) {
+    let n = n.max(1);
+    let [a, b, c] = triangle.map(Vec3::as_dvec3);
+    for i in 0..=n {
+        for j in 0..=n - i {
+            let (u, v) = (f64::from(i) / f64::from(n), f64::from(j) / f64::from(n));
+            let p = a + (b - a) * u + (c - a) * v;
+            if p.cmpge(lo).all() && p.cmple(hi).all() {
+                out.push(p);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ddm_compress::{DistanceMapSettings, compute_distance_maps};
+
+    #[test]
+    fn a_tilted_plane_gets_one_patch_per_surface_voxel_matching_the_plane() {
+        let dims = UVec3::new(6, 6, 4);
+        let field = |x: f32, y: f32| 1.3 + 0.2 * x + 0.1 * y;
+        // A plane is not periodic; build it over the tile only and check interior voxels.
+        let tris = mesostructure::HeightField::from_fn(6, 6, field).triangles();
+        let maps =
+            compute_distance_maps(dims, &tris, None, DistanceMapSettings { tolerance: 0.25, periodic_xy: false })
+                .unwrap();
+        let patches = VoxelPatches::build(dims, &tris, &maps.surface, PatchSettings::default()).unwrap();
+        let mut checked = 0;
+        for z in 0..4 {
+            // Voxels whose fits reach past the tile see the wrapped (non-matching) plane.
+            for y in 2..4 {
+                for x in 2..4 {
+                    let list = patches.of_voxel(UVec3::new(x, y, z));
+                    for patch in list {
+                        // The patch's polygon corners lie on the plane.
+                        for corner in [patch.p0, patch.p1, patch.p2] {
+                            let p = corner.truncate() + Vec3::new(x as f32, y as f32, z as f32);
+                            assert!((p.z - field(p.x, p.y)).abs() < 1e-3, "{p}");
+                        }
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked >= 4);
+    }
+}

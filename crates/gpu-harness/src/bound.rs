@@ -1,0 +1,190 @@
+//! [`Gpu::compute_map`] with extra read-only storage buffers: for kernels that read a
+//! scene (maps, patches, atlases) besides their per-element input.
+
+use bytemuck::Pod;
+use wgpu::util::DeviceExt;
+
+use crate::compute::WORKGROUP_SIZE;
+use crate::timing::PassTimer;
+use crate::{Gpu, GpuTiming, HarnessError, TimingSource};
+
+fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    }
+}
+
+impl Gpu {
+    /// Runs `entry_point` of `wgsl` once per element of `inputs`, like
+    /// [`compute_map_timed`](Self::compute_map_timed), with `storage[k]` bound read-only at
+    /// binding `3 + k` for every dispatch. Each storage buffer must be non-empty and fit the
+    /// adapter's storage-binding and buffer-size limits, and the bindings must fit its
+    /// storage buffers per stage; violations are errors, never panics. The timing covers
+    /// the dispatches only (timestamps where available).
+    pub fn compute_map_with_storage<I: Pod, O: Pod>(
+        &self,
+        wgsl: &str,
+        entry_point: &str,
+        uniforms: &[u8],
+        inputs: &[I],
+        storage: &[&[u8]],
+    ) -> Result<(Vec<O>, GpuTiming), HarnessError> {
+        let (input_size, output_size) = (size_of::<I>(), size_of::<O>());
+        if input_size == 0 || output_size == 0 {
+            return Err(HarnessError::InvalidRequest("compute_map needs non-zero-sized element types".into()));
+        }
+        let limits = self.limits();
+        let binding_limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        let buffers = 2 + storage.len() as u64;
+        if buffers > u64::from(limits.max_storage_buffers_per_shader_stage) {
+            return Err(HarnessError::TooLarge {
+                what: "storage buffers per shader stage".into(),
+                requested: buffers,
+                limit: u64::from(limits.max_storage_buffers_per_shader_stage),
+            });
+        }
+        for (k, bytes) in storage.iter().enumerate() {
+            if bytes.is_empty() {
+                return Err(HarnessError::InvalidRequest(format!("storage buffer {} is empty", 3 + k)));
+            }
+            if bytes.len() as u64 > binding_limit {
+                return Err(HarnessError::TooLarge {
+                    what: format!("storage buffer {} in bytes", 3 + k),
+                    requested: bytes.len() as u64,
+                    limit: binding_limit,
+                });
+            }
+        }
+        if uniforms.len() as u64 > limits.max_uniform_buffer_binding_size {
+            return Err(HarnessError::TooLarge {
+                what: "uniform block size in bytes".into(),
+                requested: uniforms.len() as u64,
+                limit: limits.max_uniform_buffer_binding_size,
+            });
+        }
+        let chunk_len = self.max_elements_per_dispatch(input_size, output_size);
+        if chunk_len == 0 {
+            return Err(HarnessError::TooLarge {
+                what: "element size in bytes".into(),
+                requested: input_size.max(output_size) as u64,
+                limit: limits.max_storage_buffer_binding_size,
+            });
+        }
+        let (pipeline, layout, uniform_buffer, scene) = self.scoped(|| {
+            let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(entry_point),
+                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+            });
+            let mut entries = vec![
+                entry(0, wgpu::BufferBindingType::Uniform),
+                entry(1, wgpu::BufferBindingType::Storage { read_only: true }),
+                entry(2, wgpu::BufferBindingType::Storage { read_only: false }),
+            ];
+            for k in 0..storage.len() {
+                entries.push(entry(3 + k as u32, wgpu::BufferBindingType::Storage { read_only: true }));
+            }
+            let layout = self.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("gpu-harness compute_map_with_storage"),
+                entries: &entries,
+            });
+            let pipeline_layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("gpu-harness compute_map_with_storage"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+            let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry_point),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry_point),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            let mut uniform_bytes = uniforms.to_vec();
+            uniform_bytes.resize(uniform_bytes.len().next_multiple_of(16).max(16), 0);
+            let uniform_buffer = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("gpu-harness uniforms"),
+                contents: &uniform_bytes,
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let scene: Vec<wgpu::Buffer> = storage
+                .iter()
+                .map(|bytes| {
+                    let mut padded = bytes.to_vec();
+                    padded.resize(padded.len().next_multiple_of(4), 0);
+                    self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("gpu-harness storage"),
+                        contents: &padded,
+                        usage: wgpu::BufferUsages::STORAGE,
+                    })
+                })
+                .collect();
+            (pipeline, layout, uniform_buffer, scene)
+        })?;
+        let timer = PassTimer::new(self);
+        let mut outputs = Vec::with_capacity(inputs.len());
+        let mut seconds = 0.0;
+        let chunk_len = usize::try_from(chunk_len).unwrap_or(usize::MAX);
+        for chunk in inputs.chunks(chunk_len) {
+            let output_bytes = (chunk.len() * output_size) as u64;
+            let groups = (chunk.len() as u64).div_ceil(u64::from(WORKGROUP_SIZE));
+            let max_groups = u64::from(limits.max_compute_workgroups_per_dimension);
+            let groups_x = groups.min(max_groups) as u32;
+            let groups_y = groups.div_ceil(u64::from(groups_x.max(1))) as u32;
+            let (output, started) = self.scoped(|| {
+                let input = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("gpu-harness input"),
+                    contents: bytemuck::cast_slice(chunk),
+                    usage: wgpu::BufferUsages::STORAGE,
+                });
+                let output = self.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("gpu-harness output"),
+                    size: output_bytes,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                });
+                let mut entries = vec![
+                    wgpu::BindGroupEntry { binding: 0, resource: uniform_buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: input.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 2, resource: output.as_entire_binding() },
+                ];
+                for (k, buffer) in scene.iter().enumerate() {
+                    entries.push(wgpu::BindGroupEntry { binding: 3 + k as u32, resource: buffer.as_entire_binding() });
+                }
+                let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("gpu-harness compute_map_with_storage"),
+                    layout: &layout,
+                    entries: &entries,
+                });
+                let mut encoder = self.device.create_command_encoder(&Default::default());
+                {
+                    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some("gpu-harness compute_map_with_storage"),
+                        timestamp_writes: timer.as_ref().map(PassTimer::compute_writes),
+                    });
+                    pass.set_pipeline(&pipeline);
+                    pass.set_bind_group(0, &bind_group, &[]);
+                    pass.dispatch_workgroups(groups_x, groups_y, 1);
+                }
+                if let Some(timer) = &timer {
+                    timer.resolve(&mut encoder);
+                }
+                let started = std::time::Instant::now();
+                self.queue.submit([encoder.finish()]);
+                (output, started)
+            })?;
+            self.wait()?;
+            let wall = started.elapsed().as_secs_f64();
+            seconds += match &timer {
+                Some(timer) => timer.read_seconds(self)?,
+                None => wall,
+            };
+            outputs.extend(bytemuck::pod_collect_to_vec::<u8, O>(&self.read_buffer(&output, output_bytes)?));
+        }
+        let source = if timer.is_some() { TimingSource::Timestamps } else { TimingSource::WallClock };
+        Ok((outputs, GpuTiming { seconds, source }))
+    }
+}

@@ -7,24 +7,16 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use grain_impostor::accuracy::{AccuracySweep, SweepRow, SweepSettings};
+use grain_impostor::accuracy::{AccuracySweep, SweepRow, SweepSettings, rows_to_csv, sampling_mode_name, view_layout_name};
 use grain_impostor::atlas_gpu::AtlasTextures;
 use grain_impostor::bake::{BakeSettings, Baker, Progress};
 use grain_mesh::{Ball, CoffeeBean, GrainMesh, HexNut, SandGrain};
-use octahedral_map::SamplingMode;
+use octahedral_map::{SamplingMode, ViewLayout};
 use plotters::prelude::*;
 
 use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
 
 const MIB: f64 = 1024.0 * 1024.0;
-
-fn mode_name(mode: SamplingMode) -> &'static str {
-    match mode {
-        SamplingMode::Planar => "planar",
-        SamplingMode::Spherical => "spherical",
-        SamplingMode::Mixed => "mixed",
-    }
-}
 
 fn mode_colour(mode: SamplingMode) -> RGBColor {
     match mode {
@@ -48,23 +40,7 @@ fn grains(quick: bool) -> Result<Vec<(String, GrainMesh)>, String> {
 }
 
 fn write_csv(path: &Path, rows: &[SweepRow]) -> Result<(), String> {
-    let mut csv = String::from("grain,n,p,mode,diameter_px,ssim,rmse,atlas_mib,compact_atlas_mib\n");
-    for r in rows {
-        let _ = writeln!(
-            csv,
-            "{},{},{},{},{},{:.6},{:.6},{:.4},{:.4}",
-            r.grain,
-            r.subdivisions,
-            r.texels,
-            mode_name(r.mode),
-            r.apparent_diameter,
-            r.error.ssim,
-            r.error.rmse,
-            r.atlas_bytes as f64 / MIB,
-            r.compact_atlas_bytes as f64 / MIB
-        );
-    }
-    std::fs::write(path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))
+    std::fs::write(path, rows_to_csv(rows)).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
 /// The upper envelope (best SSIM at or below each memory size) of `points` sorted by memory.
@@ -115,16 +91,29 @@ fn draw_chart(path: &Path, rows: &[SweepRow], diameter: f32, grain_names: &[Stri
                 let colour = mode_colour(mode);
                 let points: Vec<(f64, f64)> = mine
                     .iter()
-                    .filter(|r| r.mode == mode)
+                    .filter(|r| r.mode == mode && r.layout == ViewLayout::Listing1)
                     .map(|r| (r.atlas_bytes as f64 / MIB, r.error.ssim))
                     .collect();
                 chart.draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled()))).map_err(e)?;
                 chart
                     .draw_series(LineSeries::new(upper_envelope(points), colour.stroke_width(2)))
                     .map_err(e)?
-                    .label(mode_name(mode))
+                    .label(sampling_mode_name(mode))
                     .legend(legend_stroke(colour, 3, 20));
             }
+            let compact: Vec<(f64, f64)> = mine
+                .iter()
+                .filter(|r| r.mode == SamplingMode::Mixed && r.layout == ViewLayout::Compact)
+                .map(|r| (r.atlas_bytes as f64 / MIB, r.error.ssim))
+                .collect();
+            // A lighter red than mixed sampling's: the same mode, another layout.
+            let colour = RGBColor(240, 140, 140);
+            chart.draw_series(compact.iter().map(|&p| Cross::new(p, 4, colour.stroke_width(1)))).map_err(e)?;
+            chart
+                .draw_series(LineSeries::new(upper_envelope(compact), colour.stroke_width(1)))
+                .map_err(e)?
+                .label("mixed, compact layout (no duplicated equator)")
+                .legend(legend_stroke(colour, 1, 20));
             draw_legend(&mut chart, 16, SeriesLabelPosition::LowerRight)?;
         }
         Ok(())
@@ -137,6 +126,7 @@ fn table(rows: &[SweepRow], n: u32, p: u32) -> String {
         "SSIM (RMSE) at n = {n}, p = {p}\n\n| grain | px | planar | spherical | mixed |\n|---|---|---|---|---|\n"
     );
     let mut keys: Vec<(String, u32)> = Vec::new();
+    let rows: Vec<&SweepRow> = rows.iter().filter(|r| r.layout == ViewLayout::Listing1).collect();
     for r in rows.iter().filter(|r| r.subdivisions == n && r.texels == p) {
         let key = (r.grain.clone(), r.apparent_diameter as u32);
         if !keys.contains(&key) {
@@ -210,6 +200,7 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
             subdivisions: vec![4, 8],
             texels: vec![32, 64],
             modes: SamplingMode::ALL.to_vec(),
+            layouts: vec![ViewLayout::Listing1, ViewLayout::Compact],
             view_count: 16,
             apparent_diameters: vec![32.0],
         }
@@ -224,11 +215,12 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
     let rows = sweep
         .run(&gpu.device, &gpu.queue, &grains, &settings, |r| {
             println!(
-                "{:>5} n={:<2} p={:<3} {:>9} {:>3} px  SSIM {:.4}  RMSE {:.4}  {:.2} MiB  [{:.0} s]",
+                "{:>5} n={:<2} p={:<3} {:>9} {:>7} {:>3} px  SSIM {:.4}  RMSE {:.4}  {:.2} MiB  [{:.0} s]",
                 r.grain,
                 r.subdivisions,
                 r.texels,
-                mode_name(r.mode),
+                sampling_mode_name(r.mode),
+                view_layout_name(r.layout),
                 r.apparent_diameter,
                 r.error.ssim,
                 r.error.rmse,

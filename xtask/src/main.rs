@@ -16,6 +16,9 @@
 //! - `cargo xtask impostor-accuracy [OUT_DIR] [--quick]`: SSIM/RMSE of octahedral impostors
 //!   against the mesh for four grains, every `(n, p)`, three sampling modes, two screen sizes
 //!   (Michel & Boubekeur's Fig. 13; default `target/impostor-accuracy`).
+//! - `cargo xtask impostor-cloud [OUT_DIR] [--obj PATH | --grain NAME] [--n N] [--p P] [--mode M]
+//!   [--grains COUNT]`: bakes any grain and renders a pile of it as an impostor cloud beside the
+//!   mesh (default `target/impostor-cloud`).
 //! - `cargo xtask ddm-compression [OUT_DIR] [--quick]`: compression efficiency of the
 //!   distance maps and DDMs of four mesostructures (Mehra & Kumar's Table 3; default
 //!   `target/ddm-compression`).
@@ -28,6 +31,7 @@ mod ddm_compression;
 mod ddm_trace;
 mod fig9;
 mod impostor_accuracy;
+mod impostor_cloud;
 mod showcase;
 
 use std::path::{Path, PathBuf};
@@ -121,10 +125,11 @@ fn run(args: &[String]) -> Result<(), String> {
         Some("impostor-accuracy") => {
             impostor_accuracy::run(&rest, workspace_root().join("target/impostor-accuracy"))
         }
+        Some("impostor-cloud") => impostor_cloud::run(&rest, workspace_root().join("target/impostor-cloud")),
         Some("ddm-compression") => ddm_compression::run(&rest, workspace_root().join("target/ddm-compression")),
         Some("ddm-trace") => ddm_trace::run(&rest, workspace_root().join("target/ddm-trace")),
         _ => Err(
-            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] [--size WxHxD] | ddm-trace [OUT_DIR] [--quick] | impostor-accuracy [OUT_DIR] [--quick]>"
+            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] [--size WxHxD] | ddm-trace [OUT_DIR] [--quick] | impostor-accuracy [OUT_DIR] [--quick] | impostor-cloud [OUT_DIR] [--obj PATH | --grain NAME] [--n N] [--p P] [--mode MODE] [--grains COUNT]>"
                 .into(),
         ),
     }

@@ -18,7 +18,8 @@
 //! | `depth_alpha` (`Rg16Float`) | `f16(depth α)`, `f16(α)` |
 
 use glam::{Vec3, Vec4};
-use octahedral_map::OctahedralViews;
+use octahedral_map::compact::{compact_view_count, listing_from_compact_index};
+use octahedral_map::{OctahedralViews, ViewLayout};
 
 use crate::half::{f16_bits_to_f32, f32_to_f16_bits};
 use crate::scene::ATLAS_LAYERS;
@@ -96,6 +97,10 @@ pub struct AtlasLevel {
 pub struct ImpostorAtlas {
     /// The `N = 2n²` view directions.
     pub views: OctahedralViews,
+    /// Which views are stored: all `2n²` in Listing 1 order, or each distinct direction
+    /// once ([`ViewLayout::Compact`], `2n² − 4(n − 1)` layers, see
+    /// [`octahedral_map::compact`]).
+    pub layout: ViewLayout,
     /// `p`, texels per side at level 0.
     pub texels: u32,
     /// `R`, the outer radius: each view covers `[-R, R]²` and depths `[-R, R]`.
@@ -104,6 +109,14 @@ pub struct ImpostorAtlas {
     pub inner_radius: f32,
     /// Mip levels, level 0 first, down to `1 × 1`.
     pub levels: Vec<AtlasLevel>,
+}
+
+/// The number of stored views of `layout` for `views`.
+pub fn layer_count(views: OctahedralViews, layout: ViewLayout) -> u32 {
+    match layout {
+        ViewLayout::Listing1 => views.view_count(),
+        ViewLayout::Compact => compact_view_count(views.subdivisions()),
+    }
 }
 
 /// The number of mip levels of a `side × side` image down to `1 × 1`.
@@ -251,7 +264,7 @@ impl ImpostorAtlas {
         }
         let texels = level0.side;
         let levels = crate::mips::build_mip_chain(level0).iter().map(AtlasLevel::encode).collect();
-        Some(Self { views, texels, outer_radius, inner_radius, levels })
+        Some(Self { views, layout: ViewLayout::Listing1, texels, outer_radius, inner_radius, levels })
     }
 
     /// The decoded (un-premultiplied) texel `(x, y)` of `view` at mip `level`.
@@ -264,15 +277,50 @@ impl ImpostorAtlas {
     pub fn texel_bytes(&self, level: usize, view: u32, x: u32, y: u32) -> Option<[[u8; 4]; 4]> {
         let level_data = self.levels.get(level)?;
         let side = level_data.side;
-        if view >= self.views.view_count() || x >= side || y >= side {
+        if view >= self.layer_count() || x >= side || y >= side {
             return None;
         }
         level_data.texel_bytes(((view as usize * side as usize) + y as usize) * side as usize + x as usize)
     }
 
+    /// The number of stored views (texture array layers) of [`layout`](Self::layout).
+    pub fn layer_count(&self) -> u32 {
+        layer_count(self.views, self.layout)
+    }
+
+    /// The same atlas without the duplicated equator views: layer `c` of the result is
+    /// layer `listing_from_compact_index(c)` of `self` (an exact copy, so renders with
+    /// [`ViewLayout::Compact`] read the same texels). A compact atlas is returned as is.
+    pub fn to_compact(&self) -> Self {
+        if self.layout == ViewLayout::Compact {
+            return self.clone();
+        }
+        let n = self.views.subdivisions();
+        let compact_layers = compact_view_count(n);
+        let levels = self
+            .levels
+            .iter()
+            .map(|level| {
+                let texels_per_view = level.side as usize * level.side as usize;
+                let mut layers = level.layers.clone();
+                for (bytes, layer) in layers.iter_mut().zip(&level.layers) {
+                    let per_view = texels_per_view * (layer.len() / texels_per_view / self.layer_count() as usize);
+                    *bytes = (0..compact_layers)
+                        .flat_map(|c| {
+                            let listing = listing_from_compact_index(c, n) as usize;
+                            layer[listing * per_view..(listing + 1) * per_view].iter().copied()
+                        })
+                        .collect();
+                }
+                AtlasLevel { side: level.side, layers }
+            })
+            .collect();
+        Self { layout: ViewLayout::Compact, levels, ..self.clone() }
+    }
+
     /// The memory of this atlas.
     pub fn memory(&self) -> AtlasMemory {
-        AtlasMemory::of(self.views, self.texels)
+        AtlasMemory::of_layers(self.layer_count(), self.texels)
     }
 }
 
@@ -290,13 +338,19 @@ pub struct AtlasMemory {
 }
 
 impl AtlasMemory {
-    /// The memory of an atlas with `views` at `p` texels (full mip chain).
+    /// The memory of an atlas storing all `2n²` views of `views` at `p` texels (full mip
+    /// chain, [`ViewLayout::Listing1`]).
     pub fn of(views: OctahedralViews, p: u32) -> Self {
+        Self::of_layers(views.view_count(), p)
+    }
+
+    /// The memory of an atlas of `layers` stored views at `p` texels (full mip chain).
+    pub fn of_layers(layers: u32, p: u32) -> Self {
         let per_texel: u64 = ATLAS_LAYERS.iter().map(|l| u64::from(l.bytes_per_texel)).sum();
         let bytes_per_level: Vec<u64> = (0..mip_count(p))
             .map(|level| {
                 let side = u64::from((p >> level).max(1));
-                side * side * u64::from(views.view_count()) * per_texel
+                side * side * u64::from(layers) * per_texel
             })
             .collect();
         let gpu_bytes = bytes_per_level.iter().sum();

@@ -11,7 +11,8 @@
 //! | 20 | 4 | `R` (`f32`) |
 //! | 24 | 4 | `r` (`f32`) |
 //! | 28 | 16 | the four layer formats ([`format_code`]), in [`ATLAS_LAYERS`] order |
-//! | 44 | 4 | mip level count |
+//! | 44 | 2 | mip level count |
+//! | 46 | 2 | view layout: 0 all `2n²` views (Listing 1), 1 compact (no duplicated equator) |
 //! | 48 | 8 | data length in bytes |
 //! | 56 | 8 | FNV-1a 64 checksum of the data |
 //! | 64 | … | data: level 0 first; per level, the four layers in order |
@@ -22,7 +23,7 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use octahedral_map::OctahedralViews;
+use octahedral_map::{OctahedralViews, ViewLayout};
 
 use crate::atlas::{AtlasLevel, ImpostorAtlas, mip_count};
 use crate::scene::ATLAS_LAYERS;
@@ -127,6 +128,22 @@ impl fmt::Display for AtlasFileError {
 impl std::error::Error for AtlasFileError {}
 
 /// FNV-1a, 64 bits.
+/// The header code of a view layout.
+fn layout_code(layout: ViewLayout) -> u16 {
+    match layout {
+        ViewLayout::Listing1 => 0,
+        ViewLayout::Compact => 1,
+    }
+}
+
+fn layout_from_code(code: u32) -> Option<ViewLayout> {
+    match code {
+        0 => Some(ViewLayout::Listing1),
+        1 => Some(ViewLayout::Compact),
+        _ => None,
+    }
+}
+
 fn fnv1a(bytes: impl Iterator<Item = u8>) -> u64 {
     bytes.fold(0xcbf2_9ce4_8422_2325, |hash, byte| (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3))
 }
@@ -145,7 +162,8 @@ pub fn encode_atlas(atlas: &ImpostorAtlas) -> Vec<u8> {
     for layer in ATLAS_LAYERS {
         bytes.extend_from_slice(&format_code(layer.format).to_le_bytes());
     }
-    bytes.extend_from_slice(&(atlas.levels.len() as u32).to_le_bytes());
+    bytes.extend_from_slice(&(atlas.levels.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(&layout_code(atlas.layout).to_le_bytes());
     bytes.extend_from_slice(&data_length.to_le_bytes());
     bytes.extend_from_slice(&checksum.to_le_bytes());
     for level in &atlas.levels {
@@ -207,11 +225,14 @@ pub fn decode_atlas(bytes: &[u8]) -> Result<ImpostorAtlas, AtlasFileProblem> {
             return Err(AtlasFileProblem::LayerFormatMismatch { layer: layer.name, found: code, expected });
         }
     }
-    let levels = u32_at(bytes, 44);
+    let levels = u32_at(bytes, 44) & 0xffff;
+    let layout_value = u32_at(bytes, 44) >> 16;
+    let layout = layout_from_code(layout_value).ok_or_else(|| invalid(format!("view layout code {layout_value}")))?;
+    let layers = crate::atlas::layer_count(views, layout);
     if levels != mip_count(p) {
         return Err(invalid(format!("{levels} mip levels, a {p}-texel atlas has {}", mip_count(p))));
     }
-    let expected_length = crate::atlas::AtlasMemory::of(views, p).gpu_bytes;
+    let expected_length = crate::atlas::AtlasMemory::of_layers(layers, p).gpu_bytes;
     let data_length = u64_at(bytes, 48);
     if data_length != expected_length {
         return Err(invalid(format!("data length {data_length}, n = {n} and p = {p} need {expected_length}")));
@@ -235,7 +256,7 @@ pub fn decode_atlas(bytes: &[u8]) -> Result<ImpostorAtlas, AtlasFileProblem> {
         let side = (p >> level).max(1);
         let layers = ATLAS_LAYERS.map(|layer| {
             let length =
-                (u64::from(views.view_count()) * u64::from(side) * u64::from(side) * u64::from(layer.bytes_per_texel))
+                (u64::from(layers) * u64::from(side) * u64::from(side) * u64::from(layer.bytes_per_texel))
                     as usize;
             let slice = data[offset..offset + length].to_vec();
             offset += length;
@@ -243,7 +264,7 @@ pub fn decode_atlas(bytes: &[u8]) -> Result<ImpostorAtlas, AtlasFileProblem> {
         });
         atlas_levels.push(AtlasLevel { side, layers });
     }
-    Ok(ImpostorAtlas { views, texels: p, outer_radius, inner_radius, levels: atlas_levels })
+    Ok(ImpostorAtlas { views, layout, texels: p, outer_radius, inner_radius, levels: atlas_levels })
 }
 
 /// Writes `atlas` to `path`.
@@ -295,6 +316,31 @@ mod tests {
         assert_eq!(std::fs::metadata(&path).unwrap().len(), atlas.memory().file_bytes);
         assert_eq!(load_atlas(&path).unwrap(), atlas);
         std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
+    fn compact_atlases_round_trip_and_keep_one_copy_of_each_view() {
+        let atlas = small_atlas();
+        let compact = atlas.to_compact();
+        assert_eq!(compact.layout, ViewLayout::Compact);
+        // n = 2: 8 views, of which the 4 equator views are stored twice.
+        assert_eq!((atlas.layer_count(), compact.layer_count()), (8, 4));
+        assert!(compact.memory().gpu_bytes * 2 == atlas.memory().gpu_bytes);
+        let n = atlas.views.subdivisions();
+        for level in 0..atlas.levels.len() {
+            let side = atlas.levels[level].side;
+            for c in 0..compact.layer_count() {
+                let listing = octahedral_map::compact::listing_from_compact_index(c, n);
+                for (x, y) in [(0, 0), (side - 1, side / 2)] {
+                    assert_eq!(compact.texel_bytes(level, c, x, y), atlas.texel_bytes(level, listing, x, y));
+                }
+            }
+        }
+        assert_eq!(decode_atlas(&encode_atlas(&compact)).unwrap(), compact);
+        assert_eq!(encode_atlas(&compact).len() as u64, compact.memory().file_bytes);
+        let mut bad_layout = encode_atlas(&compact);
+        bad_layout[46] = 7;
+        assert!(matches!(decode_atlas(&bad_layout), Err(AtlasFileProblem::InvalidHeader(m)) if m.contains("layout")));
     }
 
     #[test]

@@ -28,7 +28,7 @@ pub struct AtlasTextures {
 impl AtlasTextures {
     /// Uploads every level of `atlas`.
     pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, atlas: &ImpostorAtlas) -> Result<Self, GpuError> {
-        let layers = atlas.views.view_count();
+        let layers = atlas.layer_count();
         check_texture_size(device, "impostor atlas", (atlas.texels, atlas.texels, layers))?;
         let mip_level_count = atlas.levels.len() as u32;
         scoped(device, || {

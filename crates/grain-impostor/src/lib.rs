@@ -33,6 +33,8 @@
 //!   save/load with checked errors; [`packed`]: the 8-byte packed layout and its cost.
 //! - [`cloud`]: the impostor cloud pass (compute splats + resolve into the screen G-buffer,
 //!   sampling with `octahedral_map::sampling`).
+//! - [`choice`]: the atlas `(n, p)` and sampling mode for a screen size and an SSIM budget
+//!   (eq. 4, and the cheapest measured configuration).
 //! - [`shading`]: deferred shading of the G-buffer into a displayable image.
 //! - [`accuracy`]: the view set, comparison scene and image metrics of the accuracy
 //!   experiment (SSIM, RMSE against the mesh).
@@ -47,6 +49,7 @@ pub mod atlas;
 pub mod atlas_file;
 pub mod atlas_gpu;
 pub mod bake;
+pub mod choice;
 pub mod cloud;
 pub mod gpu_util;
 pub mod half;

@@ -140,7 +140,7 @@ pub fn pack_level(image: &AtlasImage) -> Vec<[u32; 2]> {
 /// standard level is decoded (un-premultiplied), dilated, packed, unpacked, and compared
 /// on the covered texels. `None` when the level does not exist.
 pub fn packed_accuracy(atlas: &ImpostorAtlas, level: usize) -> Option<PackedAccuracy> {
-    let standard = atlas.levels.get(level)?.decode(atlas.views.view_count());
+    let standard = atlas.levels.get(level)?.decode(atlas.layer_count());
     let mut dilated = standard.clone();
     crate::mips::dilate(&mut dilated);
     let mut acc: [Accumulator; 6] = Default::default();

@@ -5,11 +5,16 @@
 //!   them in a single image.
 //! - [`metrics`]: SSIM and RMSE between two renders.
 //! - [`sweep`]: bakes, renders and measures every configuration.
+//! - [`table`]: the measurements as CSV (written by `cargo xtask impostor-accuracy`).
 
 pub mod metrics;
 pub mod sweep;
+pub mod table;
 pub mod view_set;
 
 pub use metrics::{ImageError, MetricError, compare_images};
 pub use sweep::{AccuracySweep, SweepError, SweepRow, SweepSettings};
+pub use table::{
+    rows_from_csv, rows_to_csv, sampling_mode_from_name, sampling_mode_name, view_layout_from_name, view_layout_name,
+};
 pub use view_set::{ComparisonScene, fibonacci_directions};

@@ -7,13 +7,12 @@ use std::fmt;
 use glam::{Quat, Vec3, Vec4};
 use grain_mesh::GrainMesh;
 use image::RgbaImage;
-use octahedral_map::compact::compact_view_count;
 use octahedral_map::sampling::{ImpostorSampler, SamplingMode, ViewLayout, ViewSelection};
 use wgpu::util::DeviceExt;
 
 use super::metrics::{ImageError, MetricError, compare_images};
 use super::view_set::{ComparisonScene, fibonacci_directions};
-use crate::atlas::{AtlasMemory, ImpostorAtlas};
+use crate::atlas::ImpostorAtlas;
 use crate::atlas_gpu::AtlasTextures;
 use crate::bake::{BakeError, BakeSettings, Baker, Progress};
 use crate::cloud::{AtlasBinding, CloudError, CloudFrame, CloudSettings, GBufferBinding, ImpostorCloudPass};
@@ -43,6 +42,8 @@ pub struct SweepSettings {
     pub texels: Vec<u32>,
     /// The sampling modes.
     pub modes: Vec<SamplingMode>,
+    /// The atlas layouts: all `2n²` views, and/or each distinct view once.
+    pub layouts: Vec<ViewLayout>,
     /// How many view directions (grains in the comparison grid).
     pub view_count: u32,
     /// On-screen diameters of the grains' outer spheres, in pixels.
@@ -57,6 +58,7 @@ impl SweepSettings {
             subdivisions: vec![4, 6, 8, 10, 12],
             texels: vec![32, 64, 128],
             modes: SamplingMode::ALL.to_vec(),
+            layouts: vec![ViewLayout::Listing1, ViewLayout::Compact],
             view_count: 64,
             apparent_diameters: vec![32.0, 64.0],
         }
@@ -74,14 +76,14 @@ pub struct SweepRow {
     pub texels: u32,
     /// The sampling mode.
     pub mode: SamplingMode,
+    /// The atlas layout.
+    pub layout: ViewLayout,
     /// On-screen diameter of the outer sphere in pixels.
     pub apparent_diameter: f32,
     /// SSIM and RMSE against the mesh.
     pub error: ImageError,
-    /// GPU bytes of the atlas with the paper's layout (`2n²` views, full mips).
+    /// GPU bytes of the atlas in `layout` (full mips).
     pub atlas_bytes: u64,
-    /// GPU bytes of the same atlas without the duplicated equator views.
-    pub compact_atlas_bytes: u64,
 }
 
 /// Why the sweep stopped.
@@ -225,7 +227,7 @@ impl AccuracySweep {
             atlas.outer_radius,
             atlas.inner_radius,
             mode,
-            ViewLayout::Listing1,
+            atlas.layout,
             ViewSelection::PerGrainFromEye,
         )
         .ok_or_else(|| {
@@ -254,7 +256,7 @@ impl AccuracySweep {
             depth_alpha: &textures.views[3],
             sampler: &textures.sampler,
             texels: atlas.texels,
-            layers: atlas.views.view_count(),
+            layers: atlas.layer_count(),
         };
         let [normal_coverage, albedo, material, depth] = &gbuffer.views;
         let targets = GBufferBinding { normal_coverage, albedo, material, depth };
@@ -287,25 +289,29 @@ impl AccuracySweep {
             for &n in &settings.subdivisions {
                 for &p in &settings.texels {
                     let bake = BakeSettings { progress: Progress::Hidden, ..BakeSettings::new(n, p) };
-                    let atlas = self.baker.bake(device, queue, mesh, &bake)?;
-                    let textures = AtlasTextures::upload(device, queue, &atlas)?;
-                    let memory = AtlasMemory::of(atlas.views, p).gpu_bytes;
-                    let compact = memory / u64::from(atlas.views.view_count()) * u64::from(compact_view_count(n));
-                    for (scene, reference) in scenes.iter().zip(&references) {
-                        for &mode in &settings.modes {
-                            let render = self.impostor(device, queue, &atlas, &textures, scene, mode)?;
-                            let row = SweepRow {
-                                grain: name.clone(),
-                                subdivisions: n,
-                                texels: p,
-                                mode,
-                                apparent_diameter: scene.apparent_diameter,
-                                error: compare_images(reference, &render)?,
-                                atlas_bytes: memory,
-                                compact_atlas_bytes: compact,
-                            };
-                            on_row(&row);
-                            rows.push(row);
+                    let paper_atlas = self.baker.bake(device, queue, mesh, &bake)?;
+                    for &layout in &settings.layouts {
+                        let atlas = match layout {
+                            ViewLayout::Listing1 => paper_atlas.clone(),
+                            ViewLayout::Compact => paper_atlas.to_compact(),
+                        };
+                        let textures = AtlasTextures::upload(device, queue, &atlas)?;
+                        for (scene, reference) in scenes.iter().zip(&references) {
+                            for &mode in &settings.modes {
+                                let render = self.impostor(device, queue, &atlas, &textures, scene, mode)?;
+                                let row = SweepRow {
+                                    grain: name.clone(),
+                                    subdivisions: n,
+                                    texels: p,
+                                    mode,
+                                    layout,
+                                    apparent_diameter: scene.apparent_diameter,
+                                    error: compare_images(reference, &render)?,
+                                    atlas_bytes: atlas.memory().gpu_bytes,
+                                };
+                                on_row(&row);
+                                rows.push(row);
+                            }
                         }
                     }
                 }

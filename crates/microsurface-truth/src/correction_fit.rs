@@ -142,7 +142,7 @@ pub fn fit_to_samples(samples: &[FitSample]) -> Option<LambdaCorrection> {
 
 /// Solves `matrix · x = rhs` by Gaussian elimination with partial pivoting; `None` when a
 /// pivot vanishes.
-fn solve<const N: usize>(mut matrix: [[f64; N]; N], mut rhs: [f64; N]) -> Option<[f64; N]> {
+pub(crate) fn solve<const N: usize>(mut matrix: [[f64; N]; N], mut rhs: [f64; N]) -> Option<[f64; N]> {
     for column in 0..N {
         let pivot = (column..N).max_by(|&a, &b| matrix[a][column].abs().total_cmp(&matrix[b][column].abs()))?;
         if matrix[pivot][column].abs() < 1e-300 || !matrix[pivot][column].is_finite() {

@@ -28,9 +28,9 @@ pub const FIT_ANGLES_DEG: [f64; 24] = [
 pub const FIT_AZIMUTHS_DEG: [f64; 2] = [45.0, 135.0];
 
 /// Smallest fitted factor (a sane range, well inside `smith-micro`'s accepted one).
-pub const MIN_FITTED_FACTOR: f64 = 0.5;
+pub const MIN_FITTED_FACTOR: f64 = 0.3;
 /// Largest fitted factor.
-pub const MAX_FITTED_FACTOR: f64 = 2.0;
+pub const MAX_FITTED_FACTOR: f64 = 3.5;
 
 /// Prior standard deviation of each knot around 1 (weak: the data decide where they can).
 const KNOT_PRIOR_DEVIATION: f64 = 0.5;

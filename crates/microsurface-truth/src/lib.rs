@@ -48,6 +48,6 @@ pub use smith_micro::LambdaCorrection;
 pub use smith_micro::VisibilityCorrection;
 pub use statistics::SurfaceStatistics;
 pub use visibility_fit::{
-    CORRELATION_LIGHTS_DEG, CORRELATION_VIEW_ANGLES_DEG, PairSample, VisibilitySamples, collect_samples,
-    fit_correlation, fit_samples, fit_visibility_correction,
+    CORRELATION_LIGHTS_DEG, CORRELATION_VIEW_ANGLES_DEG, PairSample, SHRINKAGE_STEPS, VisibilitySamples,
+    collect_samples, fit_correlation, fit_samples, fit_visibility_correction,
 };

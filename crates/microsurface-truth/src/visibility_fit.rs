@@ -13,6 +13,9 @@
 //!    `x = x(A + B − ρ min(A, B))` is fitted for `ρ = ρ₀ + ρ₁ c + ρ₂ c²`, `c = cos Δφ`,
 //!    by Gauss–Newton on the Monte-Carlo-weighted squared error with a weak prior
 //!    `ρᵢ ~ N(0, 2²)`.
+//!
+//! Each part is then shrunk toward eq. 17 as far as a leave-one-out validation over the
+//! realizations asks ([`fit_visibility_correction`]).
 
 use glam::DVec3;
 use smith_micro::{LambdaCorrection, VisibilityCorrection, corrected_lambda, cos_azimuth_difference};
@@ -163,18 +166,103 @@ pub fn fit_correlation(pairs: &[PairSample], view: &LambdaCorrection, light: &La
     Some(rho)
 }
 
+/// Shrinkage steps toward eq. 17 tried by the leave-one-out validation of
+/// [`fit_visibility_correction`]: `c = 1 + α (c_fit − 1)`, `ρ = α ρ_fit`.
+pub const SHRINKAGE_STEPS: [f64; 9] = [0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 1.0];
+
 /// Fits a [`VisibilityCorrection`] to the pooled samples of `fields` (independent
 /// realizations of one material, of any sizes): `rays` rays per direction pair, ray
 /// seeds from `seed`. `None` for flat fields or a degenerate fit.
+///
+/// With two fields or more, each part of the model (view table, light table,
+/// correlation) is then shrunk toward eq. 17 by the factor `α` of [`SHRINKAGE_STEPS`]
+/// that minimizes the worst leave-one-out error: the model fitted without one
+/// realization predicts that realization's samples, and the worst realization counts. A material whose realizations differ from each
+/// other more than from eq. 17 (realization noise, not Monte-Carlo noise, which the
+/// weights already cover) so keeps eq. 17 where a correction would not transfer.
 pub fn fit_visibility_correction(fields: &[HeightField], rays: usize, seed: u64) -> Option<VisibilityCorrection> {
-    let mut pooled = VisibilitySamples::default();
-    for (i, field) in fields.iter().enumerate() {
-        let samples = collect_samples(field, rays, seed.wrapping_add(10_000 * i as u64))?;
-        pooled.view.extend(samples.view);
-        pooled.light.extend(samples.light);
-        pooled.pairs.extend(samples.pairs);
+    let per_field: Vec<VisibilitySamples> = fields
+        .iter()
+        .enumerate()
+        .map(|(i, field)| collect_samples(field, rays, seed.wrapping_add(10_000 * i as u64)))
+        .collect::<Option<_>>()?;
+    let full = fit_samples(&pool(per_field.iter()))?;
+    if per_field.len() < 2 {
+        return Some(full);
     }
-    fit_samples(&pooled)
+    let folds: Vec<(VisibilityCorrection, &VisibilitySamples)> = (0..per_field.len())
+        .map(|held_out| {
+            let rest = per_field.iter().enumerate().filter(|&(i, _)| i != held_out).map(|(_, s)| s);
+            fit_samples(&pool(rest)).map(|model| (model, &per_field[held_out]))
+        })
+        .collect::<Option<_>>()?;
+    // Each part in turn: the view table, the light table, then ρ with both tables shrunk.
+    let mut alphas = [1.0_f64; 3];
+    for part in 0..3 {
+        let error = |alpha: f64| {
+            let mut trial = alphas;
+            trial[part] = alpha;
+            // The worst fold: shrink until the correction helps every held-out realization.
+            folds
+                .iter()
+                .map(|(model, held_out)| held_out_error(&shrink(model, trial)?, held_out, part))
+                .try_fold(0.0_f64, |worst, e| e.map(|e| worst.max(e)))
+        };
+        let best = SHRINKAGE_STEPS
+            .iter()
+            .filter_map(|&alpha| error(alpha).map(|e| (alpha, e)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))?;
+        alphas[part] = best.0;
+    }
+    shrink(&full, alphas)
+}
+
+/// The samples of `sets`, pooled.
+fn pool<'a>(sets: impl Iterator<Item = &'a VisibilitySamples>) -> VisibilitySamples {
+    let mut pooled = VisibilitySamples::default();
+    for samples in sets {
+        pooled.view.extend_from_slice(&samples.view);
+        pooled.light.extend_from_slice(&samples.light);
+        pooled.pairs.extend_from_slice(&samples.pairs);
+    }
+    pooled
+}
+
+/// `model` shrunk toward eq. 17 by `[α_view, α_light, α_ρ]`.
+fn shrink(model: &VisibilityCorrection, alphas: [f64; 3]) -> Option<VisibilityCorrection> {
+    let table = |table: LambdaCorrection, alpha: f64| {
+        LambdaCorrection::from_knots(table.knots().map(|k| (1.0 + alpha * (f64::from(k) - 1.0)) as f32))
+    };
+    let rho = model.correlation_coefficients().map(|r| (alphas[2] * f64::from(r)) as f32);
+    VisibilityCorrection::new(table(model.view(), alphas[0])?, table(model.light(), alphas[1])?, rho)
+}
+
+/// The sum of squared errors of `model` on one part of `samples` (0: view, 1: light,
+/// 2: pairs), `None` where the model gives none.
+fn held_out_error(model: &VisibilityCorrection, samples: &VisibilitySamples, part: usize) -> Option<f64> {
+    let x = |lambda: f32| f64::from(lambda / (lambda + 2.0));
+    let squared = |model: f64, truth: f64| (model - truth).powi(2);
+    match part {
+        0 => samples
+            .view
+            .iter()
+            .map(|s| Some(squared(x(corrected_lambda(s.lambda as f32, &model.view())?), s.visible)))
+            .sum(),
+        1 => samples
+            .light
+            .iter()
+            .map(|s| Some(squared(x(corrected_lambda(s.lambda as f32, &model.light())?), s.visible)))
+            .sum(),
+        _ => samples
+            .pairs
+            .iter()
+            .map(|p| {
+                let lambda =
+                    smith_micro::correlated_lambda(p.lambda_view, p.lambda_light, p.cos_azimuth_difference, model)?;
+                Some(squared(if lambda.is_finite() { x(lambda) } else { 1.0 }, p.visible))
+            })
+            .sum(),
+    }
 }
 
 /// Fits a [`VisibilityCorrection`] to `samples` (see the module documentation).

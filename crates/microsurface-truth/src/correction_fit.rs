@@ -215,6 +215,7 @@ mod tests {
         let flat = [FitSample { lambda: 0.0, visible: 0.0, standard_error: 0.0 }];
         assert_eq!(fit_to_samples(&flat), None);
         let extreme = fit_to_samples(&synthetic(|_| 10.0)).unwrap();
-        assert!(extreme.knots().iter().all(|&k| (0.5..=2.0).contains(&k)), "{:?}", extreme.knots());
+        let range = MIN_FITTED_FACTOR as f32..=MAX_FITTED_FACTOR as f32;
+        assert!(extreme.knots().iter().all(|k| range.contains(k)), "{:?}", extreme.knots());
     }
 }

@@ -109,4 +109,5 @@ fn corrected_model_on_non_gaussian_surfaces() {
 /// on every view-only sweep; the view-and-light sweeps of the Gaussian-correlation and
 /// band-pass surfaces miss it here (0.68 %, 0.65 %), where the fit's 10 000 rays leave
 /// the light table's low knots noisy (`cargo xtask fig9` at 1024² meets it).
-const LIMITS: [[f64; 2]; 5] = [[0.0045, 0.0072], [0.0043, 0.0038], [0.0026, 0.0069], [0.0038, 0.0054], [0.0031, 0.0089]];
+const LIMITS: [[f64; 2]; 5] =
+    [[0.0045, 0.0072], [0.0043, 0.0038], [0.0026, 0.0069], [0.0038, 0.0054], [0.0031, 0.0089]];

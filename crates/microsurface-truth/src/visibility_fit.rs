@@ -18,6 +18,7 @@
 //! realizations asks ([`fit_visibility_correction`]).
 
 use glam::DVec3;
+use smith_micro::correlated::{MAX_CORRELATION, MIN_CORRELATION};
 use smith_micro::{LambdaCorrection, VisibilityCorrection, corrected_lambda, cos_azimuth_difference};
 
 use crate::comparison::{attribute_s, slope_deviation};
@@ -141,9 +142,12 @@ pub fn fit_correlation(pairs: &[PairSample], view: &LambdaCorrection, light: &La
         for &(sum, min, c, p) in &usable {
             let basis = [1.0, c, c * c];
             let r: f64 = basis.iter().zip(&rho).map(|(b, r)| b * r).sum();
-            let lambda = (sum - r.clamp(-2.0, 1.0) * min).max(0.0);
+            let clamped = r.clamp(f64::from(MIN_CORRELATION), f64::from(MAX_CORRELATION));
+            let lambda = (sum - clamped * min).max(0.0);
             let model = lambda / (lambda + 2.0);
-            let slope = -min * 2.0 / (lambda + 2.0).powi(2);
+            // Where ρ is clamped the model does not depend on the coefficients: such a
+            // sample (e.g. one that asks for ρ > 1) must not pull on ρ elsewhere.
+            let slope = if clamped == r { -min * 2.0 / (lambda + 2.0).powi(2) } else { 0.0 };
             let weight = 1.0 / (p.standard_error.powi(2) + STANDARD_ERROR_FLOOR.powi(2));
             let residual = p.visible - model;
             for i in 0..3 {

@@ -524,6 +524,104 @@ fn smith_corrected_visible_mean_attribute(correlated_attribute: vec2<f32>, lambd
     return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
 }
 
+// The corrected visibility model with a light-view correlation term (Rust:
+// correlated::VisibilityCorrection, declared in shaders/generated/smith_micro.wgsl):
+// Λ' = A + B − ρ(cos Δφ) min(A, B), A = c_v Λ(v), B = c_l Λ(l).
+
+// Rust: correlated::VisibilityCorrection::is_valid.
+fn smith_visibility_correction_is_valid(model: VisibilityCorrection) -> bool {
+    let r = model.correlation.xyz;
+    let finite = smith_is_finite(r.x) && smith_is_finite(r.y) && smith_is_finite(r.z)
+        && !smith_is_nan(r.x) && !smith_is_nan(r.y) && !smith_is_nan(r.z);
+    let bounded = all(abs(r) <= vec3<f32>(SMITH_MAX_CORRELATION_COEFFICIENT));
+    return finite && bounded
+        && smith_correction_is_valid(LambdaCorrection(model.view_low, model.view_high))
+        && smith_correction_is_valid(LambdaCorrection(model.light_low, model.light_high));
+}
+
+// Rust: correlated::VisibilityCorrection::correlation_at (cos Δφ as a SmithValue: None
+// reads as 0, ±∞ as ±1).
+fn smith_view_light_correlation(model: VisibilityCorrection, cos_difference: SmithValue) -> f32 {
+    var c = 0.0;
+    if cos_difference.kind == SMITH_FINITE {
+        c = clamp(cos_difference.value, -1.0, 1.0);
+    } else if cos_difference.kind == SMITH_POSITIVE_INFINITY {
+        c = 1.0;
+    } else if cos_difference.kind == SMITH_NEGATIVE_INFINITY {
+        c = -1.0;
+    }
+    let r = model.correlation;
+    return clamp(r.x + c * (r.y + c * r.z), SMITH_MIN_CORRELATION, SMITH_MAX_CORRELATION);
+}
+
+// Rust: correlated::correlated_lambda.
+fn smith_correlated_lambda(lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
+    if !smith_visibility_correction_is_valid(model) {
+        return smith_none();
+    }
+    let view = smith_corrected_lambda(lambda_view, LambdaCorrection(model.view_low, model.view_high));
+    let light = smith_corrected_lambda(lambda_light, LambdaCorrection(model.light_low, model.light_high));
+    if view.kind == SMITH_NONE || light.kind == SMITH_NONE {
+        return smith_none();
+    }
+    if view.kind == SMITH_POSITIVE_INFINITY || light.kind == SMITH_POSITIVE_INFINITY {
+        return smith_positive_infinity();
+    }
+    let rho = smith_view_light_correlation(model, cos_difference);
+    return smith_finite(smith_flush_subnormal((view.value + light.value) - rho * min(view.value, light.value)));
+}
+
+// Rust: correlated::correlated_visible_mean_attribute.
+fn smith_correlated_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
+    if !smith_attribute_is_valid(correlated_attribute) {
+        return smith_none();
+    }
+    let lambda = smith_correlated_lambda(lambda_view, lambda_light, cos_difference, model);
+    if lambda.kind == SMITH_NONE {
+        return smith_none();
+    }
+    var visible_fraction = 1.0;
+    if lambda.kind == SMITH_FINITE {
+        if lambda.value == 0.0 {
+            visible_fraction = 0.0;
+        } else {
+            visible_fraction = 1.0 / (1.0 + 2.0 / lambda.value);
+        }
+    }
+    return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
+}
+
+// Rust: correlated::cos_azimuth_difference.
+fn smith_cos_azimuth_difference(view: vec3<f32>, light: vec3<f32>) -> SmithValue {
+    let finite = smith_is_finite(view.x) && smith_is_finite(view.y) && smith_is_finite(light.x) && smith_is_finite(light.y)
+        && !smith_is_nan(view.x) && !smith_is_nan(view.y) && !smith_is_nan(light.x) && !smith_is_nan(light.y);
+    if !finite {
+        return smith_finite(0.0);
+    }
+    let a = vec2<f32>(smith_flush_subnormal(view.x), smith_flush_subnormal(view.y));
+    let b = vec2<f32>(smith_flush_subnormal(light.x), smith_flush_subnormal(light.y));
+    let largest_a = max(abs(a.x), abs(a.y));
+    let largest_b = max(abs(b.x), abs(b.y));
+    if largest_a == 0.0 || largest_b == 0.0 {
+        return smith_finite(1.0);
+    }
+    let sa = vec2<f32>(smith_flush_subnormal(a.x / largest_a), smith_flush_subnormal(a.y / largest_a));
+    let sb = vec2<f32>(smith_flush_subnormal(b.x / largest_b), smith_flush_subnormal(b.y / largest_b));
+    let lengths = sqrt(sa.x * sa.x + sa.y * sa.y) * sqrt(sb.x * sb.x + sb.y * sb.y);
+    return smith_finite(smith_flush_subnormal(clamp((sa.x * sb.x + sa.y * sb.y) / lengths, -1.0, 1.0)));
+}
+
+// Rust: correlated::correlated_visible_mean_attribute_for_directions.
+fn smith_correlated_visible_mean_attribute_for_directions(correlated_attribute: vec2<f32>, view: vec3<f32>, light: vec3<f32>, slopes: vec3<f32>, model: VisibilityCorrection) -> SmithValue {
+    let lambda_view = smith_lambda_direction(view, slopes);
+    let lambda_light = smith_lambda_direction(light, slopes);
+    if lambda_view.kind == SMITH_NONE || lambda_light.kind == SMITH_NONE {
+        return smith_none();
+    }
+    let cos_difference = smith_cos_azimuth_difference(view, light);
+    return smith_correlated_visible_mean_attribute(correlated_attribute, lambda_view, lambda_light, cos_difference, model);
+}
+
 // Rust: shading::scaled_hypot.
 fn smith_scaled_hypot(a: f32, b: f32) -> f32 {
     let larger = max(a, b);

@@ -11,15 +11,17 @@
 //!
 //! The corrected eq. 17 (`LambdaCorrection`) has its own kernel and test,
 //! `corrected_functions_match_the_cpu_reference`, with its tolerance in
-//! `correction_tolerances`.
+//! `correction_tolerances`. The correlated model (`VisibilityCorrection`: view and light
+//! tables and the light–view correlation `ρ(cos Δφ)`) has
+//! `correlated_functions_match_the_cpu_reference`, with `correlated_tolerances`.
 
 use glam::{Vec3, Vec4};
 use integration_tests::{gpu, random_unit_directions, special_directions};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 use smith_micro::gpu::{
-    CorrectionCase, CorrectionResults, NONE_BITS, SmithCase, SmithResults, reference_correction_results,
-    reference_results,
+    CorrectionCase, CorrectionResults, CorrelatedCase, CorrelatedResults, NONE_BITS, SmithCase, SmithResults,
+    reference_correction_results, reference_correlated_results, reference_results,
 };
 use smith_micro::{SlopeDeviation, nu_of_direction};
 
@@ -390,6 +392,163 @@ fn corrected_functions_match_the_cpu_reference() {
     println!("{} correction cases", cases.len());
     for (name, (difference, ratio)) in CORRECTION_NAMES.iter().zip(worst) {
         println!("{name:>28}: max relative difference {difference:.3e}, max difference / tolerance {ratio:.3}");
+    }
+    assert!(
+        failures.is_empty(),
+        "{} results differ in kind or beyond their tolerance, e.g. {:?}",
+        failures.len(),
+        &failures[..failures.len().min(10)]
+    );
+}
+
+/// Correlation coefficients that stress `ρ`: the accepted bound and just beyond, NaN, ±∞.
+const SPECIAL_COEFFICIENTS: [f32; 8] = [16.0, -16.0, 16.000002, 0.0, 1.0, f32::NAN, f32::INFINITY, -1e-40];
+
+fn correlated_cases() -> Vec<CorrelatedCase> {
+    let mut rng = SmallRng::seed_from_u64(23);
+    let directions = random_unit_directions(4_096, 29);
+    let mut specials = special_directions();
+    specials.extend([Vec3::new(1e-40, 0.0, 1.0), Vec3::new(3e38, -3e38, 1.0), Vec3::new(f32::NAN, 0.0, 1.0)]);
+    let random_lambda = |rng: &mut SmallRng| {
+        if rng.random_bool(0.05) { 0.0 } else { log_uniform(rng, 1e-6, 1e6) }
+    };
+    let case = |rng: &mut SmallRng, view: Vec3, light: Vec3| {
+        let table = |rng: &mut SmallRng| -> [f32; 8] {
+            if rng.random_bool(0.05) { [1.0; 8] } else { std::array::from_fn(|_| log_uniform(rng, 0.25, 4.0)) }
+        };
+        let (view_knots, light_knots) = (table(rng), table(rng));
+        CorrelatedCase {
+            view_low: Vec4::from_slice(&view_knots[..4]),
+            view_high: Vec4::from_slice(&view_knots[4..]),
+            light_low: Vec4::from_slice(&light_knots[..4]),
+            light_high: Vec4::from_slice(&light_knots[4..]),
+            correlation: Vec4::new(
+                rng.random_range(-16.0..16.0),
+                rng.random_range(-4.0..4.0),
+                rng.random_range(-4.0..4.0),
+                0.0,
+            ),
+            inputs: Vec4::new(
+                rng.random_range(-2.0..2.0),
+                rng.random_range(-2.0..2.0),
+                random_lambda(rng),
+                random_lambda(rng),
+            ),
+            view: view.extend(rng.random_range(-1.2..1.2)),
+            light: light.extend(log_uniform(rng, 1e-3, 10.0)),
+        }
+    };
+    let mut cases = Vec::new();
+    // Every scalar field set to each special value in turn (directions: each special
+    // direction against random ones).
+    let pick = |rng: &mut SmallRng| directions[rng.random_range(0..directions.len())];
+    for &special in SPECIAL_SCALARS.iter().chain(&SPECIAL_KNOTS).chain(&SPECIAL_COEFFICIENTS) {
+        for field in 0..32 {
+            for _ in 0..4 {
+                let (v, l) = (pick(&mut rng), pick(&mut rng));
+                let mut floats: [f32; 32] = bytemuck::cast(case(&mut rng, v, l));
+                floats[field] = special;
+                cases.push(bytemuck::cast(floats));
+            }
+        }
+    }
+    for &d in &specials {
+        for _ in 0..8 {
+            let other = pick(&mut rng);
+            cases.push(case(&mut rng, d, other));
+            cases.push(case(&mut rng, other, d));
+        }
+    }
+    while cases.len() < 110_000 {
+        let (v, l) = (pick(&mut rng), pick(&mut rng));
+        cases.push(case(&mut rng, v, l));
+    }
+    cases
+}
+
+/// Tolerances of the 4 correlated results of one case: `Λ'` carries each table's
+/// interpolation error (as `correction_tolerances`, ≤ 30 ε |Δk|/c relative) and the
+/// rounding of `ρ = ρ₀ + c(ρ₁ + c ρ₂)` (≤ 8 ε (|ρ₀|+|ρ₁|+|ρ₂|) absolute, FMA contraction),
+/// which moves `Λ'` by at most that times `min(A, B) ≤ Λ'` (`ρ ≤ 1` keeps `Λ' ≥ max(A,B)`,
+/// no cancellation), plus 8 ε for the sums; `cos Δφ` is compared absolutely (1e-6: a few
+/// ulp of its inputs); the attributes add the cancellation of `ā + a_s x` (as
+/// `correction_tolerances`), and the directions' Λs the `exp` bound of `tolerances`.
+fn correlated_tolerances(case: &CorrelatedCase, cpu: &[f32; 4]) -> [f64; 4] {
+    let epsilon = f64::from(f32::EPSILON);
+    let table_tolerance = |low: Vec4, high: Vec4, lambda: f64| {
+        let knots = smith_micro::LambdaCorrection { low, high }.knots().map(f64::from);
+        if !(lambda.is_finite() && lambda > 0.0) {
+            return 0.0;
+        }
+        let t = (lambda / (1.0 + lambda)) * 7.0;
+        let index = (t as usize).min(6);
+        let (k0, k1) = (knots[index], knots[index + 1]);
+        let factor = k0 + (t - index as f64) * (k1 - k0);
+        30.0 * epsilon * (k1 - k0).abs() / factor.abs().max(1e-30)
+    };
+    let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array().map(f64::from);
+    let rho_rounding =
+        8.0 * epsilon * case.correlation.truncate().abs().to_array().iter().map(|&r| f64::from(r)).sum::<f64>();
+    let lambda = |view: f64, light: f64| {
+        BASE.max(
+            table_tolerance(case.view_low, case.view_high, view)
+                + table_tolerance(case.light_low, case.light_high, light)
+                + rho_rounding
+                + 8.0 * epsilon,
+        )
+    };
+    let relative_to = |absolute: f64, value: f32| absolute / f64::from(value.abs()).max(1e-30);
+    let sum_rounding = 1e-6 * (mean.abs() + correlation.abs());
+    let attribute = |lambda: f64, value: f32| BASE.max(relative_to(correlation.abs() * lambda + sum_rounding, value));
+    // The directions' Λs: Λ(ν) through exp(−ν²), ν ≤ cot θ / (√2 σ).
+    let slopes = SlopeDeviation::new(case.light.w, case.light.w);
+    let nu_squared = |d: Vec3| {
+        slopes.and_then(|s| nu_of_direction(d, s)).filter(|n| n.is_finite()).map_or(0.0, |n| f64::from(n).powi(2))
+    };
+    let directions_lambda =
+        exp_tolerance(nu_squared(case.view.truncate())).max(exp_tolerance(nu_squared(case.light.truncate())));
+    let for_directions = attribute(lambda(1.0, 1.0) + directions_lambda + 64.0 * epsilon, cpu[3]);
+    [lambda(lambda_view, lambda_light), attribute(lambda(lambda_view, lambda_light), cpu[1]), 1e-6, for_directions]
+}
+
+#[test]
+fn correlated_functions_match_the_cpu_reference() {
+    const CORRELATED_NAMES: [&str; 4] =
+        ["correlated lambda", "abar correlated", "cos azimuth difference", "abar correlated (directions)"];
+    let module = shader_registry::module("smith_micro").expect("module is registered");
+    let source =
+        module.with_kernel("smith_micro_correlated_differential").expect("kernel is registered").source().to_owned();
+    let cases = correlated_cases();
+    assert!(cases.len() >= 100_000);
+    let gpu_results: Vec<CorrelatedResults> =
+        gpu().compute_map(&source, "smith_correlated_values", &[0_u8; 16], &cases).unwrap();
+    let mut worst = [(0.0_f64, 0.0_f64); 4];
+    let mut failures = Vec::new();
+    for (index, (case, gpu_result)) in cases.iter().zip(&gpu_results).enumerate() {
+        let cpu_bits = reference_correlated_results(case).values.to_array();
+        let gpu_bits = gpu_result.values.to_array();
+        let tolerance = correlated_tolerances(case, &cpu_bits.map(f32::from_bits));
+        for (function, (&c, &g)) in cpu_bits.iter().zip(&gpu_bits).enumerate() {
+            let (cpu, gpu) = (f32::from_bits(c), f32::from_bits(g));
+            let special = |bits: u32, value: f32| bits == NONE_BITS || !value.is_finite();
+            if special(c, cpu) || special(g, gpu) {
+                if c != g {
+                    failures.push((CORRELATED_NAMES[function], index, cpu, gpu, f64::INFINITY));
+                }
+                continue;
+            }
+            // cos Δφ absolutely, the others relatively.
+            let difference = if function == 2 { f64::from((cpu - gpu).abs()) } else { relative_difference(cpu, gpu) };
+            let ratio = difference / tolerance[function];
+            if ratio > 1.0 {
+                failures.push((CORRELATED_NAMES[function], index, cpu, gpu, difference));
+            }
+            worst[function] = (worst[function].0.max(difference), worst[function].1.max(ratio));
+        }
+    }
+    println!("{} correlated cases", cases.len());
+    for (name, (difference, ratio)) in CORRELATED_NAMES.iter().zip(worst) {
+        println!("{name:>30}: max difference {difference:.3e}, max difference / tolerance {ratio:.3}");
     }
     assert!(
         failures.is_empty(),

@@ -57,6 +57,12 @@ const SMITH_MAX_CORRECTION_FACTOR: f32 = 0x1.000000p+2f; // 4e0
 
 const SMITH_MAX_CORRECTED_LAMBDA: f32 = 0x1.000000p+64f; // 1.8446744e19
 
+const SMITH_MIN_CORRELATION: f32 = -0x1.000000p+1f; // -2e0
+
+const SMITH_MAX_CORRELATION: f32 = 0x1.000000p+0f; // 1e0
+
+const SMITH_MAX_CORRELATION_COEFFICIENT: f32 = 0x1.000000p+4f; // 1.6e1
+
 // Rust size 80 bytes.
 struct SmithCase {
     view: vec4<f32>, // offset 0
@@ -86,5 +92,31 @@ struct CorrectionCase {
 
 // Rust size 16 bytes.
 struct CorrectionResults {
+    values: vec4<u32>, // offset 0
+}
+
+// Rust size 80 bytes.
+struct VisibilityCorrection {
+    view_low: vec4<f32>, // offset 0
+    view_high: vec4<f32>, // offset 16
+    light_low: vec4<f32>, // offset 32
+    light_high: vec4<f32>, // offset 48
+    correlation: vec4<f32>, // offset 64
+}
+
+// Rust size 128 bytes.
+struct CorrelatedCase {
+    view_low: vec4<f32>, // offset 0
+    view_high: vec4<f32>, // offset 16
+    light_low: vec4<f32>, // offset 32
+    light_high: vec4<f32>, // offset 48
+    correlation: vec4<f32>, // offset 64
+    inputs: vec4<f32>, // offset 80
+    view: vec4<f32>, // offset 96
+    light: vec4<f32>, // offset 112
+}
+
+// Rust size 16 bytes.
+struct CorrelatedResults {
     values: vec4<u32>, // offset 0
 }

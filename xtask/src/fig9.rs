@@ -5,19 +5,23 @@
 //! `--height-map` adds a surface from a grayscale image (white = 16 cells high, period =
 //! the image side).
 //!
-//! The corrected model (`smith_micro::LambdaCorrection`) of each generated surface is
-//! fitted on an independent realization of its generator (another seed) with
-//! `fit_lambda_correction`, then evaluated on the surface itself: the sweeps shown are
-//! never used for fitting. A `--height-map` has no second realization and is not
-//! corrected (its corrected columns equal eq. 17).
+//! The corrected visibility model (`smith_micro::VisibilityCorrection`: view table, light
+//! table, light–view correlation) of each Gaussian surface is fitted with
+//! `fit_visibility_correction` on two independent realizations of its generator (other
+//! seeds), then evaluated on the surface itself: the sweeps shown are never used for
+//! fitting. Non-Gaussian surfaces are textures: their model is fitted on their own
+//! height map, with other rays, azimuths and lights than the sweeps shown (as a
+//! renderer's pre-computation would). Besides the Fig. 9 view sweep and the
+//! view-and-light sweep (light 60°, azimuth 90° from the view), two more light sweeps
+//! (azimuth 0° and 180°) show where the correlation term is weakest.
 
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
-use microsurface_truth::comparison::{AngleComparison, Sweep, compare, compare_corrected, max_error, max_errors};
+use microsurface_truth::comparison::{AngleComparison, Sweep, compare, compare_models, max_error, max_errors};
 use microsurface_truth::{
-    HeightField, LambdaCorrection, Spectrum, SurfaceStatistics, fit_lambda_correction, generate_cellular,
-    generate_gaussian, generate_ridged,
+    HeightField, LambdaCorrection, Spectrum, SurfaceStatistics, VisibilityCorrection, fit_visibility_correction,
+    generate_cellular, generate_gaussian, generate_ridged,
 };
 use plotters::prelude::*;
 
@@ -36,11 +40,16 @@ const ALL_ANGLES: [f64; 90] = {
 };
 const LIGHT_ANGLES: [f64; 18] =
     [0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0, 85.0];
-/// The light of the view-and-light sweep: 60° from the normal, azimuth 90° from the view's.
-fn light() -> DVec3 {
-    let t = 60_f64.to_radians();
-    DVec3::new(0.0, t.sin(), t.cos())
+/// The light of a view-and-light sweep: 60° from the normal, `azimuth_deg` from the view's
+/// (the view azimuth is 0).
+fn light(azimuth_deg: f64) -> DVec3 {
+    let (t, p) = (60_f64.to_radians(), azimuth_deg.to_radians());
+    DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
 }
+
+/// The view-and-light sweeps: (CSV name, light azimuth relative to the view, degrees).
+const LIGHT_SWEEPS: [(&str, f64); 3] =
+    [("view_and_light", 90.0), ("view_and_light_same_azimuth", 0.0), ("view_and_light_opposite_azimuth", 180.0)];
 /// Channels `a_c(h) = base + amplitude · s(h)` of the RGB curves.
 const CHANNELS: [(&str, RGBColor, f64, f64); 3] = [
     ("R", RGBColor(200, 30, 30), 0.55, 0.35),
@@ -52,29 +61,27 @@ struct Surface {
     name: String,
     gaussian: bool,
     field: HeightField,
-    /// An independent realization of the same generator, to fit the correction on.
-    fitting_field: Option<HeightField>,
+    /// Independent realizations of the same generator to fit the model on (empty: fit on
+    /// `field` itself, for textures).
+    fitting_fields: Vec<HeightField>,
 }
 
-/// Seed offset of the realization the correction is fitted on.
-const FITTING_SEED_OFFSET: u64 = 1000;
+/// Seed offsets of the realizations the model of a Gaussian surface is fitted on.
+const FITTING_SEED_OFFSETS: [u64; 2] = [1000, 2000];
 
 fn surfaces(size: usize, height_map: Option<&Path>) -> Result<Vec<Surface>, String> {
-    let mut list = Vec::new();
-    for offset in [0, FITTING_SEED_OFFSET] {
-        let realizations = realizations(size, offset)?;
-        if offset == 0 {
-            list = realizations;
-        } else {
-            for (surface, fitting) in list.iter_mut().zip(realizations) {
-                surface.fitting_field = Some(fitting.field);
+    let mut list = realizations(size, 0)?;
+    for offset in FITTING_SEED_OFFSETS {
+        for (surface, fitting) in list.iter_mut().zip(realizations(size, offset)?) {
+            if surface.gaussian {
+                surface.fitting_fields.push(fitting.field);
             }
         }
     }
     if let Some(path) = height_map {
         let field = HeightField::from_image(path, 16.0).map_err(|e| e.to_string())?;
         let name = path.file_stem().map_or("height_map".into(), |s| s.to_string_lossy().into_owned());
-        list.push(Surface { name, gaussian: false, field, fitting_field: None });
+        list.push(Surface { name, gaussian: false, field, fitting_fields: Vec::new() });
     }
     Ok(list)
 }
@@ -86,14 +93,14 @@ fn realizations(size: usize, seed_offset: u64) -> Result<Vec<Surface>, String> {
         Surface {
             name: "gaussian_correlation".into(),
             gaussian: true,
-            fitting_field: None,
+            fitting_fields: Vec::new(),
             field: generate_gaussian(size, Spectrum::Gaussian { wavelength: 16.0 }, SLOPE_SIGMA, 1 + seed_offset)
                 .map_err(e)?,
         },
         Surface {
             name: "fbm_power_law".into(),
             gaussian: true,
-            fitting_field: None,
+            fitting_fields: Vec::new(),
             field: generate_gaussian(
                 size,
                 Spectrum::PowerLaw { min_wavelength: 8.0, max_wavelength: size as f64 / 4.0, exponent: 3.0 },
@@ -105,7 +112,7 @@ fn realizations(size: usize, seed_offset: u64) -> Result<Vec<Surface>, String> {
         Surface {
             name: "band_pass".into(),
             gaussian: true,
-            fitting_field: None,
+            fitting_fields: Vec::new(),
             field: generate_gaussian(
                 size,
                 Spectrum::BandPass { wavelength: 24.0, width: 0.1 },
@@ -117,27 +124,27 @@ fn realizations(size: usize, seed_offset: u64) -> Result<Vec<Surface>, String> {
         Surface {
             name: "cellular".into(),
             gaussian: false,
-            fitting_field: None,
+            fitting_fields: Vec::new(),
             field: generate_cellular(size, size / 8, SLOPE_SIGMA, 4 + seed_offset).map_err(e)?,
         },
         Surface {
             name: "ridged".into(),
             gaussian: false,
-            fitting_field: None,
+            fitting_fields: Vec::new(),
             field: generate_ridged(size, 16.0, SLOPE_SIGMA, 5 + seed_offset).map_err(e)?,
         },
     ];
     Ok(list)
 }
 
-fn write_csv(path: &Path, rows: &[(String, &'static str, AngleComparison)]) -> Result<(), String> {
+fn write_csv(path: &Path, rows: &[(String, &str, AngleComparison)]) -> Result<(), String> {
     let mut csv = String::from(
         "surface,sweep,view_angle_deg,lambda,truth_s,truth_standard_error,eq17_s,mip_s,eq17_error,mip_error,\
-         corrected_s,corrected_error,corrected_per_direction_s,corrected_per_direction_error\n",
+         corrected_s,corrected_error\n",
     );
     for (surface, sweep, r) in rows {
         csv += &format!(
-            "{surface},{sweep},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}\n",
+            "{surface},{sweep},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}\n",
             r.view_angle_deg,
             r.lambda,
             r.truth,
@@ -146,10 +153,8 @@ fn write_csv(path: &Path, rows: &[(String, &'static str, AngleComparison)]) -> R
             r.mip,
             r.eq17_error(),
             r.mip_error(),
-            r.corrected,
-            r.corrected_error(),
-            r.corrected_per_direction,
-            r.corrected_per_direction_error()
+            r.correlated,
+            r.correlated_error(),
         );
     }
     std::fs::write(path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))
@@ -176,7 +181,7 @@ fn draw(path: &Path, title: &str, rows: &[AngleComparison]) -> Result<(), String
             let truth: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.truth))).collect();
             let eq17: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.eq17))).collect();
             let mip: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.mip))).collect();
-            let corrected: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.corrected))).collect();
+            let corrected: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.correlated))).collect();
             chart
                 .draw_series(LineSeries::new(truth, color.stroke_width(3)))
                 .map_err(drawing_error)?
@@ -195,7 +200,7 @@ fn draw(path: &Path, title: &str, rows: &[AngleComparison]) -> Result<(), String
             chart
                 .draw_series(corrected.iter().map(|&p| Circle::new(p, 3, color.filled())))
                 .map_err(drawing_error)?
-                .label(format!("{name}: eq. 17 with the fitted Λ correction"))
+                .label(format!("{name}: corrected model (fitted view/light tables, correlation)"))
                 .legend(move |(x, y)| Circle::new((x + 4, y), 3, color.filled()));
         }
         draw_legend(&mut chart, 16, SeriesLabelPosition::UpperLeft)
@@ -238,6 +243,17 @@ fn spectral_sweep(size: usize, rays: usize) -> Result<(), String> {
     Ok(())
 }
 
+/// Prints a fitted model: its two tables and `ρ` coefficients.
+fn print_model(name: &str, realizations: usize, model: &VisibilityCorrection) {
+    let table = |knots: [f32; 8]| knots.iter().map(|k| format!("{k:.3}")).collect::<Vec<_>>().join(" ");
+    let source = if realizations == 0 { "own map".to_owned() } else { format!("{realizations} other realizations") };
+    println!("  {name:<22} ({source})");
+    println!("    view  {}", table(model.view().knots()));
+    println!("    light {}", table(model.light().knots()));
+    let [r0, r1, r2] = model.correlation_coefficients();
+    println!("    ρ     {r0:.3} {r1:.3} {r2:.3}");
+}
+
 fn percent(x: f64) -> String {
     format!("{:.2}%", 100.0 * x)
 }
@@ -260,60 +276,71 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
     println!("Fig. 9 ground truth: {size}² periodic fields, {rays} rays per view angle, RMS slope {SLOPE_SIGMA}");
     println!("errors are fractions of the attribute range; max over view angles in each range\n");
     println!(
-        "{:<22} {:>6} {:>7} {:>7} | {:>9} {:>9} {:>9} | {:>9} {:>11} | {:>9} {:>9} {:>9} {:>11}",
+        "{:<22} {:>6} {:>7} {:>7} | {:>9} {:>9} {:>9} {:>9} | {:>9} {:>9} {:>9} {:>9} | {:>9}",
         "surface",
         "σ_h",
         "skew",
         "kurt",
-        "eq17 0-70",
-        "70-85",
-        "85-89",
-        "MIP 0-85",
-        "light 0-85",
-        "corr 0-70",
-        "70-85",
-        "85-89",
-        "light 0-85"
+        "eq17 view",
+        "light 90°",
+        "0°",
+        "180°",
+        "corr view",
+        "light 90°",
+        "0°",
+        "180°",
+        "MIP 0-85"
     );
+    println!("{:>58}(max error 0-85°; eq. 17, then the corrected model; light at 60°, azimuth from the view)", "");
     let mut csv_rows = Vec::new();
-    let mut knots = Vec::new();
+    let mut models = Vec::new();
+    // Rays per direction pair of the fit, on each fitting realization.
+    let fit_rays = rays / 4;
     for surface in surfaces(size, height_map.as_deref())? {
         let stats = SurfaceStatistics::measure(&surface.field);
         let degenerate = || format!("{}: degenerate surface", surface.name);
-        // Fitted on the other realization only: the sweeps below never enter the fit.
-        let correction = match &surface.fitting_field {
-            Some(fitting) => fit_lambda_correction(fitting, rays, 31).ok_or_else(degenerate)?,
-            None => LambdaCorrection::IDENTITY,
+        // Gaussian surfaces: fitted on other realizations only. Textures: on their own map,
+        // with rays, azimuths and lights other than those of the sweeps below.
+        let fitting = if surface.fitting_fields.is_empty() {
+            std::slice::from_ref(&surface.field)
+        } else {
+            &surface.fitting_fields[..]
         };
-        knots.push((surface.name.clone(), surface.fitting_field.is_some(), correction.knots()));
+        let model = fit_visibility_correction(fitting, fit_rays, 31).ok_or_else(degenerate)?;
+        models.push((surface.name.clone(), surface.fitting_fields.len(), model));
+        let identity = LambdaCorrection::IDENTITY;
         let view_sweep = Sweep { angles_deg: &ALL_ANGLES, view_azimuth: 0.0, light: None, rays, seed: 17 };
-        let light_sweep =
-            Sweep { angles_deg: &LIGHT_ANGLES, view_azimuth: 0.0, light: Some(light()), rays: rays / 2, seed: 23 };
-        let view = compare_corrected(&surface.field, &view_sweep, &correction).ok_or_else(degenerate)?;
-        let lit = compare_corrected(&surface.field, &light_sweep, &correction).ok_or_else(degenerate)?;
-        let (low, _) = max_errors(&view, 0.0, 70.0);
-        let (mid, _) = max_errors(&view, 70.0, 85.0);
-        let (high, _) = max_errors(&view, 85.0, 89.0);
+        let view = compare_models(&surface.field, &view_sweep, &identity, &model).ok_or_else(degenerate)?;
+        let mut lit = Vec::new();
+        for (k, &(_, azimuth)) in LIGHT_SWEEPS.iter().enumerate() {
+            let sweep = Sweep {
+                angles_deg: &LIGHT_ANGLES,
+                view_azimuth: 0.0,
+                light: Some(light(azimuth)),
+                rays: rays / 2,
+                seed: 23 + k as u64,
+            };
+            lit.push(compare_models(&surface.field, &sweep, &identity, &model).ok_or_else(degenerate)?);
+        }
         let (_, mip) = max_errors(&view, 0.0, 85.0);
-        let (light_error, _) = max_errors(&lit, 0.0, 85.0);
-        let corrected = |rows: &[AngleComparison], low: f64, high: f64| {
-            percent(max_error(rows, low, high, AngleComparison::corrected_error))
-        };
+        let eq17 = |rows: &[AngleComparison]| percent(max_error(rows, 0.0, 85.0, AngleComparison::eq17_error));
+        let corrected =
+            |rows: &[AngleComparison]| percent(max_error(rows, 0.0, 85.0, AngleComparison::correlated_error));
         println!(
-            "{:<22} {:>6.2} {:>7.3} {:>7.3} | {:>9} {:>9} {:>9} | {:>9} {:>11} | {:>9} {:>9} {:>9} {:>11}{}",
+            "{:<22} {:>6.2} {:>7.3} {:>7.3} | {:>9} {:>9} {:>9} {:>9} | {:>9} {:>9} {:>9} {:>9} | {:>9}{}",
             surface.name,
             stats.height_sigma,
             stats.height_skewness,
             stats.height_excess_kurtosis,
-            percent(low),
-            percent(mid),
-            percent(high),
+            eq17(&view),
+            eq17(&lit[0]),
+            eq17(&lit[1]),
+            eq17(&lit[2]),
+            corrected(&view),
+            corrected(&lit[0]),
+            corrected(&lit[1]),
+            corrected(&lit[2]),
             percent(mip),
-            percent(light_error),
-            corrected(&view, 0.0, 70.0),
-            corrected(&view, 70.0, 85.0),
-            corrected(&view, 85.0, 89.0),
-            corrected(&lit, 0.0, 85.0),
             if surface.gaussian { "" } else { "  (non-Gaussian)" }
         );
         draw(
@@ -321,19 +348,23 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
             &format!("{}: view only (Fig. 9)", surface.name),
             &view,
         )?;
-        draw(
-            &out.join(format!("fig9_{}_light.png", surface.name)),
-            &format!("{}: view and light (light at 60°, azimuth 90°)", surface.name),
-            &lit,
-        )?;
+        for ((sweep, azimuth), rows) in LIGHT_SWEEPS.iter().zip(&lit) {
+            let file = sweep.replacen("view_and_light", "light", 1);
+            draw(
+                &out.join(format!("fig9_{}_{file}.png", surface.name)),
+                &format!("{}: view and light (light at 60°, azimuth {azimuth}° from the view)", surface.name),
+                rows,
+            )?;
+        }
         csv_rows.extend(view.into_iter().map(|r| (surface.name.clone(), "view", r)));
-        csv_rows.extend(lit.into_iter().map(|r| (surface.name.clone(), "view_and_light", r)));
+        for ((sweep, _), rows) in LIGHT_SWEEPS.iter().zip(lit) {
+            csv_rows.extend(rows.into_iter().map(|r| (surface.name.clone(), *sweep, r)));
+        }
     }
     write_csv(&out.join("fig9.csv"), &csv_rows)?;
-    println!("\nfitted Λ correction c(u), u = Λ/(1+Λ) = 0, 1/7, …, 1 (fitted on another realization):");
-    for (name, fitted, knots) in knots {
-        let knots: Vec<String> = knots.iter().map(|k| format!("{k:.3}")).collect();
-        println!("  {name:<22} {}{}", knots.join(" "), if fitted { "" } else { "  (not fitted: identity)" });
+    println!("\nfitted models: view and light tables c(u), u = Λ/(1+Λ) = 0, 1/7, …, 1; ρ(c) = ρ0 + ρ1 c + ρ2 c²:");
+    for (name, realizations, model) in models {
+        print_model(&name, realizations, &model);
     }
     if spectra {
         spectral_sweep(size / 2, rays / 3)?;

@@ -14,7 +14,7 @@
 //! [`crate::fit_lambda_correction`] on another realization of the surface.
 
 use glam::{DVec3, Vec3};
-use smith_micro::{HeightCorrelatedAttribute, LambdaCorrection, SlopeDeviation};
+use smith_micro::{HeightCorrelatedAttribute, LambdaCorrection, SlopeDeviation, VisibilityCorrection};
 
 use crate::experiment::VisibleAverage;
 use crate::heightfield::HeightField;
@@ -38,6 +38,9 @@ pub struct AngleComparison {
     pub corrected: f64,
     /// Eq. 17 with each direction's Λ corrected, `Λ' = c(u_v) Λ(v) + c(u_l) Λ(l)`.
     pub corrected_per_direction: f64,
+    /// The corrected visibility model with separate view and light tables and the
+    /// light–view correlation term (`smith_micro::correlated_visible_mean_attribute`).
+    pub correlated: f64,
     /// `Λ(v) + Λ(l)` from the measured slope deviations.
     pub lambda: f64,
 }
@@ -56,6 +59,11 @@ impl AngleComparison {
     /// The corrected model's error (correction on the sum) as a fraction of the range.
     pub fn corrected_error(&self) -> f64 {
         (self.corrected - self.truth).abs() / 2.0
+    }
+
+    /// The correlated model's error as a fraction of the range.
+    pub fn correlated_error(&self) -> f64 {
+        (self.correlated - self.truth).abs() / 2.0
     }
 
     /// The error of the correction applied per direction, as a fraction of the range.
@@ -105,6 +113,18 @@ pub fn compare_corrected(
     sweep: &Sweep,
     correction: &LambdaCorrection,
 ) -> Option<Vec<AngleComparison>> {
+    compare_models(field, sweep, correction, &VisibilityCorrection::IDENTITY)
+}
+
+/// [`compare_corrected`] with the correlated model `visibility` evaluated as well (its
+/// column equals eq. 17 for [`VisibilityCorrection::IDENTITY`]). Returns `None` when the
+/// statistics are degenerate or a correction is invalid.
+pub fn compare_models(
+    field: &HeightField,
+    sweep: &Sweep,
+    correction: &LambdaCorrection,
+    visibility: &VisibilityCorrection,
+) -> Option<Vec<AngleComparison>> {
     let stats = SurfaceStatistics::measure(field);
     let slopes = slope_deviation(&stats)?;
     let samples: Vec<f64> = field.heights().iter().map(|&h| attribute_s(&stats, h)).collect();
@@ -129,6 +149,10 @@ pub fn compare_corrected(
             smith_micro::corrected_lambda(lambda_view, correction)?,
             smith_micro::corrected_lambda(lambda_light, correction)?,
         )?;
+        let light_direction = sweep.light.map_or(Vec3::Z, |l| l.as_vec3());
+        let cos = smith_micro::cos_azimuth_difference(view.as_vec3(), light_direction);
+        let correlated =
+            smith_micro::correlated_visible_mean_attribute(stored, lambda_view, lambda_light, cos, visibility)?;
         let estimate = truth.mean_attribute(view, sweep.light, |h| attribute_s(&stats, h))?;
         rows.push(AngleComparison {
             view_angle_deg: angle,
@@ -138,6 +162,7 @@ pub fn compare_corrected(
             mip: mean,
             corrected: f64::from(corrected),
             corrected_per_direction: f64::from(corrected_per_direction),
+            correlated: f64::from(correlated),
             lambda: f64::from(lambda_view + lambda_light),
         });
     }

@@ -28,9 +28,9 @@ pub const FIT_ANGLES_DEG: [f64; 24] = [
 pub const FIT_AZIMUTHS_DEG: [f64; 2] = [45.0, 135.0];
 
 /// Smallest fitted factor (a sane range, well inside `smith-micro`'s accepted one).
-pub const MIN_FITTED_FACTOR: f64 = 0.5;
+pub const MIN_FITTED_FACTOR: f64 = 0.3;
 /// Largest fitted factor.
-pub const MAX_FITTED_FACTOR: f64 = 2.0;
+pub const MAX_FITTED_FACTOR: f64 = 3.5;
 
 /// Prior standard deviation of each knot around 1 (weak: the data decide where they can).
 const KNOT_PRIOR_DEVIATION: f64 = 0.5;
@@ -142,7 +142,7 @@ pub fn fit_to_samples(samples: &[FitSample]) -> Option<LambdaCorrection> {
 
 /// Solves `matrix · x = rhs` by Gaussian elimination with partial pivoting; `None` when a
 /// pivot vanishes.
-fn solve<const N: usize>(mut matrix: [[f64; N]; N], mut rhs: [f64; N]) -> Option<[f64; N]> {
+pub(crate) fn solve<const N: usize>(mut matrix: [[f64; N]; N], mut rhs: [f64; N]) -> Option<[f64; N]> {
     for column in 0..N {
         let pivot = (column..N).max_by(|&a, &b| matrix[a][column].abs().total_cmp(&matrix[b][column].abs()))?;
         if matrix[pivot][column].abs() < 1e-300 || !matrix[pivot][column].is_finite() {
@@ -215,6 +215,7 @@ mod tests {
         let flat = [FitSample { lambda: 0.0, visible: 0.0, standard_error: 0.0 }];
         assert_eq!(fit_to_samples(&flat), None);
         let extreme = fit_to_samples(&synthetic(|_| 10.0)).unwrap();
-        assert!(extreme.knots().iter().all(|&k| (0.5..=2.0).contains(&k)), "{:?}", extreme.knots());
+        let range = MIN_FITTED_FACTOR as f32..=MAX_FITTED_FACTOR as f32;
+        assert!(extreme.knots().iter().all(|k| range.contains(k)), "{:?}", extreme.knots());
     }
 }

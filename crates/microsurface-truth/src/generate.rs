@@ -1,5 +1,7 @@
-//! Periodic height-field generators: Gaussian random surfaces of several spectra (sums of
-//! random-phase sinusoids on the period's frequency lattice), and non-Gaussian ones
+//! Periodic height-field generators: Gaussian random surfaces of several spectra (every
+//! frequency of the period's lattice up to a quarter of the grid, each with an independent
+//! complex Gaussian amplitude of variance ∝ the power spectral density: a stationary,
+//! isotropic Gaussian random field sampled exactly), and non-Gaussian ones
 //! (cellular cobblestones, ridged noise) to push Smith's model past its hypothesis H3.
 
 use rand::rngs::SmallRng;
@@ -35,61 +37,76 @@ pub enum Spectrum {
     },
 }
 
-/// Sinusoids summed per field: enough for the central limit theorem to make the heights
-/// and slopes Gaussian (the measured excess kurtosis is reported by the statistics).
-const TERMS: usize = 600;
-
 impl Spectrum {
-    /// A wavenumber `|k|` (radians per cell) drawn with density ∝ `|k| · PSD(|k|)`.
-    fn sample_wavenumber(&self, rng: &mut SmallRng) -> f64 {
+    /// The (unnormalized) 2-D power spectral density at wavenumber `|k|` (radians per
+    /// cell); `lattice_step` is the spacing of the period's frequency lattice, the
+    /// narrowest band-pass width that still holds lattice frequencies.
+    fn power_density(&self, k: f64, lattice_step: f64) -> f64 {
         let tau = std::f64::consts::TAU;
         match *self {
-            Spectrum::Gaussian { wavelength } => {
-                // PSD ∝ exp(-k²ℓ²/4): k is the norm of a 2-D normal vector, σ = √2/ℓ.
-                let sigma = std::f64::consts::SQRT_2 / wavelength;
-                let a: f64 = rng.random();
-                sigma * (-2.0 * (1.0 - a).ln()).sqrt() // Rayleigh: |2-D normal vector|
-            }
+            // Gaussian autocorrelation exp(-r²/ℓ²): PSD ∝ exp(-k²ℓ²/4).
+            Spectrum::Gaussian { wavelength } => (-k * k * wavelength * wavelength / 4.0).exp(),
             Spectrum::PowerLaw { min_wavelength, max_wavelength, exponent } => {
                 let (k0, k1) = (tau / max_wavelength, tau / min_wavelength);
-                // Density ∝ k^(1-β) on [k0, k1], by inverse CDF.
-                let p = 2.0 - exponent;
-                let u: f64 = rng.random();
-                if p.abs() < 1e-9 {
-                    k0 * (k1 / k0).powf(u)
-                } else {
-                    (k0.powf(p) + u * (k1.powf(p) - k0.powf(p))).powf(1.0 / p)
-                }
+                if (k0..=k1).contains(&k) { k.powf(-exponent) } else { 0.0 }
             }
+            // |k| ~ N(k_c, (width k_c)²) radially: PSD ∝ exp(-(k - k_c)²/(2 s²)) / k.
             Spectrum::BandPass { wavelength, width } => {
-                let k = tau / wavelength;
-                let (a, b): (f64, f64) = (rng.random(), rng.random());
-                let normal = (-2.0 * (1.0 - a).ln()).sqrt() * (tau * b).cos();
-                (k * (1.0 + width * normal)).abs()
+                let center = tau / wavelength;
+                let deviation = (width * center).abs().max(0.5 * lattice_step);
+                (-(k - center).powi(2) / (2.0 * deviation * deviation)).exp() / k
             }
         }
     }
 }
 
-/// Sums `terms` sinusoids with integer frequency vectors `(a, b)` (cycles per period), so
-/// the field is exactly periodic.
-fn sum_of_sinusoids(size: usize, frequencies: &[(i64, i64, f64, f64)]) -> Vec<f64> {
-    let n = size as f64;
-    let tau = std::f64::consts::TAU;
-    let mut heights = vec![0.0; size * size];
-    let mut cos_x = vec![0.0; size];
-    let mut sin_x = vec![0.0; size];
-    for &(a, b, amplitude, phase) in frequencies {
-        for (i, (c, s)) in cos_x.iter_mut().zip(sin_x.iter_mut()).enumerate() {
-            let angle = tau * (a as f64) * (i as f64) / n;
-            (*c, *s) = (angle.cos(), angle.sin());
+/// A standard normal deviate (Box–Muller).
+fn standard_normal(rng: &mut SmallRng) -> f64 {
+    let (a, b): (f64, f64) = (rng.random(), rng.random());
+    (-2.0 * (1.0 - a).ln()).sqrt() * (std::f64::consts::TAU * b).cos()
+}
+
+/// `Re Σ_(a,b) C_ab exp(iτ(a x + b y)/N)` on the `size × size` grid for the complex
+/// coefficients `coefficients[(a + limit) (2 limit + 1) + (b + limit)]`, `|a|, |b| ≤ limit`:
+/// a separable inverse DFT (first over `b` for every row `y`, then over `a`), exact and
+/// periodic.
+fn inverse_dft(size: usize, limit: i64, coefficients: &[(f64, f64)]) -> Vec<f64> {
+    let n = size as i64;
+    let side = (2 * limit + 1) as usize;
+    let twiddle: Vec<(f64, f64)> = (0..size)
+        .map(|m| {
+            let angle = std::f64::consts::TAU * m as f64 / size as f64;
+            (angle.cos(), angle.sin())
+        })
+        .collect();
+    let rotate = |frequency: i64, position: usize| twiddle[((frequency * position as i64).rem_euclid(n)) as usize];
+    // rows[a][y] = Σ_b C_ab exp(iτ b y / N)
+    let mut rows = vec![(0.0, 0.0); side * size];
+    for (ai, row) in rows.chunks_exact_mut(size).enumerate() {
+        let column = &coefficients[ai * side..(ai + 1) * side];
+        for (bi, &(re, im)) in column.iter().enumerate() {
+            if re == 0.0 && im == 0.0 {
+                continue;
+            }
+            let b = bi as i64 - limit;
+            for (y, value) in row.iter_mut().enumerate() {
+                let (c, s) = rotate(b, y);
+                value.0 += re * c - im * s;
+                value.1 += re * s + im * c;
+            }
         }
-        for j in 0..size {
-            let angle = tau * (b as f64) * (j as f64) / n + phase;
-            let (cy, sy) = (angle.cos() * amplitude, angle.sin() * amplitude);
-            let row = &mut heights[j * size..(j + 1) * size];
-            for ((h, c), s) in row.iter_mut().zip(&cos_x).zip(&sin_x) {
-                *h += c * cy - s * sy; // cos(x + y)
+    }
+    let mut heights = vec![0.0; size * size];
+    for (y, line) in heights.chunks_exact_mut(size).enumerate() {
+        for (ai, row) in rows.chunks_exact(size).enumerate() {
+            let (re, im) = row[y];
+            if re == 0.0 && im == 0.0 {
+                continue;
+            }
+            let a = ai as i64 - limit;
+            for (x, h) in line.iter_mut().enumerate() {
+                let (c, s) = rotate(a, x);
+                *h += re * c - im * s;
             }
         }
     }
@@ -123,30 +140,34 @@ pub fn generate_gaussian(
     }
     let mut rng = SmallRng::seed_from_u64(seed);
     let tau = std::f64::consts::TAU;
-    let nyquist = (size / 2) as i64;
-    let mut frequencies = Vec::with_capacity(TERMS);
-    let mut attempts = 0;
-    while frequencies.len() < TERMS {
-        attempts += 1;
-        if attempts > 1000 * TERMS {
-            return Err(HeightFieldError::BadSize(format!(
-                "{spectrum:?} has no wavelength between 4 and {size} cells"
-            )));
+    // Frequencies up to a quarter of the grid (wavelengths ≥ 4 cells), so that the
+    // piecewise-linear surface resolves every one.
+    let limit = (size / 4) as i64;
+    let lattice_step = tau / size as f64;
+    let side = (2 * limit + 1) as usize;
+    let mut coefficients = vec![(0.0, 0.0); side * side];
+    let mut total_power = 0.0;
+    for a in -limit..=limit {
+        for b in -limit..=limit {
+            // Draw for every lattice point, so the field does not depend on which are zero.
+            let (re, im) = (standard_normal(&mut rng), standard_normal(&mut rng));
+            if (a, b) == (0, 0) {
+                continue;
+            }
+            let k = lattice_step * (a as f64).hypot(b as f64);
+            let power = spectrum.power_density(k, lattice_step);
+            if !(power.is_finite() && power > 0.0) {
+                continue;
+            }
+            total_power += power;
+            let amplitude = power.sqrt();
+            coefficients[(a + limit) as usize * side + (b + limit) as usize] = (amplitude * re, amplitude * im);
         }
-        let k = spectrum.sample_wavenumber(&mut rng);
-        if !k.is_finite() {
-            continue;
-        }
-        let direction: f64 = rng.random_range(0.0..tau);
-        // Cycles per period along x and y, rounded to the lattice.
-        let cycles = k * size as f64 / tau;
-        let (a, b) = ((cycles * direction.cos()).round() as i64, (cycles * direction.sin()).round() as i64);
-        if (a, b) == (0, 0) || a.abs() > nyquist / 2 || b.abs() > nyquist / 2 {
-            continue;
-        }
-        frequencies.push((a, b, 1.0, rng.random_range(0.0..tau)));
     }
-    with_slope_sigma(size, sum_of_sinusoids(size, &frequencies), slope_sigma)
+    if !(total_power > 0.0 && total_power.is_finite()) {
+        return Err(HeightFieldError::BadSize(format!("{spectrum:?} has no wavelength between 4 and {size} cells")));
+    }
+    with_slope_sigma(size, inverse_dft(size, limit, &coefficients), slope_sigma)
 }
 
 /// Cellular "cobblestones": `F2 - F1` of periodic Worley noise with `cells` feature

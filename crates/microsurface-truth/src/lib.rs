@@ -11,7 +11,9 @@
 //! This is a std crate beside the algorithm crates; [`comparison`] measures `smith-micro`'s
 //! eq. 17 (and plain MIP-mapping) against the ground truth, as Fig. 9 of the paper does;
 //! [`fit_lambda_correction`] fits `smith-micro`'s per-material [`smith_micro::LambdaCorrection`]
-//! to the ground truth of a view-only sweep.
+//! to the ground truth of a view-only sweep, and [`fit_visibility_correction`] the
+//! corrected model with separate view and light tables and a light–view correlation term
+//! ([`smith_micro::VisibilityCorrection`]) on several realizations at once.
 //!
 //! ```
 //! use microsurface_truth::{Spectrum, SurfaceStatistics, VisibleAverage, generate_gaussian};
@@ -33,6 +35,7 @@ mod generate;
 mod heightfield;
 mod raycast;
 mod statistics;
+mod visibility_fit;
 
 pub use correction_fit::{FIT_ANGLES_DEG, FIT_AZIMUTHS_DEG, FitSample, fit_lambda_correction, fit_to_samples};
 pub use experiment::{AttributeEstimate, VisibleAverage};
@@ -41,4 +44,10 @@ pub use heightfield::{HeightField, HeightFieldError};
 pub use raycast::{first_hit, is_lit};
 /// The corrected visibility model's per-material factor on Λ, as fitted here.
 pub use smith_micro::LambdaCorrection;
+/// The corrected visibility model with the light–view correlation term, as fitted here.
+pub use smith_micro::VisibilityCorrection;
 pub use statistics::SurfaceStatistics;
+pub use visibility_fit::{
+    CORRELATION_LIGHTS_DEG, CORRELATION_VIEW_ANGLES_DEG, PairSample, SHRINKAGE_STEPS, VisibilitySamples,
+    collect_samples, fit_correlation, fit_samples, fit_visibility_correction,
+};

@@ -108,6 +108,7 @@ static MODULES: &[ShaderModule] = &[
         kernels: &[
             wgsl_file!("shaders/kernels/smith_micro_differential.wgsl"),
             wgsl_file!("shaders/kernels/smith_micro_corrected_differential.wgsl"),
+            wgsl_file!("shaders/kernels/smith_micro_correlated_differential.wgsl"),
         ],
         structs: || {
             vec![
@@ -116,6 +117,9 @@ static MODULES: &[ShaderModule] = &[
                 StructDecl::of::<smith_micro::LambdaCorrection>(),
                 StructDecl::of::<smith_micro::gpu::CorrectionCase>(),
                 StructDecl::of::<smith_micro::gpu::CorrectionResults>(),
+                StructDecl::of::<smith_micro::VisibilityCorrection>(),
+                StructDecl::of::<smith_micro::gpu::CorrelatedCase>(),
+                StructDecl::of::<smith_micro::gpu::CorrelatedResults>(),
             ]
         },
         constants: smith_micro::gpu::WGSL_CONSTANTS,

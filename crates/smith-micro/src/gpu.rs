@@ -21,6 +21,10 @@ use crate::correction::{
     CORRECTION_KNOTS, LambdaCorrection, MAX_CORRECTED_LAMBDA, MAX_CORRECTION_FACTOR, MIN_CORRECTION_FACTOR,
     corrected_lambda, corrected_visible_mean_attribute,
 };
+use crate::correlated::{
+    MAX_CORRELATION, MAX_CORRELATION_COEFFICIENT, MIN_CORRELATION, VisibilityCorrection, correlated_lambda,
+    correlated_visible_mean_attribute, correlated_visible_mean_attribute_for_directions, cos_azimuth_difference,
+};
 use crate::erf::{ERF_SERIES_LIMIT, ERFC_COEFFICIENTS, ERFC_ZERO_FROM, erf, erfc, erfcx};
 use crate::height::{
     LOG_ONE_MINUS_SERIES_LIMIT, MAX_HEIGHT_DEVIATION, STANDARDIZED_HEIGHT_LIMIT, attribute_at_height, height_cdf,
@@ -151,6 +155,64 @@ pub fn reference_correction_results(case: &CorrectionCase) -> CorrectionResults 
     CorrectionResults { values: UVec4::from_array(values) }
 }
 
+gpu_struct! {
+    /// The inputs of one case of the differential kernel `smith_correlated_values`.
+    pub struct CorrelatedCase {
+        /// [`VisibilityCorrection::view_low`] of the model under test.
+        pub view_low: Vec4,
+        /// [`VisibilityCorrection::view_high`].
+        pub view_high: Vec4,
+        /// [`VisibilityCorrection::light_low`].
+        pub light_low: Vec4,
+        /// [`VisibilityCorrection::light_high`].
+        pub light_high: Vec4,
+        /// [`VisibilityCorrection::correlation`].
+        pub correlation: Vec4,
+        /// `(ā, a_s, Λ(v), Λ(l))`.
+        pub inputs: Vec4,
+        /// The view direction in `xyz`, `cos Δφ` for the Λ-based functions in `w`.
+        pub view: Vec4,
+        /// The light direction in `xyz`, the isotropic slope deviation `σ_n` in `w`.
+        pub light: Vec4,
+    }
+}
+
+gpu_struct! {
+    /// The encoded results of one [`CorrelatedCase`], in the order of
+    /// [`reference_correlated_results`].
+    pub struct CorrelatedResults {
+        /// Four results.
+        pub values: UVec4,
+    }
+}
+
+/// The CPU reference of the kernel `smith_correlated_values`: 4 encoded results,
+/// [`correlated_lambda`], [`correlated_visible_mean_attribute`],
+/// [`cos_azimuth_difference`] of the two directions, and
+/// [`correlated_visible_mean_attribute_for_directions`] over isotropic slopes `σ_n`.
+pub fn reference_correlated_results(case: &CorrelatedCase) -> CorrelatedResults {
+    let model = VisibilityCorrection {
+        view_low: case.view_low,
+        view_high: case.view_high,
+        light_low: case.light_low,
+        light_high: case.light_high,
+        correlation: case.correlation,
+    };
+    let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array();
+    let attribute = HeightCorrelatedAttribute { mean, height_correlation: correlation };
+    let cos = case.view.w;
+    let (view, light) = (case.view.truncate(), case.light.truncate());
+    let slopes = SlopeDeviation::new(case.light.w, case.light.w);
+    let values = [
+        correlated_lambda(lambda_view, lambda_light, cos, &model),
+        correlated_visible_mean_attribute(attribute, lambda_view, lambda_light, cos, &model),
+        Some(cos_azimuth_difference(view, light)),
+        slopes.and_then(|s| correlated_visible_mean_attribute_for_directions(attribute, view, light, s, &model)),
+    ]
+    .map(encode);
+    CorrelatedResults { values: UVec4::from_array(values) }
+}
+
 // Evaluated at compile time: an index out of bounds would not compile.
 const ERFC_C0: f32 = ERFC_COEFFICIENTS[0];
 const ERFC_C1: f32 = ERFC_COEFFICIENTS[1];
@@ -193,6 +255,9 @@ pub const WGSL_CONSTANTS: &[GpuConst] = &[
     gpu_const!(MIN_CORRECTION_FACTOR: f32 as "SMITH_MIN_CORRECTION_FACTOR"),
     gpu_const!(MAX_CORRECTION_FACTOR: f32 as "SMITH_MAX_CORRECTION_FACTOR"),
     gpu_const!(MAX_CORRECTED_LAMBDA: f32 as "SMITH_MAX_CORRECTED_LAMBDA"),
+    gpu_const!(MIN_CORRELATION: f32 as "SMITH_MIN_CORRELATION"),
+    gpu_const!(MAX_CORRELATION: f32 as "SMITH_MAX_CORRELATION"),
+    gpu_const!(MAX_CORRELATION_COEFFICIENT: f32 as "SMITH_MAX_CORRELATION_COEFFICIENT"),
 ];
 
 /// Segments of the piecewise linear [`LambdaCorrection`]: knots − 1.
@@ -209,6 +274,9 @@ mod tests {
         assert_eq!(size_of::<LambdaCorrection>(), 32);
         assert_eq!(size_of::<CorrectionCase>(), 48);
         assert_eq!(size_of::<CorrectionResults>(), 16);
+        assert_eq!(size_of::<VisibilityCorrection>(), 80);
+        assert_eq!(size_of::<CorrelatedCase>(), 128);
+        assert_eq!(size_of::<CorrelatedResults>(), 16);
     }
 
     #[test]

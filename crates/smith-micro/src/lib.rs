@@ -44,6 +44,8 @@
 //! - [`attribute`]: the mean visible attribute `ā(v, l)` (eq. 17).
 //! - [`correction`]: a per-material correction of Λ fitted to ray-traced ground truth,
 //!   and eq. 17 with it (`ā + a_s Λ'/(Λ' + 2)`), kept beside eq. 17.
+//! - [`correlated`]: the corrected visibility model with separate view and light tables
+//!   and a light–view correlation term in the azimuth difference (its derivation).
 //! - [`shading`]: the NDF ⊗ BRDF convolution of §5.5 and the shading of eq. 13.
 //! - [`gpu`]: the structs and constants shared with the WGSL twin
 //!   (`shaders/smith_micro.wgsl`) and the CPU reference of its differential kernel.
@@ -67,6 +69,7 @@ extern crate std;
 
 pub mod attribute;
 pub mod correction;
+pub mod correlated;
 pub mod erf;
 pub mod gpu;
 pub mod height;
@@ -75,6 +78,10 @@ pub mod shading;
 
 pub use attribute::{HeightCorrelatedAttribute, visible_mean_attribute, visible_mean_attribute_for_directions};
 pub use correction::{LambdaCorrection, corrected_lambda, corrected_visible_mean_attribute};
+pub use correlated::{
+    VisibilityCorrection, correlated_lambda, correlated_visible_mean_attribute,
+    correlated_visible_mean_attribute_for_directions, cos_azimuth_difference,
+};
 pub use erf::{erf, erfc, erfcx};
 pub use height::{attribute_at_height, height_cdf, height_visibility, log_height_cdf};
 pub use masking::{

@@ -1,0 +1,367 @@
+//! The corrected visibility model with a light–view correlation term, kept beside eq. 17:
+//! `ā(v, l) = ā + a_s Λ'/(Λ' + 2)` with
+//!
+//! `Λ' = A + B − ρ(cos Δφ) min(A, B)`, `A = c_v(u_v) Λ(v)`, `B = c_l(u_l) Λ(l)`,
+//! `ρ(c) = ρ₀ + ρ₁ c + ρ₂ c²` clamped to `[MIN_CORRELATION, MAX_CORRELATION]`,
+//!
+//! where `c_v` and `c_l` are two per-material [`LambdaCorrection`] tables (`u = Λ/(1+Λ)`)
+//! and `Δφ` is the azimuth difference between the view and the light.
+//!
+//! # Derivation
+//!
+//! Eq. 17 weighs a point at height `h` by `p(h) V(v,h) V(l,h)` and integrates; with
+//! `V(ω,h) = g(h)^Λ(ω)` the product is `g^(Λ(v)+Λ(l))`, i.e. eq. 17 is already the
+//! attribute analogue of Heitz 2014's *height-correlated* masking–shadowing
+//! `G₂ = 1/(1 + Λ(v) + Λ(l))` (both factors conditioned on the same height). What eq. 17
+//! leaves out is measured by ray tracing (`microsurface-truth`, `cargo xtask fig9`):
+//!
+//! 1. Seen from `v`, points are weighted by their projected area, so the visible set at
+//!    a height is enriched in facets turned toward `v` — and these are the ones whose
+//!    surroundings drop away along `v` (Smith assumes the occlusion along the ray is
+//!    independent of the slope at its origin). A fitted factor `c_v(u)` on `Λ(v)`
+//!    absorbs this for view-only sweeps ([`crate::correction`]).
+//! 2. The *lit* points of what the eye sees are not weighted by their projected area
+//!    toward the light: at normal view, the lit set sits markedly higher than the set
+//!    seen from the light direction (measured factor ≈ 2 at `Λ = 0.05` on Gaussian
+//!    surfaces, against ≈ 1.45 for the view). Hence a second table `c_l`, fitted on
+//!    sweeps of the light at normal view, where `Λ' = B` exactly.
+//! 3. Visibility and lighting are correlated through the direction, as in Heitz 2014's
+//!    *height-direction-correlated* form `G₂ = 1/(1 + max(Λv,Λl) + λ(φ) min(Λv,Λl))`,
+//!    which is `A + B − (1 − λ) min(A, B)`: with `ρ = 1 − λ`, `ρ = 1` (same azimuth:
+//!    what is seen is mostly lit) gives `max(A, B)`, `ρ = 0` the height-correlated sum.
+//!    Ray tracing (Gaussian surfaces, 1024²) asks for `ρ ≈ 0.1–0.4` at `Δφ = 90°`, for
+//!    `ρ ≤ 0` at 180° (facets turned toward the eye are turned away from a light behind
+//!    it, so fewer of the low visible points are lit than independence predicts), and
+//!    for `ρ ≥ 1` at `Δφ = 0` (the tops seen at grazing angles include facets turned away
+//!    from a light on the same side, which are self-shadowed: visible-and-lit points sit
+//!    *lower* than visible ones, `Λ' < max(A, B)`, which `ρ ≤ 1` cannot reach). A
+//!    quadratic in `cos Δφ` (three coefficients per material) follows this on average;
+//!    Ginneken's `λ(φ) = 4.41φ/(4.41φ + 1)` cannot (it keeps `ρ` in `[0, 1]`).
+//!
+//! Limits (measured by `cargo xtask fig9`): the quadratic `ρ` is a compromise over the
+//! azimuth differences, so the same-azimuth and opposite-azimuth sweeps (light at 60°)
+//! keep errors of 0.45–1.6 % of the attribute range where eq. 17 has 1.6–5.8 % (the
+//! cellular texture at 180°: 3.4 %, worse than eq. 17's 2.2 %), and a narrow band-pass
+//! spectrum, whose `ρ(cos Δφ)` the quadratic does not follow, keeps about 0.9 % at
+//! `Δφ = 90°`.
+//!
+//! Cost in WGSL over eq. 17 with one table: a second table lookup, one `min`, two
+//! multiply–adds for `ρ` and one for `Λ'` (the caller supplies `cos Δφ`;
+//! [`correlated_visible_mean_attribute_for_directions`] computes it from the directions).
+//!
+//! | input | result |
+//! |---|---|
+//! | [`VisibilityCorrection::IDENTITY`], normal (not subnormal) Λs | eq. 17, bit for bit |
+//! | `Λ(v) = 0` or `Λ(l) = 0` | `ā + a_s x(B)` or `ā + a_s x(A)`: `ρ` plays no role |
+//! | a Λ `= +∞` or above `MAX_CORRECTED_LAMBDA` | `ā + a_s` |
+//! | `cos Δφ` NaN | treated as 0; outside `[−1, 1]` clamped |
+//! | a Λ negative or NaN, an invalid table, a `ρ` coefficient NaN, ±∞ or above [`MAX_CORRELATION_COEFFICIENT`] in magnitude | `None` |
+//! | `|ā|` or `|a_s|` above `2⁶⁴` or NaN | `None` |
+
+use glam::{Vec3, Vec4};
+use gpu_layout::gpu_struct;
+
+use crate::attribute::HeightCorrelatedAttribute;
+use crate::correction::{LambdaCorrection, corrected_lambda};
+use crate::erf::{flush_subnormal, is_infinite_bits, is_nan_bits};
+use crate::masking::{SlopeDeviation, smith_lambda_direction};
+
+/// Smallest `ρ` after clamping: `Λ' ≤ A + B + 2 min(A, B)`, finite.
+pub const MIN_CORRELATION: f32 = -2.0;
+/// Largest `ρ` after clamping: `Λ' ≥ max(A, B) ≥ 0`.
+pub const MAX_CORRELATION: f32 = 1.0;
+/// Largest accepted magnitude of a `ρ` coefficient.
+pub const MAX_CORRELATION_COEFFICIENT: f32 = 16.0;
+
+gpu_struct! {
+    /// A per-material corrected visibility model (see the module documentation): the
+    /// view table `c_v`, the light table `c_l` (each as a [`LambdaCorrection`]: factors at
+    /// `u = i/7`) and the coefficients of `ρ(cos Δφ)`.
+    pub struct VisibilityCorrection {
+        /// `c_v` at knots 0 … 3.
+        pub view_low: Vec4,
+        /// `c_v` at knots 4 … 7.
+        pub view_high: Vec4,
+        /// `c_l` at knots 0 … 3.
+        pub light_low: Vec4,
+        /// `c_l` at knots 4 … 7.
+        pub light_high: Vec4,
+        /// `(ρ₀, ρ₁, ρ₂, unused)`: `ρ(c) = ρ₀ + ρ₁ c + ρ₂ c²`, `c = cos Δφ`.
+        pub correlation: Vec4,
+    }
+}
+
+impl VisibilityCorrection {
+    /// No correction: eq. 17 (both tables the identity, `ρ = 0`).
+    pub const IDENTITY: Self = Self {
+        view_low: Vec4::ONE,
+        view_high: Vec4::ONE,
+        light_low: Vec4::ONE,
+        light_high: Vec4::ONE,
+        correlation: Vec4::ZERO,
+    };
+
+    /// The model from its parts, or `None` when a table or a coefficient is invalid (see
+    /// [`VisibilityCorrection::is_valid`]).
+    pub fn new(view: LambdaCorrection, light: LambdaCorrection, correlation: [f32; 3]) -> Option<Self> {
+        let [r0, r1, r2] = correlation;
+        let model = Self {
+            view_low: view.low,
+            view_high: view.high,
+            light_low: light.low,
+            light_high: light.high,
+            correlation: Vec4::new(r0, r1, r2, 0.0),
+        };
+        model.is_valid().then_some(model)
+    }
+
+    /// The view table `c_v`.
+    pub fn view(&self) -> LambdaCorrection {
+        LambdaCorrection { low: self.view_low, high: self.view_high }
+    }
+
+    /// The light table `c_l`.
+    pub fn light(&self) -> LambdaCorrection {
+        LambdaCorrection { low: self.light_low, high: self.light_high }
+    }
+
+    /// `(ρ₀, ρ₁, ρ₂)`.
+    pub fn correlation_coefficients(&self) -> [f32; 3] {
+        [self.correlation.x, self.correlation.y, self.correlation.z]
+    }
+
+    /// Whether both tables are valid and `|ρᵢ| ≤ MAX_CORRELATION_COEFFICIENT` (false for
+    /// NaN).
+    pub fn is_valid(&self) -> bool {
+        let coefficient = |r: f32| !is_nan_bits(r) && r.abs() <= MAX_CORRELATION_COEFFICIENT;
+        self.view().is_valid()
+            && self.light().is_valid()
+            && self.correlation_coefficients().into_iter().all(coefficient)
+    }
+
+    /// `ρ(cos Δφ)`, clamped to `[MIN_CORRELATION, MAX_CORRELATION]` (`cos Δφ` clamped to
+    /// `[−1, 1]`, NaN read as 0). Does not check validity.
+    ///
+    /// WGSL twin: `smith_view_light_correlation`.
+    pub fn correlation_at(&self, cos_azimuth_difference: f32) -> f32 {
+        let c = if is_nan_bits(cos_azimuth_difference) { 0.0 } else { cos_azimuth_difference.clamp(-1.0, 1.0) };
+        let [r0, r1, r2] = self.correlation_coefficients();
+        (r0 + c * (r1 + c * r2)).clamp(MIN_CORRELATION, MAX_CORRELATION)
+    }
+}
+
+impl Default for VisibilityCorrection {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+/// The corrected and correlated `Λ' = A + B − ρ min(A, B)` (see the module
+/// documentation): `None` for a negative or NaN Λ or an invalid model, `+∞` when `A` or
+/// `B` is.
+///
+/// WGSL twin: `smith_correlated_lambda`.
+pub fn correlated_lambda(
+    lambda_view: f32,
+    lambda_light: f32,
+    cos_azimuth_difference: f32,
+    correction: &VisibilityCorrection,
+) -> Option<f32> {
+    if !correction.is_valid() {
+        return None;
+    }
+    let view = corrected_lambda(lambda_view, &correction.view())?;
+    let light = corrected_lambda(lambda_light, &correction.light())?;
+    if is_infinite_bits(view) || is_infinite_bits(light) {
+        return Some(f32::INFINITY);
+    }
+    // Both ≤ 4·2⁶⁴ and ρ ∈ [−2, 1]: no overflow, and Λ' ≥ max(A, B) ≥ 0.
+    let rho = correction.correlation_at(cos_azimuth_difference);
+    Some(flush_subnormal((view + light) - rho * view.min(light)))
+}
+
+/// The corrected, correlated mean visible attribute `ā + a_s Λ'/(Λ' + 2)` (see the
+/// module's table).
+///
+/// WGSL twin: `smith_correlated_visible_mean_attribute`.
+pub fn correlated_visible_mean_attribute(
+    attribute: HeightCorrelatedAttribute,
+    lambda_view: f32,
+    lambda_light: f32,
+    cos_azimuth_difference: f32,
+    correction: &VisibilityCorrection,
+) -> Option<f32> {
+    if !attribute.is_valid() {
+        return None;
+    }
+    let lambda = correlated_lambda(lambda_view, lambda_light, cos_azimuth_difference, correction)?;
+    // As eq. 17: 0 gives 0, ∞ gives 1, a normal Λ' keeps 2/Λ' finite.
+    let visible_fraction = if is_infinite_bits(lambda) {
+        1.0
+    } else if lambda == 0.0 {
+        0.0
+    } else {
+        1.0 / (1.0 + 2.0 / lambda)
+    };
+    Some(attribute.mean + attribute.height_correlation * visible_fraction)
+}
+
+/// `cos Δφ` between the azimuths of `view` and `light` (their xy projections), 1 when
+/// either projection is zero (a direction along the normal, whose Λ is 0), 0 when either
+/// is not finite.
+///
+/// WGSL twin: `smith_cos_azimuth_difference`.
+pub fn cos_azimuth_difference(view: Vec3, light: Vec3) -> f32 {
+    if !(view.x.is_finite() && view.y.is_finite() && light.x.is_finite() && light.y.is_finite()) {
+        return 0.0;
+    }
+    // Subnormals flushed (as the GPU does), then each projection scaled by its largest
+    // component: no overflow or underflow of the squares.
+    let scaled = |x: f32, y: f32| {
+        let (x, y) = (flush_subnormal(x), flush_subnormal(y));
+        let largest = x.abs().max(y.abs());
+        (largest > 0.0).then(|| (flush_subnormal(x / largest), flush_subnormal(y / largest)))
+    };
+    match (scaled(view.x, view.y), scaled(light.x, light.y)) {
+        (Some((ax, ay)), Some((bx, by))) => {
+            let dot = ax * bx + ay * by;
+            let lengths = libm::sqrtf(ax * ax + ay * ay) * libm::sqrtf(bx * bx + by * by);
+            flush_subnormal((dot / lengths).clamp(-1.0, 1.0))
+        }
+        _ => 1.0,
+    }
+}
+
+/// [`correlated_visible_mean_attribute`] for a view and a light direction in the
+/// mean-normal frame over slopes `slopes`: `None` when a direction is below the
+/// horizon, zero or not finite.
+pub fn correlated_visible_mean_attribute_for_directions(
+    attribute: HeightCorrelatedAttribute,
+    view: Vec3,
+    light: Vec3,
+    slopes: SlopeDeviation,
+    correction: &VisibilityCorrection,
+) -> Option<f32> {
+    let lambda_view = smith_lambda_direction(view, slopes)?;
+    let lambda_light = smith_lambda_direction(light, slopes)?;
+    let cos = cos_azimuth_difference(view, light);
+    correlated_visible_mean_attribute(attribute, lambda_view, lambda_light, cos, correction)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::attribute::visible_mean_attribute;
+
+    fn model(rho: [f32; 3]) -> VisibilityCorrection {
+        let view = LambdaCorrection::from_knots([1.5, 1.4, 1.3, 1.25, 1.2, 1.15, 1.1, 1.0]).unwrap();
+        let light = LambdaCorrection::from_knots([2.2, 2.0, 1.6, 1.4, 1.3, 1.2, 1.1, 1.0]).unwrap();
+        VisibilityCorrection::new(view, light, rho).unwrap()
+    }
+
+    #[test]
+    fn identity_is_eq17_bit_for_bit() {
+        let attribute = HeightCorrelatedAttribute { mean: 0.4, height_correlation: 0.3 };
+        let mut lambdas: std::vec::Vec<f32> = (0..300).map(|i| 1e-4 * 1.06_f32.powi(i)).collect();
+        lambdas.extend([0.0, f32::MIN_POSITIVE, 1e19, 3e30, f32::MAX, f32::INFINITY]);
+        for &view in &lambdas {
+            for &light in lambdas.iter().step_by(7) {
+                for cos in [-1.0, 0.0, 0.7, 1.0] {
+                    let eq17 = visible_mean_attribute(attribute, view, light).map(f32::to_bits);
+                    let model =
+                        correlated_visible_mean_attribute(attribute, view, light, cos, &VisibilityCorrection::IDENTITY);
+                    assert_eq!(model.map(f32::to_bits), eq17, "Λ = {view} + {light}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn correlation_interpolates_between_max_and_sum() {
+        let full = model([1.0, 0.0, 0.0]);
+        let none = model([0.0, 0.0, 0.0]);
+        let (a, b) = (corrected_lambda(0.3, &full.view()).unwrap(), corrected_lambda(0.2, &full.light()).unwrap());
+        assert_eq!(correlated_lambda(0.3, 0.2, 0.3, &full), Some(a.max(b)));
+        assert_eq!(correlated_lambda(0.3, 0.2, 0.3, &none), Some(a + b));
+        // ρ = 0.5 + 0.25 c + 0.25 c²: 1 at c = 1, 0.5 at c = 0, 0.5 at c = −1.
+        let quadratic = model([0.5, 0.25, 0.25]);
+        assert_eq!(quadratic.correlation_at(1.0), 1.0);
+        assert_eq!(quadratic.correlation_at(0.0), 0.5);
+        assert_eq!(quadratic.correlation_at(-1.0), 0.5);
+        assert_eq!(quadratic.correlation_at(f32::NAN), 0.5);
+        assert_eq!(quadratic.correlation_at(5.0), 1.0);
+        // Clamped to [−2, 1].
+        assert_eq!(model([-9.0, 0.0, 0.0]).correlation_at(0.0), MIN_CORRELATION);
+        assert_eq!(model([9.0, 0.0, 0.0]).correlation_at(0.0), MAX_CORRELATION);
+        // A negative ρ sees higher points than the sum.
+        let anti = model([-0.9, 0.0, 0.0]);
+        let attribute = HeightCorrelatedAttribute { mean: 0.0, height_correlation: 1.0 };
+        let sum = correlated_visible_mean_attribute(attribute, 0.3, 0.2, -1.0, &none).unwrap();
+        assert!(correlated_visible_mean_attribute(attribute, 0.3, 0.2, -1.0, &anti).unwrap() > sum);
+    }
+
+    #[test]
+    fn one_direction_at_the_normal_uses_the_other_table_alone() {
+        let m = model([0.7, 0.2, -0.1]);
+        for lambda in [0.01_f32, 0.3, 2.0, 40.0] {
+            let light_only = correlated_lambda(0.0, lambda, -0.4, &m).unwrap();
+            assert_eq!(light_only, corrected_lambda(lambda, &m.light()).unwrap());
+            let view_only = correlated_lambda(lambda, 0.0, 0.9, &m).unwrap();
+            assert_eq!(view_only, corrected_lambda(lambda, &m.view()).unwrap());
+        }
+    }
+
+    #[test]
+    fn special_inputs_have_defined_results() {
+        let m = model([0.3, 0.9, -0.9]);
+        let attribute = HeightCorrelatedAttribute { mean: 0.5, height_correlation: -0.2 };
+        assert_eq!(correlated_visible_mean_attribute(attribute, 0.0, 0.0, 0.0, &m), Some(0.5));
+        assert_eq!(correlated_visible_mean_attribute(attribute, f32::INFINITY, 0.1, 0.0, &m), Some(0.3));
+        assert_eq!(correlated_visible_mean_attribute(attribute, 0.1, f32::MAX, 0.0, &m), Some(0.3));
+        assert_eq!(correlated_visible_mean_attribute(attribute, -1.0, 0.1, 0.0, &m), None);
+        assert_eq!(correlated_visible_mean_attribute(attribute, 0.1, f32::NAN, 0.0, &m), None);
+        let broken = HeightCorrelatedAttribute { mean: f32::NAN, height_correlation: 0.0 };
+        assert_eq!(correlated_visible_mean_attribute(broken, 0.1, 0.1, 0.0, &m), None);
+        for bad in [f32::NAN, f32::INFINITY, 17.0] {
+            assert_eq!(VisibilityCorrection::new(m.view(), m.light(), [0.0, bad, 0.0]), None);
+            let invalid = VisibilityCorrection { correlation: Vec4::new(bad, 0.0, 0.0, 0.0), ..m };
+            assert_eq!(correlated_lambda(0.1, 0.1, 0.0, &invalid), None);
+        }
+        let bad_table = VisibilityCorrection { light_low: Vec4::splat(0.1), ..m };
+        assert_eq!(correlated_lambda(0.1, 0.1, 0.0, &bad_table), None);
+        // Every accepted input gives a finite value between ā and ā + a_s.
+        let extreme = VisibilityCorrection::new(
+            LambdaCorrection::from_knots([4.0; 8]).unwrap(),
+            LambdaCorrection::from_knots([4.0; 8]).unwrap(),
+            [-16.0, 0.0, 0.0],
+        )
+        .unwrap();
+        for view in [0.0_f32, 1e-40, 1e-3, 1.0, 1e19, f32::MAX] {
+            for light in [0.0_f32, 1e-40, 0.5, 1e19, f32::MAX] {
+                for cos in [-1.0_f32, 0.0, 1.0, f32::NAN, f32::INFINITY] {
+                    let value = correlated_visible_mean_attribute(attribute, view, light, cos, &extreme).unwrap();
+                    assert!(value.is_finite() && (0.3..=0.5).contains(&value), "{view} {light} {cos}: {value}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn azimuth_difference_of_directions() {
+        let cos = |a: Vec3, b: Vec3| cos_azimuth_difference(a, b);
+        assert_eq!(cos(Vec3::new(1.0, 0.0, 1.0), Vec3::new(3.0, 0.0, 0.2)), 1.0);
+        assert_eq!(cos(Vec3::new(1.0, 0.0, 1.0), Vec3::new(-3.0, 0.0, 0.2)), -1.0);
+        assert!(cos(Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 2.0, 0.2)).abs() < 1e-7);
+        assert!((cos(Vec3::new(1.0, 1.0, 1.0), Vec3::new(0.0, 2.0, 0.2)) - 0.5_f32.sqrt()).abs() < 1e-6);
+        assert_eq!(cos(Vec3::Z, Vec3::new(0.0, 2.0, 0.2)), 1.0);
+        assert_eq!(cos(Vec3::new(1e-30, 1e-30, 1.0), Vec3::new(3e30, -3e30, 1.0)).to_bits(), 0.0_f32.to_bits());
+        assert_eq!(cos(Vec3::new(f32::NAN, 0.0, 1.0), Vec3::Z), 0.0);
+        let slopes = SlopeDeviation::new(0.5, 0.5).unwrap();
+        let attribute = HeightCorrelatedAttribute { mean: 0.0, height_correlation: 1.0 };
+        let below = Vec3::new(0.0, 1.0, -0.1);
+        assert_eq!(
+            correlated_visible_mean_attribute_for_directions(attribute, Vec3::Z, below, slopes, &model([0.0; 3])),
+            None
+        );
+    }
+}

@@ -33,8 +33,12 @@ fn ssim(rows: &[SweepRow], mode: SamplingMode) -> f64 {
 
 #[test]
 fn ball_impostors_reach_their_measured_ssim() {
-    let rows =
-        measure("ball", Ball::default().mesh().unwrap(), &SamplingMode::ALL, &[ViewLayout::Listing1, ViewLayout::Compact]);
+    let rows = measure(
+        "ball",
+        Ball::default().mesh().unwrap(),
+        &SamplingMode::ALL,
+        &[ViewLayout::Listing1, ViewLayout::Compact],
+    );
     // Measured: planar 0.9291, spherical 0.9650, mixed 0.9355.
     assert!(ssim(&rows, SamplingMode::Mixed) >= 0.93);
     assert!(ssim(&rows, SamplingMode::Planar) >= 0.92);

@@ -1,4 +1,4 @@
-//! `cargo xtask impostor-accuracy [OUT_DIR] [--quick]`: SSIM and RMSE of octahedral
+//! `cargo xtask impostor-accuracy [OUT_DIR] [--quick] [--obj PATH]...`: SSIM and RMSE of octahedral
 //! impostors against the mesh (Michel & Boubekeur 2020, Fig. 13) for the four procedural
 //! grains, every `(n, p)`, the three sampling modes and two screen sizes; CSV + charts, and
 //! per grain a strip `mesh | planar | spherical | mixed` of 16 views (the paper's Fig. 12).
@@ -7,10 +7,12 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use grain_impostor::accuracy::{AccuracySweep, SweepRow, SweepSettings, rows_to_csv, sampling_mode_name, view_layout_name};
+use grain_impostor::accuracy::{
+    AccuracySweep, SweepRow, SweepSettings, rows_to_csv, sampling_mode_name, view_layout_name,
+};
 use grain_impostor::atlas_gpu::AtlasTextures;
 use grain_impostor::bake::{BakeSettings, Baker, Progress};
-use grain_mesh::{Ball, CoffeeBean, GrainMesh, HexNut, SandGrain};
+use grain_mesh::{Ball, CoffeeBean, GrainMesh, HexNut, SandGrain, load_obj};
 use octahedral_map::{SamplingMode, ViewLayout};
 use plotters::prelude::*;
 
@@ -26,7 +28,7 @@ fn mode_colour(mode: SamplingMode) -> RGBColor {
     }
 }
 
-fn grains(quick: bool) -> Result<Vec<(String, GrainMesh)>, String> {
+fn grains(quick: bool, objs: &[PathBuf]) -> Result<Vec<(String, GrainMesh)>, String> {
     let error = |e: grain_mesh::MeshError| e.to_string();
     let mut grains = vec![
         ("ball".to_owned(), Ball::default().mesh().map_err(error)?),
@@ -35,6 +37,10 @@ fn grains(quick: bool) -> Result<Vec<(String, GrainMesh)>, String> {
     if !quick {
         grains.push(("rock".to_owned(), SandGrain::default().mesh().map_err(error)?));
         grains.push(("nut".to_owned(), HexNut::default().mesh().map_err(error)?));
+    }
+    for path in objs {
+        let name = path.file_stem().map_or_else(|| "grain".into(), |s| s.to_string_lossy().into_owned());
+        grains.push((name, load_obj(path).map_err(|e| e.to_string())?));
     }
     Ok(grains)
 }
@@ -184,13 +190,17 @@ fn save_strip(
     strip.save(path).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
-/// Runs the experiment; `args` are `[OUT_DIR] [--quick]`.
+/// Runs the experiment; `args` are `[OUT_DIR] [--quick] [--obj PATH]...` (each `--obj` adds a
+/// grain loaded from an OBJ file).
 pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
     let mut out = default_out;
     let mut quick = false;
-    for &arg in args {
+    let mut objs = Vec::new();
+    let mut args = args.iter();
+    while let Some(&arg) = args.next() {
         match arg {
             "--quick" => quick = true,
+            "--obj" => objs.push(PathBuf::from(args.next().ok_or("--obj needs a path")?)),
             _ => out = PathBuf::from(arg),
         }
     }
@@ -207,7 +217,7 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
     } else {
         SweepSettings::full()
     };
-    let grains = grains(quick)?;
+    let grains = grains(quick, &objs)?;
     let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
     println!("impostor accuracy on {}", gpu.describe());
     let sweep = AccuracySweep::new(&gpu.device).map_err(|e| e.to_string())?;

@@ -8,8 +8,6 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use glam::{Quat, Vec3};
-use rand::rngs::SmallRng;
-use rand::{Rng, SeedableRng};
 use grain_impostor::accuracy::{AccuracySweep, ComparisonScene, compare_images, sampling_mode_from_name};
 use grain_impostor::atlas_file::save_atlas;
 use grain_impostor::atlas_gpu::AtlasTextures;
@@ -17,6 +15,8 @@ use grain_impostor::bake::{BakeSettings, Baker};
 use grain_impostor::scene::{CameraUniforms, GrainInstance};
 use grain_mesh::{Ball, CoffeeBean, GrainMesh, HexNut, SandGrain, load_obj};
 use octahedral_map::SamplingMode;
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
 
 /// A pile of `count` grains of outer radius `radius`: layers of a jittered square grid, each
 /// grain turned at random and scaled by 0.8–1.0, seen from above at an angle.
@@ -43,7 +43,8 @@ fn pile_scene(count: u32, radius: f32, size: (u32, u32)) -> Option<ComparisonSce
                     layer as f32 * 1.5 * radius,
                 ) + jitter;
                 let axis = Vec3::new(random() - 0.5, random() - 0.5, random() - 0.5);
-                let rotation = Quat::from_axis_angle(axis.try_normalize().unwrap_or(Vec3::Z), 6.283 * random());
+                let rotation =
+                    Quat::from_axis_angle(axis.try_normalize().unwrap_or(Vec3::Z), std::f32::consts::TAU * random());
                 let scale = 0.8 + 0.2 * random();
                 instances.push(GrainInstance::new(centre, scale, rotation));
                 directions.push(rotation.inverse() * (eye - centre).normalize());

@@ -13,7 +13,7 @@
 //!   coverage error, and Fig. 9 at quick settings.
 //! - `cargo xtask abuffer-chart [OUT_DIR]`: coverage error of the A-buffer mask tables
 //!   against N (default `target/showcase`).
-//! - `cargo xtask impostor-accuracy [OUT_DIR] [--quick]`: SSIM/RMSE of octahedral impostors
+//! - `cargo xtask impostor-accuracy [OUT_DIR] [--quick] [--obj PATH]...`: SSIM/RMSE of octahedral impostors
 //!   against the mesh for four grains, every `(n, p)`, three sampling modes, two screen sizes
 //!   (Michel & Boubekeur's Fig. 13; default `target/impostor-accuracy`).
 //! - `cargo xtask impostor-cloud [OUT_DIR] [--obj PATH | --grain NAME] [--n N] [--p P] [--mode M]
@@ -129,7 +129,7 @@ fn run(args: &[String]) -> Result<(), String> {
         Some("ddm-compression") => ddm_compression::run(&rest, workspace_root().join("target/ddm-compression")),
         Some("ddm-trace") => ddm_trace::run(&rest, workspace_root().join("target/ddm-trace")),
         _ => Err(
-            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] [--size WxHxD] | ddm-trace [OUT_DIR] [--quick] | impostor-accuracy [OUT_DIR] [--quick] | impostor-cloud [OUT_DIR] [--obj PATH | --grain NAME] [--n N] [--p P] [--mode MODE] [--grains COUNT]>"
+            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] [--size WxHxD] | ddm-trace [OUT_DIR] [--quick] | impostor-accuracy [OUT_DIR] [--quick] [--obj PATH]... | impostor-cloud [OUT_DIR] [--obj PATH | --grain NAME] [--n N] [--p P] [--mode MODE] [--grains COUNT]>"
                 .into(),
         ),
     }

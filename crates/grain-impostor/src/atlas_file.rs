@@ -256,8 +256,7 @@ pub fn decode_atlas(bytes: &[u8]) -> Result<ImpostorAtlas, AtlasFileProblem> {
         let side = (p >> level).max(1);
         let layers = ATLAS_LAYERS.map(|layer| {
             let length =
-                (u64::from(layers) * u64::from(side) * u64::from(side) * u64::from(layer.bytes_per_texel))
-                    as usize;
+                (u64::from(layers) * u64::from(side) * u64::from(side) * u64::from(layer.bytes_per_texel)) as usize;
             let slice = data[offset..offset + length].to_vec();
             offset += length;
             slice

@@ -26,7 +26,7 @@
 //! [`MEASURED_ACCURACY_CSV`] is the table measured by `cargo xtask impostor-accuracy` on the
 //! four procedural grains (ball, bean, rock, nut) and committed with the crate.
 
-use octahedral_map::SamplingMode;
+use octahedral_map::{SamplingMode, ViewLayout};
 
 use crate::accuracy::{SweepRow, rows_from_csv};
 
@@ -48,7 +48,9 @@ pub struct AtlasChoice {
     pub texels: u32,
     /// The sampling mode to render it with.
     pub mode: SamplingMode,
-    /// GPU bytes of the atlas (paper layout, full mips).
+    /// The atlas layout (the compact one whenever it was measured: same SSIM, less memory).
+    pub layout: ViewLayout,
+    /// GPU bytes of the atlas (in `layout`, full mips).
     pub atlas_bytes: u64,
     /// The SSIM measured for this configuration.
     pub measured_ssim: f64,
@@ -95,6 +97,7 @@ pub fn choose_atlas(rows: &[SweepRow], grain: &str, apparent_diameter: f32, max_
             subdivisions: r.subdivisions,
             texels: r.texels,
             mode: r.mode,
+            layout: r.layout,
             atlas_bytes: r.atlas_bytes,
             measured_ssim: r.error.ssim,
             measured_diameter,
@@ -136,7 +139,7 @@ mod tests {
                 for p in [32, 64, 128] {
                     let count =
                         rows.iter().filter(|r| r.grain == grain && r.subdivisions == n && r.texels == p).count();
-                    assert_eq!(count, 6, "{grain} n={n} p={p}: 3 modes × 2 screen sizes");
+                    assert_eq!(count, 12, "{grain} n={n} p={p}: 3 modes × 2 layouts × 2 screen sizes");
                 }
             }
         }
@@ -163,6 +166,10 @@ mod tests {
             assert_eq!(choose_atlas(&rows, grain, 1000.0, 0.5), None);
         }
         assert_eq!(choose_atlas(&rows, "teapot", 32.0, 0.5), None);
+        // The compact layout renders the same images with less memory, so it is chosen.
+        let bean = choose_atlas(&rows, "bean", 32.0, 0.06).unwrap();
+        assert_eq!(bean.layout, ViewLayout::Compact);
+        assert_eq!(bean.mode, SamplingMode::Mixed);
         assert_eq!(choose_atlas(&rows, "ball", f32::NAN, 0.5), None);
     }
 }

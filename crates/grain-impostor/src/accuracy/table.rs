@@ -77,7 +77,8 @@ pub fn rows_from_csv(text: &str) -> Result<Vec<SweepRow>, String> {
         if fields.len() != 9 {
             return Err(at("field count"));
         }
-        let number = |k: usize, what: &str| fields[k].parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| at(what));
+        let number =
+            |k: usize, what: &str| fields[k].parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| at(what));
         let integer = |k: usize, what: &str| fields[k].parse::<u64>().map_err(|_| at(what));
         rows.push(SweepRow {
             grain: fields[0].to_owned(),

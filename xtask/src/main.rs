@@ -112,9 +112,13 @@ fn run(args: &[String]) -> Result<(), String> {
         Some("fig9") => fig9::run(&rest, workspace_root().join("target/fig9")),
         Some("showcase") => {
             let out = rest.first().map_or_else(|| workspace_root().join("target/showcase"), PathBuf::from);
-            // Everything that can be shown so far: the octahedral layout, the A-buffer
-            // masks' coverage error, and Fig. 9 (quick settings).
+            // Everything that can be shown so far, at quick settings: the octahedral layout,
+            // impostor accuracy (Fig. 12-13), the A-buffer masks' coverage error, Fig. 9 and
+            // the DDM tracer's tables.
             showcase::run(&out)?;
+            let out_text = out.to_string_lossy().into_owned();
+            impostor_accuracy::run(&[out_text.as_str(), "--quick"], out.clone())?;
+            ddm_trace::run(&[out_text.as_str(), "--quick"], out.clone())?;
             abuffer_chart::run(&out)?;
             fig9::run(&["--quick"], out)
         }

@@ -54,6 +54,7 @@ extern crate std;
 pub mod bvh;
 pub mod compress;
 pub mod cones;
+mod convex_cone;
 pub mod ddm;
 pub mod geometry;
 pub mod gpu;

@@ -2,57 +2,45 @@
 //! over the triangle hierarchy, refining box–triangle pairs only where a cone's value
 //! depends on it.
 //!
-//! A pair (piece of the voxel `B`, piece of a triangle `T`) has
+//! A pair (piece of the voxel `B`, piece of a triangle `T`) has, per cone `C`, a lower
+//! bound `g` of `|m − v|` over `v ∈ B`, `m ∈ T` with `m − v ∈ C`: the largest of the
+//! undirected separating-axis gap (the axes of
+//! [`crate::geometry::separation_lower_bound`], never below the parent pair's) and the
+//! cone-aware duality bounds `h_A(w) / |P_K(w)|` of [`crate::convex_cone`] (`A = T − B`,
+//! `K ⊇ C` convex) over the separating axes, the centres' offset projected onto `K` and its
+//! polar part (which proves a pair outside the cone). A pair about to be split first gets
+//! a short pattern search over `w`, which brings `g` towards the exact pair distance.
 //!
-//! - a lower bound `g` of `|m − v|` for every `v ∈ B`, `m ∈ T`
-//!   ([`separation_lower_bound`], never below its parent pair's bound);
-//! - an azimuth–elevation rectangle holding every direction `m − v`: the directions of
-//!   the box `[min T − max B, max T − min B]` ([`DirectionRange::of_box`]).
+//! Upper bounds of a cone's true value come from *witnesses*, real point pairs `(v, m)`
+//! with `m − v` in the cone: the triangle point nearest the box centre with its nearest
+//! box point when that direction is in the cone, a ray from the box along the projection
+//! of the best axis onto the cone to the triangle, and rays from two triangle points back
+//! along a cone direction into the box.
 //!
-//! Per cone the pair is then *outside* (the rectangle misses the cone: it contributes nothing),
-//! *inside* (the rectangle lies in the cone, [`Cone::relation`]: the cone's value over
-//! the pair is the undirected distance, and `g` is final once the pair's upper bound — the
-//! distance between the triangle point nearest the box centre and its nearest box point —
-//! is within `tolerance` of it), or *partial* (final once both pieces are smaller than
-//! `tolerance`, as in [`crate::geometry::directional_distance_bound`]). Pairs that are not
+//! A pair is *final* for a cone once `g ≥ upper − tolerance` (the cone's value, at most the
+//! true value, then ends within `tolerance` of it) or once both pieces are smaller than
+//! `tolerance` (as in [`crate::geometry::directional_distance_bound`]); pairs that are not
 //! final for some cone are split (the larger piece in two) for those cones only.
 //!
 //! The value of a cone is the minimum of `g` over its final pairs, capped at the grid's
-//! diagonal: a lower bound of the true directional distance (every pair `(v, m)` of the
-//! cone lies in some final pair, inside or partial). Pruning never changes it: a pair is
-//! dropped for a cone when `g` reaches the cone's current minimum (its descendants' bounds
-//! are no smaller) or exceeds, with a margin, an *upper bound* of the true value found on
-//! the way (a real point pair `(v, m)` with `m − v` in the cone; the value is at most the
-//! true value, hence at most that bound).
+//! diagonal: a lower bound of the true directional distance, since the pair holding the
+//! true minimiser `(v*, m*)` is never dropped. A pair is dropped for a cone only when `g`
+//! reaches the cone's current minimum (its descendants' bounds are no smaller) or exceeds,
+//! with a margin, the best upper bound (which is at least the true value, itself at least
+//! `g` of the minimiser's pair). Which witnesses are met first depends on the visiting
+//! order, so the values depend on it too, each within about `2 tolerance` of the truth.
 
 use alloc::vec::Vec;
 
 use glam::Vec3;
 
 use crate::bvh::TriangleBvh;
-use crate::cones::{Cone, ConeRelation, DirectionRange, azimuth_elevation};
+use crate::cones::{Cone, azimuth_elevation};
 use crate::convex_cone::{ConvexCone, box_support, triangle_box_support};
 use crate::geometry::{Aabb, Triangle, box_distance, closest_point_on_triangle};
 
 /// At most this many cones are searched together (a bit mask of live cones).
 pub(crate) const CONES_PER_SEARCH: usize = 32;
-
-/// Margin of the angular tests of bounding-sphere caps (absorbs the rounding of the
-/// angle computations).
-const ANGLE_MARGIN: f32 = 1e-5;
-
-/// The cap of directions from `a` (centre, radius) to `b`: the direction's azimuth and
-/// elevation and the cap's half-angle, or `None` when the spheres overlap.
-fn direction_cap(a_center: Vec3, a_radius: f32, b_center: Vec3, b_radius: f32) -> Option<(f32, f32, f32)> {
-    let offset = b_center - a_center;
-    let distance = offset.length();
-    let reach = a_radius + b_radius;
-    if distance.is_nan() || distance <= reach * (1.0 + 1e-6) {
-        return None;
-    }
-    let (azimuth, elevation) = azimuth_elevation(offset)?;
-    Some((azimuth, elevation, libm::asinf((reach / distance).min(1.0))))
-}
 
 /// The search state of one voxel: per cone the minimum of the final lower bounds so far
 /// (`lower`) and the smallest upper bound of the true value seen (`upper`).
@@ -152,27 +140,17 @@ impl<'a> VoxelSearch<'a> {
     }
 
     /// The cones of `mask` for which a node with box `bounds` can still matter: those
-    /// whose directions reach the box and whose cone-aware lower bound
-    /// ([`ConvexCone::bound`] over the coordinate axes and the projected centre offset)
-    /// is below the cone's current minimum and upper bound.
+    /// whose cone-aware lower bound ([`ConvexCone::bound`] over the coordinate axes, the
+    /// centre offset projected onto the cone and its polar part, which drops cones that
+    /// miss the box) is below the cone's current minimum and upper bound.
     fn node_cones(&self, voxel: &Aabb, bounds: &Aabb, mask: u32) -> u32 {
         let (min, max) = (bounds.min - voxel.max, bounds.max - voxel.min);
-        let range = DirectionRange::of_box(min, max);
-        let cap = direction_cap(voxel.center(), voxel.radius(), bounds.center(), bounds.radius());
         let scale = 1.0 + min.abs().max(max.abs()).max_element() + voxel.max.abs().max_element();
         let margin = 4e-7 * scale;
         let offset = bounds.center() - voxel.center();
         let mut open = mask;
         for c in bits(mask) {
-            let (Some(cone), Some(convex)) = (&self.cones[c], &self.convex[c]) else { continue };
-            let outside = range.is_some_and(|range| cone.relation(&range) == ConeRelation::Outside)
-                || cap.is_some_and(|(azimuth, elevation, spread)| {
-                    cone.angle_lower_bound_at(azimuth, elevation) > spread + ANGLE_MARGIN
-                });
-            if outside {
-                open &= !(1 << c);
-                continue;
-            }
+            let Some(convex) = &self.convex[c] else { continue };
             let mut g = 0.0_f32;
             for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
                 g = g.max(convex.bound(axis, box_support(min, max, axis) - margin));

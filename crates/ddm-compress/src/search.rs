@@ -280,10 +280,11 @@ impl<'a> VoxelSearch<'a> {
     }
 }
 
-/// The separating axes of a triangle against any box (those of
-/// [`crate::geometry::separation_lower_bound`]: the coordinate axes, the normal, the
-/// centre direction is left out, and the 9 edge–axis cross products), normalised, with
-/// the interval of the triangle's vertices along each. Splitting the box keeps them.
+/// The separating axes of a triangle that do not depend on the box (those of
+/// [`crate::geometry::separation_lower_bound`] but the centres' axis: the coordinate
+/// axes, the normal and the 9 edge–axis cross products), normalised, with the interval of
+/// the triangle's vertices along each. Splitting the box keeps them, so they are computed
+/// once per triangle piece.
 pub(crate) struct TriangleAxes {
     axes: [Vec3; 16],
     /// `(min, max)` of `axis · vertex`.

@@ -188,11 +188,25 @@ impl Scene {
                 out.fill(0.0);
                 continue;
             }
-            for (chunk, out) in self.cone_list.chunks(CONES_PER_SEARCH).zip(out.chunks_mut(CONES_PER_SEARCH)) {
+            for (k, (chunk, out)) in
+                self.cone_list.chunks(CONES_PER_SEARCH).zip(out.chunks_mut(CONES_PER_SEARCH)).enumerate()
+            {
                 let mut search = VoxelSearch::new(chunk, self.tolerance, self.max_distance);
+                // The previous voxel's witnesses usually bound this one's values closely.
+                let seeds = scratch.seeds.get_mut(k);
+                if let Some(seeds) = &seeds {
+                    search.seed(&voxel, seeds);
+                }
                 search.run(&self.bvh, &self.axes, &voxel, &mut scratch.nodes);
                 for (c, value) in out.iter_mut().enumerate() {
                     *value = search.value(c);
+                }
+                match seeds {
+                    Some(seeds) => {
+                        seeds.clear();
+                        seeds.extend(search.witness_points());
+                    }
+                    None => scratch.seeds.push(search.witness_points().collect()),
                 }
             }
         }
@@ -242,6 +256,8 @@ type RowSlices<'a> = (usize, &'a mut [f32], &'a mut [bool]);
 struct Scratch {
     overlap: Vec<u32>,
     nodes: Vec<(u32, f32, u32)>,
+    /// Per group of cones, the mesh points of the previous voxel's witnesses.
+    seeds: Vec<Vec<Vec3>>,
 }
 
 /// A brute-force upper estimate of the directional distance from `voxel` to `triangles`
@@ -405,7 +421,8 @@ mod tests {
                 }
             }
         }
-        // Measured: 0.036 voxel (the guarantee is 2 tolerance = 0.2).
-        assert!(largest_difference <= 0.05, "{largest_difference}");
+        // Measured: 0.061 voxel (the guarantee is 2 tolerance = 0.2; the hierarchy's search
+        // is also seeded with the previous voxel's witnesses, the other is not).
+        assert!(largest_difference <= 0.075, "{largest_difference}");
     }
 }

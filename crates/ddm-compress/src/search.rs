@@ -52,6 +52,8 @@ pub(crate) struct VoxelSearch<'a> {
     tolerance: f32,
     lower: [f32; CONES_PER_SEARCH],
     upper: [f32; CONES_PER_SEARCH],
+    /// The mesh point of the witness that gave each upper bound.
+    witness_points: [Option<Vec3>; CONES_PER_SEARCH],
 }
 
 /// Indices of the set bits of `mask`.
@@ -74,7 +76,48 @@ impl<'a> VoxelSearch<'a> {
         for (slot, cone) in convex.iter_mut().zip(cones) {
             *slot = cone.as_ref().map(ConvexCone::holding);
         }
-        Self { cones, convex, tolerance, lower: [cap; CONES_PER_SEARCH], upper: [cap; CONES_PER_SEARCH] }
+        Self {
+            cones,
+            convex,
+            tolerance,
+            lower: [cap; CONES_PER_SEARCH],
+            upper: [cap; CONES_PER_SEARCH],
+            witness_points: [None; CONES_PER_SEARCH],
+        }
+    }
+
+    /// Lowers cone `c`'s upper bound to `distance`, the length of a witness reaching the
+    /// mesh at `m`.
+    fn offer(&mut self, c: usize, distance: f32, m: Vec3) {
+        if distance < self.upper[c] {
+            self.upper[c] = distance;
+            self.witness_points[c] = Some(m);
+        }
+    }
+
+    /// The mesh points of the witnesses behind the upper bounds (to seed a neighbouring
+    /// voxel's search with [`VoxelSearch::seed`]).
+    pub(crate) fn witness_points(&self) -> impl Iterator<Item = Vec3> + '_ {
+        self.witness_points[..self.cones.len()].iter().flatten().copied()
+    }
+
+    /// Starts the upper bounds from witnesses reaching the mesh points `points` (found
+    /// for a neighbouring voxel): per cone, the line from each point back along a cone
+    /// direction into `voxel` ([`box_witness`]); for the plain map, the distance from the
+    /// point to the voxel. Any real witness is valid, so this changes no guarantee; good
+    /// upper bounds early let the search drop and finalise pairs sooner.
+    pub(crate) fn seed(&mut self, voxel: &Aabb, points: &[Vec3]) {
+        for c in 0..self.cones.len() {
+            for &m in points {
+                let distance = match (&self.cones[c], &self.convex[c]) {
+                    (Some(cone), Some(convex)) => box_witness(cone, convex, voxel, m),
+                    _ => Some(m.distance(m.clamp(voxel.min, voxel.max))),
+                };
+                if let Some(distance) = distance.filter(|d| d.is_finite()) {
+                    self.offer(c, distance, m);
+                }
+            }
+        }
     }
 
     /// The value of cone `index` once the search is done.
@@ -211,8 +254,9 @@ impl<'a> VoxelSearch<'a> {
         let witness_distance = witness.length();
         for c in bits(open) {
             let mut g = gap;
-            match (&self.cones[c], &self.convex[c]) {
+            match (self.cones[c], self.convex[c]) {
                 (Some(cone), Some(convex)) => {
+                    let (cone, convex) = (&cone, &convex);
                     let (bound, best_axis) = cone_bound(convex, triangle, aabb, &apart);
                     g = g.max(bound);
                     let upper = self.upper[c];
@@ -221,16 +265,16 @@ impl<'a> VoxelSearch<'a> {
                         continue;
                     }
                     if witness_distance.is_finite() && contains(cone, convex, witness) {
-                        self.upper[c] = self.upper[c].min(witness_distance);
+                        self.offer(c, witness_distance, nearest);
                     }
                     if let Some(axis) = best_axis
-                        && let Some(distance) = ray_witness(cone, convex, aabb, triangle, axis, nearest)
+                        && let Some((distance, m)) = ray_witness(cone, convex, aabb, triangle, axis, nearest)
                     {
-                        self.upper[c] = self.upper[c].min(distance);
+                        self.offer(c, distance, m);
                     }
                     for m in [nearest, ct] {
                         if let Some(distance) = box_witness(cone, convex, aabb, m) {
-                            self.upper[c] = self.upper[c].min(distance);
+                            self.offer(c, distance, m);
                         }
                     }
                     // About to be split: a local search over `w` first tightens the bound
@@ -246,14 +290,14 @@ impl<'a> VoxelSearch<'a> {
                             open &= !(1 << c);
                             continue;
                         }
-                        if let Some(distance) = ray_witness(cone, convex, aabb, triangle, axis, nearest) {
-                            self.upper[c] = self.upper[c].min(distance);
+                        if let Some((distance, m)) = ray_witness(cone, convex, aabb, triangle, axis, nearest) {
+                            self.offer(c, distance, m);
                         }
                     }
                 }
                 _ => {
                     if witness_distance.is_finite() {
-                        self.upper[c] = self.upper[c].min(witness_distance);
+                        self.offer(c, witness_distance, nearest);
                     }
                 }
             }
@@ -390,6 +434,7 @@ fn contains(cone: &Cone, convex: &ConvexCone, d: Vec3) -> bool {
 /// rays tried miss. The direction is the projection of `axis` onto the cone (nudged
 /// towards the cone's centre when rounding leaves it on the boundary); the rays leave
 /// from the box's front in that direction and from the box point nearest `nearest`.
+/// Also returns the point of the triangle reached.
 fn ray_witness(
     cone: &Cone,
     convex: &ConvexCone,
@@ -397,7 +442,7 @@ fn ray_witness(
     triangle: &Triangle,
     axis: Vec3,
     nearest: Vec3,
-) -> Option<f32> {
+) -> Option<(f32, Vec3)> {
     let projected = convex.project(axis).normalize_or_zero();
     let direction = [projected, (projected + 1e-3 * convex.center()).normalize_or_zero()]
         .into_iter()
@@ -408,7 +453,10 @@ fn ray_witness(
         aabb.max,
         Vec3::select(direction.cmplt(Vec3::splat(-1e-6)), aabb.min, inside),
     );
-    [front, inside].into_iter().filter_map(|origin| ray_triangle(origin, direction, triangle)).reduce(f32::min)
+    [front, inside]
+        .into_iter()
+        .filter_map(|origin| ray_triangle(origin, direction, triangle).map(|t| (t, origin + direction * t)))
+        .reduce(|a, b| if b.0 < a.0 { b } else { a })
 }
 
 /// A witness of `cone` for a box and a point `m` of the mesh: the distance from `m` back
@@ -602,7 +650,8 @@ mod tests {
                         finite += 1;
                     }
                     let witnesses = [
-                        axis.and_then(|axis| ray_witness(&cone, &convex, &aabb, &triangle, axis, nearest)),
+                        axis.and_then(|axis| ray_witness(&cone, &convex, &aabb, &triangle, axis, nearest))
+                            .map(|(distance, _)| distance),
                         box_witness(&cone, &convex, &aabb, nearest),
                         box_witness(&cone, &convex, &aabb, triangle.center()),
                     ];

@@ -2,7 +2,8 @@
 //! conservative directional distance maps (§3.1): the current search
 //! (`compute_distance_maps`, all threads) against the previous per-cone computation
 //! (`reference_distance_maps`, one thread) on a small grid, and the current one at the
-//! paper's resolution (64 × 64 × 16, 8 cones).
+//! paper's resolution (64 × 64 × 16, 8 cones) on a wavy floor and on every mesostructure
+//! (`cargo xtask bench -- ddm_compress/mesostructure` runs only the latter).
 
 use std::hint::black_box;
 
@@ -11,7 +12,7 @@ use ddm_compress::{
     CompressedMap, DirectionCones, DistanceMapSettings, Triangle, compute_distance_maps, reference_distance_maps,
 };
 use glam::UVec3;
-use mesostructure::HeightField;
+use mesostructure::{HeightField, Mesostructure};
 
 /// A wavy height-field floor over an `n × n` tile.
 fn wavy_floor(n: u32) -> Vec<Triangle> {
@@ -44,6 +45,20 @@ fn ddm(c: &mut Criterion) {
     for (name, cones) in [("8x1", DirectionCones::downward(8, 1)), ("4x2", DirectionCones::downward(4, 2))] {
         group.bench_function(format!("compute_distance_maps/64x64x16/{name}_cones"), |b| {
             b.iter(|| compute_distance_maps(black_box(large), &large_floor, cones, large_settings));
+        });
+    }
+    group.finish();
+
+    // Every mesostructure at the paper's resolution with the downward DDM 8×1, as
+    // `cargo xtask ddm-compression` computes it.
+    let cones_8x1 = DirectionCones::downward(8, 1);
+    let mut group = c.benchmark_group("ddm_compress");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(u64::from(large.x * large.y * large.z)));
+    for structure in Mesostructure::ALL {
+        let mesh = structure.triangles(large);
+        group.bench_function(format!("mesostructure/{}/64x64x16/8x1_cones", structure.name()), |b| {
+            b.iter(|| compute_distance_maps(black_box(large), &mesh, cones_8x1, large_settings));
         });
     }
     group.finish();

@@ -116,12 +116,13 @@ impl TriangleBvh {
         self.nodes.get(index as usize).map(|node| node.vertex_bounds)
     }
 
-    /// The triangles of node `index` if it is a leaf.
-    pub(crate) fn leaf(&self, index: u32) -> Option<impl Iterator<Item = &Triangle>> {
+    /// The indices (into [`TriangleBvh::triangles`]) of node `index`'s triangles if it is
+    /// a leaf.
+    pub(crate) fn leaf_indices(&self, index: u32) -> Option<&[u32]> {
         let node = self.nodes.get(index as usize)?;
         (node.count > 0).then(|| {
             let first = node.first_or_child as usize;
-            self.order[first..first + node.count as usize].iter().map(|&i| &self.triangles[i as usize])
+            &self.order[first..first + node.count as usize]
         })
     }
 

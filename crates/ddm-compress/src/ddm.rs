@@ -13,7 +13,7 @@ use glam::{UVec3, Vec3};
 use crate::bvh::TriangleBvh;
 use crate::cones::{Cone, DirectionCones, azimuth_elevation};
 use crate::geometry::{Aabb, Triangle};
-use crate::search::{CONES_PER_SEARCH, VoxelSearch};
+use crate::search::{CONES_PER_SEARCH, TriangleAxes, VoxelSearch};
 
 /// Distance maps over a grid of unit voxels: one map per direction cone (a single map for
 /// the plain, undirected distance map).
@@ -125,6 +125,8 @@ pub fn reference_distance_maps(
 struct Scene {
     dims: UVec3,
     bvh: TriangleBvh,
+    /// The separating axes of each of the hierarchy's triangles, in its order.
+    axes: Vec<TriangleAxes>,
     cone_list: Vec<Option<Cone>>,
     tolerance: f32,
     max_distance: f32,
@@ -168,13 +170,9 @@ impl Scene {
             Some(c) => (0..c.count()).map(|i| c.cone(i)).collect(),
             None => alloc::vec![None],
         };
-        Some(Self {
-            dims,
-            bvh: TriangleBvh::new(all),
-            cone_list,
-            tolerance: settings.tolerance,
-            max_distance: dims.as_vec3().length(),
-        })
+        let bvh = TriangleBvh::new(all);
+        let axes = bvh.triangles().iter().map(TriangleAxes::of).collect();
+        Some(Self { dims, bvh, axes, cone_list, tolerance: settings.tolerance, max_distance: dims.as_vec3().length() })
     }
 
     /// Computes row `row` (`y + dims.y z`): `values` gets every cone of each voxel in
@@ -190,11 +188,25 @@ impl Scene {
                 out.fill(0.0);
                 continue;
             }
-            for (chunk, out) in self.cone_list.chunks(CONES_PER_SEARCH).zip(out.chunks_mut(CONES_PER_SEARCH)) {
+            for (k, (chunk, out)) in
+                self.cone_list.chunks(CONES_PER_SEARCH).zip(out.chunks_mut(CONES_PER_SEARCH)).enumerate()
+            {
                 let mut search = VoxelSearch::new(chunk, self.tolerance, self.max_distance);
-                search.run(&self.bvh, &voxel, &mut scratch.nodes);
+                // The previous voxel's witnesses usually bound this one's values closely.
+                let seeds = scratch.seeds.get_mut(k);
+                if let Some(seeds) = &seeds {
+                    search.seed(&voxel, seeds);
+                }
+                search.run(&self.bvh, &self.axes, &voxel, &mut scratch.nodes);
                 for (c, value) in out.iter_mut().enumerate() {
                     *value = search.value(c);
+                }
+                match seeds {
+                    Some(seeds) => {
+                        seeds.clear();
+                        seeds.extend(search.witness_points());
+                    }
+                    None => scratch.seeds.push(search.witness_points().collect()),
                 }
             }
         }
@@ -236,6 +248,7 @@ impl Scene {
 }
 
 /// A row's index, its values (all cones of each voxel) and its surface flags.
+#[cfg(feature = "std")]
 type RowSlices<'a> = (usize, &'a mut [f32], &'a mut [bool]);
 
 /// Reused traversal stacks.
@@ -243,6 +256,8 @@ type RowSlices<'a> = (usize, &'a mut [f32], &'a mut [bool]);
 struct Scratch {
     overlap: Vec<u32>,
     nodes: Vec<(u32, f32, u32)>,
+    /// Per group of cones, the mesh points of the previous voxel's witnesses.
+    seeds: Vec<Vec<Vec3>>,
 }
 
 /// A brute-force upper estimate of the directional distance from `voxel` to `triangles`
@@ -365,8 +380,12 @@ mod tests {
     }
 
     #[test]
-    fn search_over_the_hierarchy_gives_the_search_over_every_triangle() {
+    fn search_over_the_hierarchy_agrees_with_the_search_over_every_triangle() {
+        // The order in which pairs are met changes the upper bounds found on the way, so
+        // the two searches may finalise different pairs: both stay below the true value
+        // (below a sampled upper estimate of it) and within `2 tolerance` of each other.
         let dims = UVec3::new(7, 6, 5);
+        let mut largest_difference = 0.0_f32;
         for seed in [0x9e37_79b9_7f4a_7c15_u64, 0x1234_5678_9abc_def1] {
             let triangles = random_scene(seed, 40, dims);
             let settings = DistanceMapSettings { tolerance: 0.1, periodic_xy: false };
@@ -388,12 +407,22 @@ mod tests {
                             let mut search = VoxelSearch::new(&cone_list, settings.tolerance, fast.max_distance);
                             search.run_over_every_triangle(&triangles, &Aabb::voxel(x, y, z));
                             for (c, map) in fast.values.iter().enumerate() {
-                                assert_eq!(map[index], search.value(c), "cones {cones:?} voxel {index} cone {c}");
+                                let (hierarchy, every) = (map[index], search.value(c));
+                                let sampled =
+                                    sampled_distance(UVec3::new(x, y, z), &triangles, cone_list[c].as_ref(), 6);
+                                assert!(
+                                    hierarchy <= sampled + 1e-4 && every <= sampled + 1e-4,
+                                    "voxel {index} cone {c}"
+                                );
+                                largest_difference = largest_difference.max((hierarchy - every).abs());
                             }
                         }
                     }
                 }
             }
         }
+        // Measured: 0.061 voxel (the guarantee is 2 tolerance = 0.2; the hierarchy's search
+        // is also seeded with the previous voxel's witnesses, the other is not).
+        assert!(largest_difference <= 0.075, "{largest_difference}");
     }
 }

@@ -62,12 +62,6 @@ impl Triangle {
         self.0.iter().map(|v| v.distance(center)).fold(0.0, f32::max)
     }
 
-    /// The corners of the triangle's bounding box.
-    pub(crate) fn bounds(&self) -> (Vec3, Vec3) {
-        let [a, b, c] = self.0;
-        (a.min(b).min(c), a.max(b).max(c))
-    }
-
     /// The two halves across the midpoint of the longest edge.
     pub(crate) fn split(&self) -> [Self; 2] {
         let [a, b, c] = self.0;

@@ -36,7 +36,8 @@
 //!   bound.
 //! - [`bvh`]: the triangle hierarchy that makes [`compute_distance_maps`] fast.
 //! - [`ddm`]: directional and plain distance maps of a triangle mesh (the per-voxel
-//!   search over all cones at once lives in the private `search` module).
+//!   search over all cones at once lives in the private `search` module, its cone-aware
+//!   duality bounds in the private `convex_cone` module).
 //! - [`compress`]: the lookup grid and atlas (Algorithm A.1) and access (Algorithm A.2).
 //! - [`serialize`]: a versioned binary form that rejects corrupt data.
 //! - [`gpu`]: the uniforms of the WGSL twin.
@@ -54,6 +55,7 @@ extern crate std;
 pub mod bvh;
 pub mod compress;
 pub mod cones;
+mod convex_cone;
 pub mod ddm;
 pub mod geometry;
 pub mod gpu;

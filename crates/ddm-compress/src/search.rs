@@ -2,65 +2,58 @@
 //! over the triangle hierarchy, refining box–triangle pairs only where a cone's value
 //! depends on it.
 //!
-//! A pair (piece of the voxel `B`, piece of a triangle `T`) has
+//! A pair (piece of the voxel `B`, piece of a triangle `T`) has, per cone `C`, a lower
+//! bound `g` of `|m − v|` over `v ∈ B`, `m ∈ T` with `m − v ∈ C`: the largest of the
+//! undirected separating-axis gap (the axes of
+//! [`crate::geometry::separation_lower_bound`], never below the parent pair's) and the
+//! cone-aware duality bounds `h_A(w) / |P_K(w)|` of [`crate::convex_cone`] (`A = T − B`,
+//! `K ⊇ C` convex) over the separating axes, the centres' offset projected onto `K` and its
+//! polar part (which proves a pair outside the cone). A pair about to be split first gets
+//! a short pattern search over `w`, which brings `g` towards the exact pair distance.
 //!
-//! - a lower bound `g` of `|m − v|` for every `v ∈ B`, `m ∈ T`
-//!   ([`separation_lower_bound`], never below its parent pair's bound);
-//! - an azimuth–elevation rectangle holding every direction `m − v`: the directions of
-//!   the box `[min T − max B, max T − min B]` ([`DirectionRange::of_box`]).
+//! Upper bounds of a cone's true value come from *witnesses*, real point pairs `(v, m)`
+//! with `m − v` in the cone: the triangle point nearest the box centre with its nearest
+//! box point when that direction is in the cone, a ray from the box along the projection
+//! of the best axis onto the cone to the triangle, and rays from two triangle points back
+//! along a cone direction into the box.
 //!
-//! Per cone the pair is then *outside* (the rectangle misses the cone: it contributes nothing),
-//! *inside* (the rectangle lies in the cone, [`Cone::relation`]: the cone's value over
-//! the pair is the undirected distance, and `g` is final once the pair's upper bound — the
-//! distance between the triangle point nearest the box centre and its nearest box point —
-//! is within `tolerance` of it), or *partial* (final once both pieces are smaller than
-//! `tolerance`, as in [`crate::geometry::directional_distance_bound`]). Pairs that are not
+//! A pair is *final* for a cone once `g ≥ upper − tolerance` (the cone's value, at most the
+//! true value, then ends within `tolerance` of it) or once both pieces are smaller than
+//! `tolerance` (as in [`crate::geometry::directional_distance_bound`]); pairs that are not
 //! final for some cone are split (the larger piece in two) for those cones only.
 //!
 //! The value of a cone is the minimum of `g` over its final pairs, capped at the grid's
-//! diagonal: a lower bound of the true directional distance (every pair `(v, m)` of the
-//! cone lies in some final pair, inside or partial). Pruning never changes it: a pair is
-//! dropped for a cone when `g` reaches the cone's current minimum (its descendants' bounds
-//! are no smaller) or exceeds, with a margin, an *upper bound* of the true value found on
-//! the way (a real point pair `(v, m)` with `m − v` in the cone; the value is at most the
-//! true value, hence at most that bound).
+//! diagonal: a lower bound of the true directional distance, since the pair holding the
+//! true minimiser `(v*, m*)` is never dropped. A pair is dropped for a cone only when `g`
+//! reaches the cone's current minimum (its descendants' bounds are no smaller) or exceeds,
+//! with a margin, the best upper bound (which is at least the true value, itself at least
+//! `g` of the minimiser's pair). Which witnesses are met first depends on the visiting
+//! order, so the values depend on it too, each within about `2 tolerance` of the truth.
 
 use alloc::vec::Vec;
 
 use glam::Vec3;
 
 use crate::bvh::TriangleBvh;
-use crate::cones::{Cone, ConeRelation, DirectionRange, azimuth_elevation};
-use crate::geometry::{Aabb, Triangle, box_distance, closest_point_on_triangle, separation_lower_bound};
+use crate::cones::{Cone, azimuth_elevation};
+use crate::convex_cone::{ConvexCone, box_support, triangle_box_support};
+use crate::geometry::{Aabb, Triangle, box_distance, closest_point_on_triangle};
 
 /// At most this many cones are searched together (a bit mask of live cones).
 pub(crate) const CONES_PER_SEARCH: usize = 32;
-
-/// Margin of the angular tests of bounding-sphere caps (absorbs the rounding of the
-/// angle computations).
-const ANGLE_MARGIN: f32 = 1e-5;
-
-/// The cap of directions from `a` (centre, radius) to `b`: the direction's azimuth and
-/// elevation and the cap's half-angle, or `None` when the spheres overlap.
-fn direction_cap(a_center: Vec3, a_radius: f32, b_center: Vec3, b_radius: f32) -> Option<(f32, f32, f32)> {
-    let offset = b_center - a_center;
-    let distance = offset.length();
-    let reach = a_radius + b_radius;
-    if distance.is_nan() || distance <= reach * (1.0 + 1e-6) {
-        return None;
-    }
-    let (azimuth, elevation) = azimuth_elevation(offset)?;
-    Some((azimuth, elevation, libm::asinf((reach / distance).min(1.0))))
-}
 
 /// The search state of one voxel: per cone the minimum of the final lower bounds so far
 /// (`lower`) and the smallest upper bound of the true value seen (`upper`).
 pub(crate) struct VoxelSearch<'a> {
     /// The cones searched together (`None`: the plain, undirected distance).
     cones: &'a [Option<Cone>],
+    /// The convex cone holding each cone ([`ConvexCone::holding`]).
+    convex: [Option<ConvexCone>; CONES_PER_SEARCH],
     tolerance: f32,
     lower: [f32; CONES_PER_SEARCH],
     upper: [f32; CONES_PER_SEARCH],
+    /// The mesh point of the witness that gave each upper bound.
+    witness_points: [Option<Vec3>; CONES_PER_SEARCH],
 }
 
 /// Indices of the set bits of `mask`.
@@ -79,7 +72,52 @@ impl<'a> VoxelSearch<'a> {
     /// `cap`.
     pub(crate) fn new(cones: &'a [Option<Cone>], tolerance: f32, cap: f32) -> Self {
         debug_assert!(cones.len() <= CONES_PER_SEARCH);
-        Self { cones, tolerance, lower: [cap; CONES_PER_SEARCH], upper: [cap; CONES_PER_SEARCH] }
+        let mut convex = [None; CONES_PER_SEARCH];
+        for (slot, cone) in convex.iter_mut().zip(cones) {
+            *slot = cone.as_ref().map(ConvexCone::holding);
+        }
+        Self {
+            cones,
+            convex,
+            tolerance,
+            lower: [cap; CONES_PER_SEARCH],
+            upper: [cap; CONES_PER_SEARCH],
+            witness_points: [None; CONES_PER_SEARCH],
+        }
+    }
+
+    /// Lowers cone `c`'s upper bound to `distance`, the length of a witness reaching the
+    /// mesh at `m`.
+    fn offer(&mut self, c: usize, distance: f32, m: Vec3) {
+        if distance < self.upper[c] {
+            self.upper[c] = distance;
+            self.witness_points[c] = Some(m);
+        }
+    }
+
+    /// The mesh points of the witnesses behind the upper bounds (to seed a neighbouring
+    /// voxel's search with [`VoxelSearch::seed`]).
+    pub(crate) fn witness_points(&self) -> impl Iterator<Item = Vec3> + '_ {
+        self.witness_points[..self.cones.len()].iter().flatten().copied()
+    }
+
+    /// Starts the upper bounds from witnesses reaching the mesh points `points` (found
+    /// for a neighbouring voxel): per cone, the line from each point back along a cone
+    /// direction into `voxel` ([`box_witness`]); for the plain map, the distance from the
+    /// point to the voxel. Any real witness is valid, so this changes no guarantee; good
+    /// upper bounds early let the search drop and finalise pairs sooner.
+    pub(crate) fn seed(&mut self, voxel: &Aabb, points: &[Vec3]) {
+        for c in 0..self.cones.len() {
+            for &m in points {
+                let distance = match (&self.cones[c], &self.convex[c]) {
+                    (Some(cone), Some(convex)) => box_witness(cone, convex, voxel, m),
+                    _ => Some(m.distance(m.clamp(voxel.min, voxel.max))),
+                };
+                if let Some(distance) = distance.filter(|d| d.is_finite()) {
+                    self.offer(c, distance, m);
+                }
+            }
+        }
     }
 
     /// The value of cone `index` once the search is done.
@@ -99,8 +137,15 @@ impl<'a> VoxelSearch<'a> {
         open
     }
 
-    /// Searches the triangles of `bvh` from `voxel`.
-    pub(crate) fn run(&mut self, bvh: &TriangleBvh, voxel: &Aabb, stack: &mut Vec<(u32, f32, u32)>) {
+    /// Searches the triangles of `bvh` from `voxel`; `axes[i]` are the separating axes of
+    /// `bvh.triangles()[i]` ([`TriangleAxes::of`]).
+    pub(crate) fn run(
+        &mut self,
+        bvh: &TriangleBvh,
+        axes: &[TriangleAxes],
+        voxel: &Aabb,
+        stack: &mut Vec<(u32, f32, u32)>,
+    ) {
         let all = if self.cones.len() == CONES_PER_SEARCH { u32::MAX } else { (1_u32 << self.cones.len()) - 1 };
         stack.clear();
         if let Some(bounds) = bvh.node_bounds(0) {
@@ -111,41 +156,67 @@ impl<'a> VoxelSearch<'a> {
             if mask == 0 {
                 continue;
             }
-            if let Some(triangles) = bvh.leaf(node) {
-                for triangle in triangles {
-                    self.refine(voxel, triangle, mask, 0.0);
+            let Some(bounds) = bvh.node_bounds(node) else { continue };
+            let mask = self.node_cones(voxel, &bounds, mask);
+            if mask == 0 {
+                continue;
+            }
+            if let Some(indices) = bvh.leaf_indices(node) {
+                for &i in indices {
+                    let (Some(triangle), Some(triangle_axes)) = (bvh.triangles().get(i as usize), axes.get(i as usize))
+                    else {
+                        continue;
+                    };
+                    self.refine_with(voxel, triangle, triangle_axes, mask, 0.0);
                 }
                 continue;
             }
             let Some(children) = bvh.children(node) else { continue };
-            let mut entries = children.map(|child| {
-                let bounds = bvh.node_bounds(child).unwrap_or(*voxel);
-                let gap = box_distance(voxel, &bounds);
-                // Cones whose directions all miss the node's box are dropped.
-                let mut open = self.still_open(mask, gap);
-                let range = DirectionRange::of_box(bounds.min - voxel.max, bounds.max - voxel.min);
-                let cap = direction_cap(voxel.center(), voxel.radius(), bounds.center(), bounds.radius());
-                for c in bits(open) {
-                    let Some(cone) = &self.cones[c] else { continue };
-                    let outside = range.is_some_and(|range| cone.relation(&range) == ConeRelation::Outside)
-                        || cap.is_some_and(|(azimuth, elevation, spread)| {
-                            cone.angle_lower_bound_at(azimuth, elevation) > spread + ANGLE_MARGIN
-                        });
-                    if outside {
-                        open &= !(1 << c);
-                    }
-                }
-                (child, gap, open)
-            });
+            let mut entries =
+                children.map(|child| (child, bvh.node_bounds(child).map_or(0.0, |b| box_distance(voxel, &b)), mask));
             if entries[0].1 > entries[1].1 {
                 entries.swap(0, 1);
             }
-            for entry in entries.into_iter().rev() {
-                if entry.2 != 0 {
-                    stack.push(entry);
-                }
+            stack.push(entries[1]);
+            stack.push(entries[0]);
+        }
+    }
+
+    /// The cones of `mask` for which a node with box `bounds` can still matter: those
+    /// whose cone-aware lower bound ([`ConvexCone::bound`] over the coordinate axes, the
+    /// centre offset projected onto the cone and its polar part, which drops cones that
+    /// miss the box) is below the cone's current minimum and upper bound.
+    fn node_cones(&self, voxel: &Aabb, bounds: &Aabb, mask: u32) -> u32 {
+        let (min, max) = (bounds.min - voxel.max, bounds.max - voxel.min);
+        let scale = 1.0 + min.abs().max(max.abs()).max_element() + voxel.max.abs().max_element();
+        let margin = 4e-7 * scale;
+        let offset = bounds.center() - voxel.center();
+        let mut open = mask;
+        for c in bits(mask) {
+            let Some(convex) = &self.convex[c] else { continue };
+            let mut g = 0.0_f32;
+            for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
+                g = g.max(convex.bound(axis, box_support(min, max, axis) - margin));
+                g = g.max(convex.bound(-axis, box_support(min, max, -axis) - margin));
+            }
+            let q = convex.project(offset);
+            let length = q.length();
+            let polar = offset - q;
+            let polar_length = polar.length();
+            if polar_length > 1e-6 * (1.0 + length) {
+                let w = polar / polar_length;
+                g = g.max(convex.bound(w, box_support(min, max, w) - margin));
+            }
+            if length > 1e-6 {
+                let q = q / length;
+                g = g.max(convex.bound(q, box_support(min, max, q) - margin));
+            }
+            let upper = self.upper[c];
+            if !(g < self.lower[c] && g <= upper + 1e-4 * (1.0 + upper)) {
+                open &= !(1 << c);
             }
         }
+        open
     }
 
     /// The search without the hierarchy: every triangle refined in turn (tests compare
@@ -159,9 +230,15 @@ impl<'a> VoxelSearch<'a> {
     }
 
     /// Refines the pair (`aabb`, `triangle`) for the cones of `mask`; `parent` is the
-    /// parent pair's lower bound.
+    /// parent pair's (undirected) lower bound.
     fn refine(&mut self, aabb: &Aabb, triangle: &Triangle, mask: u32, parent: f32) {
-        let gap = separation_lower_bound(triangle, aabb).max(parent);
+        self.refine_with(aabb, triangle, &TriangleAxes::of(triangle), mask, parent);
+    }
+
+    /// [`VoxelSearch::refine`] with the triangle's separating axes already computed.
+    fn refine_with(&mut self, aabb: &Aabb, triangle: &Triangle, axes: &TriangleAxes, mask: u32, parent: f32) {
+        let apart = axes.apart_from(triangle, aabb);
+        let gap = apart.gap.max(parent);
         let mut open = self.still_open(mask, gap);
         if open == 0 {
             return;
@@ -169,51 +246,63 @@ impl<'a> VoxelSearch<'a> {
         let (cb, rb) = (aabb.center(), aabb.radius());
         let (ct, rt) = (triangle.center(), triangle.radius());
         let small = rb.max(rt) <= self.tolerance;
-        let (tmin, tmax) = triangle.bounds();
-        let range = DirectionRange::of_box(tmin - aabb.max, tmax - aabb.min);
-        let cap = direction_cap(cb, rb, ct, rt);
         // A real point pair: the triangle point nearest the box centre and its nearest
         // box point; an upper bound of every cone containing its direction.
-        let mut witness: Option<(f32, Option<(f32, f32)>)> = None;
-        let witness_of = |witness: &mut Option<(f32, Option<(f32, f32)>)>| {
-            *witness.get_or_insert_with(|| {
-                let m = closest_point_on_triangle(cb, triangle);
-                let v = m.clamp(aabb.min, aabb.max);
-                ((m - v).length(), azimuth_elevation(m - v))
-            })
-        };
+        let nearest = closest_point_on_triangle(cb, triangle);
+        let nearest_box = nearest.clamp(aabb.min, aabb.max);
+        let witness = nearest - nearest_box;
+        let witness_distance = witness.length();
         for c in bits(open) {
-            let inside = match (&self.cones[c], &range) {
-                (None, _) => true,
-                (Some(cone), range) => {
-                    let by_range = range.as_ref().map_or(ConeRelation::Partial, |range| cone.relation(range));
-                    let by_cap = cap.map_or(ConeRelation::Partial, |(azimuth, elevation, spread)| {
-                        if cone.angle_lower_bound_at(azimuth, elevation) > spread + ANGLE_MARGIN {
-                            ConeRelation::Outside
-                        } else if cone.inside_margin_at(azimuth, elevation) > spread + ANGLE_MARGIN {
-                            ConeRelation::Inside
-                        } else {
-                            ConeRelation::Partial
-                        }
-                    });
-                    if by_range == ConeRelation::Outside || by_cap == ConeRelation::Outside {
+            let mut g = gap;
+            match (self.cones[c], self.convex[c]) {
+                (Some(cone), Some(convex)) => {
+                    let (cone, convex) = (&cone, &convex);
+                    let (bound, best_axis) = cone_bound(convex, triangle, aabb, &apart);
+                    g = g.max(bound);
+                    let upper = self.upper[c];
+                    if !(g < self.lower[c] && g <= upper + 1e-4 * (1.0 + upper)) {
                         open &= !(1 << c);
                         continue;
                     }
-                    by_range == ConeRelation::Inside || by_cap == ConeRelation::Inside
+                    if witness_distance.is_finite() && contains(cone, convex, witness) {
+                        self.offer(c, witness_distance, nearest);
+                    }
+                    if let Some(axis) = best_axis
+                        && let Some((distance, m)) = ray_witness(cone, convex, aabb, triangle, axis, nearest)
+                    {
+                        self.offer(c, distance, m);
+                    }
+                    for m in [nearest, ct] {
+                        if let Some(distance) = box_witness(cone, convex, aabb, m) {
+                            self.offer(c, distance, m);
+                        }
+                    }
+                    // About to be split: a local search over `w` first tightens the bound
+                    // (towards the exact pair distance, by duality) and aims a witness.
+                    if !small
+                        && g < self.upper[c] - self.tolerance
+                        && let Some(start) = best_axis
+                    {
+                        let (improved, axis) = improve_bound(convex, triangle, aabb, apart.margin, start, g);
+                        g = improved;
+                        let upper = self.upper[c];
+                        if !(g < self.lower[c] && g <= upper + 1e-4 * (1.0 + upper)) {
+                            open &= !(1 << c);
+                            continue;
+                        }
+                        if let Some((distance, m)) = ray_witness(cone, convex, aabb, triangle, axis, nearest) {
+                            self.offer(c, distance, m);
+                        }
+                    }
                 }
-            };
-            let (distance, direction) = witness_of(&mut witness);
-            let witnessed = match (&self.cones[c], direction) {
-                (None, _) => true,
-                (Some(cone), Some((azimuth, elevation))) => inside || cone.contains_at(azimuth, elevation),
-                (Some(_), None) => false,
-            };
-            if witnessed && distance.is_finite() {
-                self.upper[c] = self.upper[c].min(distance);
+                _ => {
+                    if witness_distance.is_finite() {
+                        self.offer(c, witness_distance, nearest);
+                    }
+                }
             }
-            if small || (inside && distance - gap <= self.tolerance) {
-                self.lower[c] = self.lower[c].min(gap);
+            if small || g >= self.upper[c] - self.tolerance {
+                self.lower[c] = self.lower[c].min(g);
                 open &= !(1 << c);
             }
         }
@@ -224,13 +313,363 @@ impl<'a> VoxelSearch<'a> {
             let halves = aabb.split();
             // The half nearer the triangle first: it lowers the minimum sooner.
             let first = usize::from(halves[1].center().distance_squared(ct) < halves[0].center().distance_squared(ct));
-            self.refine(&halves[first], triangle, open, gap);
-            self.refine(&halves[1 - first], triangle, open, gap);
+            self.refine_with(&halves[first], triangle, axes, open, gap);
+            self.refine_with(&halves[1 - first], triangle, axes, open, gap);
         } else {
             let halves = triangle.split();
             let first = usize::from(halves[1].center().distance_squared(cb) < halves[0].center().distance_squared(cb));
             self.refine(aabb, &halves[first], open, gap);
             self.refine(aabb, &halves[1 - first], open, gap);
         }
+    }
+}
+
+/// The separating axes of a triangle that do not depend on the box (those of
+/// [`crate::geometry::separation_lower_bound`] but the centres' axis: the coordinate
+/// axes, the normal and the 9 edge–axis cross products), normalised, with the interval of
+/// the triangle's vertices along each. Splitting the box keeps them, so they are computed
+/// once per triangle piece.
+pub(crate) struct TriangleAxes {
+    axes: [Vec3; 16],
+    /// `(min, max)` of `axis · vertex`.
+    extent: [(f32, f32); 16],
+    count: usize,
+    /// Largest vertex coordinate magnitude (for the rounding margin).
+    magnitude: f32,
+}
+
+impl TriangleAxes {
+    pub(crate) fn of(triangle: &Triangle) -> Self {
+        let [a, b, c] = triangle.0;
+        let edges = [b - a, c - b, a - c];
+        let mut axes = Self {
+            axes: [Vec3::ZERO; 16],
+            extent: [(0.0, 0.0); 16],
+            count: 0,
+            magnitude: a.abs().max(b.abs()).max(c.abs()).max_element(),
+        };
+        let mut add = |axis: Vec3| {
+            let length_squared = axis.length_squared();
+            if length_squared.is_nan() || length_squared <= 1e-20 {
+                return;
+            }
+            let axis = axis / libm::sqrtf(length_squared);
+            let (pa, pb, pc) = (a.dot(axis), b.dot(axis), c.dot(axis));
+            axes.axes[axes.count] = axis;
+            axes.extent[axes.count] = (pa.min(pb).min(pc), pa.max(pb).max(pc));
+            axes.count += 1;
+        };
+        add(Vec3::X);
+        add(Vec3::Y);
+        add(Vec3::Z);
+        add(edges[0].cross(edges[1]));
+        for edge in edges {
+            add(edge.cross(Vec3::X));
+            add(edge.cross(Vec3::Y));
+            add(edge.cross(Vec3::Z));
+        }
+        axes
+    }
+
+    /// The axes along which the triangle and `aabb` are apart, each oriented from the box
+    /// to the triangle with its gap `h ≤ h_A(w)`, and the largest gap (with the axis
+    /// joining the centres): a lower bound of their distance.
+    fn apart_from(&self, triangle: &Triangle, aabb: &Aabb) -> SeparatingAxes {
+        let center = aabb.center();
+        let half = aabb.max - center;
+        let scale = 1.0 + center.abs().max_element() + self.magnitude + half.max_element();
+        let margin = 1e-6 * scale;
+        let mut apart = SeparatingAxes { axes: [(Vec3::ZERO, 0.0); 17], count: 0, gap: 0.0, margin };
+        let mut push = |axis: Vec3, low: f32, high: f32| {
+            let s = axis.dot(center);
+            let r = half.x * axis.x.abs() + half.y * axis.y.abs() + half.z * axis.z.abs();
+            let (forward, backward) = (low - s - r - margin, s - r - high - margin);
+            let entry = if forward > 0.0 {
+                (axis, forward)
+            } else if backward > 0.0 {
+                (-axis, backward)
+            } else {
+                return;
+            };
+            apart.gap = apart.gap.max(entry.1);
+            apart.axes[apart.count] = entry;
+            apart.count += 1;
+        };
+        for (&axis, &(low, high)) in self.axes[..self.count].iter().zip(&self.extent) {
+            push(axis, low, high);
+        }
+        let centers = triangle.center() - center;
+        let length = centers.length();
+        if length > 1e-12 && length.is_finite() {
+            let axis = centers / length;
+            let [a, b, c] = triangle.0;
+            let (pa, pb, pc) = (a.dot(axis), b.dot(axis), c.dot(axis));
+            push(axis, pa.min(pb).min(pc), pa.max(pb).max(pc));
+        }
+        apart
+    }
+}
+
+/// The axes along which a box–triangle pair is apart ([`TriangleAxes::apart_from`]).
+struct SeparatingAxes {
+    /// `(unit axis w, h ≤ h_A(w))`, oriented from the box to the triangle.
+    axes: [(Vec3, f32); 17],
+    count: usize,
+    gap: f32,
+    /// Rounding margin subtracted from every gap.
+    margin: f32,
+}
+
+/// Whether the direction `d` lies in `cone`: by [`ConvexCone::contains_within`] when the
+/// convex cone is the cone itself, else by azimuth and elevation.
+fn contains(cone: &Cone, convex: &ConvexCone, d: Vec3) -> bool {
+    match convex.contains_within(d) {
+        Some(inside) => inside,
+        None => azimuth_elevation(d).is_some_and(|(azimuth, elevation)| cone.contains_at(azimuth, elevation)),
+    }
+}
+
+/// A witness of `cone` for the pair (`aabb`, `triangle`): the length of a ray from a
+/// point of the box, in a direction of the cone, to the triangle, or `None` when the
+/// rays tried miss. The direction is the projection of `axis` onto the cone (nudged
+/// towards the cone's centre when rounding leaves it on the boundary); the rays leave
+/// from the box's front in that direction and from the box point nearest `nearest`.
+/// Also returns the point of the triangle reached.
+fn ray_witness(
+    cone: &Cone,
+    convex: &ConvexCone,
+    aabb: &Aabb,
+    triangle: &Triangle,
+    axis: Vec3,
+    nearest: Vec3,
+) -> Option<(f32, Vec3)> {
+    let projected = convex.project(axis).normalize_or_zero();
+    let direction = [projected, (projected + 1e-3 * convex.center()).normalize_or_zero()]
+        .into_iter()
+        .find(|&d| d != Vec3::ZERO && contains(cone, convex, d))?;
+    let inside = nearest.clamp(aabb.min, aabb.max);
+    let front = Vec3::select(
+        direction.cmpgt(Vec3::splat(1e-6)),
+        aabb.max,
+        Vec3::select(direction.cmplt(Vec3::splat(-1e-6)), aabb.min, inside),
+    );
+    [front, inside]
+        .into_iter()
+        .filter_map(|origin| ray_triangle(origin, direction, triangle).map(|t| (t, origin + direction * t)))
+        .reduce(|a, b| if b.0 < a.0 { b } else { a })
+}
+
+/// A witness of `cone` for a box and a point `m` of the mesh: the distance from `m` back
+/// along a direction of the cone (the projection of `m − c_B` onto it, `c_B` the box
+/// centre) to where that line enters the box, or `None` when it misses the box.
+fn box_witness(cone: &Cone, convex: &ConvexCone, aabb: &Aabb, m: Vec3) -> Option<f32> {
+    let projected = convex.project(m - aabb.center()).normalize_or_zero();
+    let direction = [projected, (projected + 1e-3 * convex.center()).normalize_or_zero()]
+        .into_iter()
+        .find(|&d| d != Vec3::ZERO && contains(cone, convex, d))?;
+    // The points m − t d, t ≥ 0, inside the box: the slab intervals of t.
+    let (mut enter, mut leave) = (0.0_f32, f32::INFINITY);
+    for axis in 0..3 {
+        let (d, p) = (direction[axis], m[axis]);
+        if d.abs() < 1e-12 {
+            if p < aabb.min[axis] || p > aabb.max[axis] {
+                return None;
+            }
+            continue;
+        }
+        let (t1, t2) = ((p - aabb.min[axis]) / d, (p - aabb.max[axis]) / d);
+        enter = enter.max(t1.min(t2));
+        leave = leave.min(t1.max(t2));
+    }
+    // Rounding can put the entry point a hair outside the box: step a little further in.
+    let t = enter + 1e-5 * (1.0 + enter);
+    (t <= leave && t.is_finite()).then_some(t)
+}
+
+/// A lower bound of the distance from `aabb` to `triangle` along directions of `convex`
+/// ([`ConvexCone::bound`] over the separating axes `apart` of the pair, the projection of
+/// the centres' offset onto the cone and its polar part), and the best axis other than the
+/// polar one (the projected offset when no separating axis gives a positive bound; `None`
+/// when that is zero too): where a witness is likely.
+fn cone_bound(convex: &ConvexCone, triangle: &Triangle, aabb: &Aabb, apart: &SeparatingAxes) -> (f32, Option<Vec3>) {
+    let (center, half) = (aabb.center(), (aabb.max - aabb.min) * 0.5);
+    let (mut g, mut best_axis) = (0.0_f32, None);
+    for &(axis, h) in &apart.axes[..apart.count] {
+        let bound = convex.bound(axis, h);
+        if bound > g {
+            (g, best_axis) = (bound, Some(axis));
+        }
+    }
+    let offset = triangle.center() - center;
+    let q = convex.project(offset);
+    let length = q.length();
+    if length > 1e-6 {
+        let q = q / length;
+        let bound = convex.bound(q, triangle_box_support(triangle, center, half, q) - apart.margin);
+        if bound > g {
+            (g, best_axis) = (bound, Some(q));
+        } else {
+            best_axis = best_axis.or(Some(q));
+        }
+    }
+    // The offset's part polar to the cone separates the pair's offsets from the cone
+    // when `h_A` is positive along it.
+    let polar = offset - q;
+    let polar_length = polar.length();
+    if polar_length > 1e-6 * (1.0 + length) {
+        let w = polar / polar_length;
+        g = g.max(convex.bound(w, triangle_box_support(triangle, center, half, w) - apart.margin));
+    }
+    (g, best_axis)
+}
+
+/// The largest [`ConvexCone::bound`] of the pair (`aabb`, `triangle`) found by a pattern
+/// search over unit `w` around `start` (whose bound is `start_bound`), and its `w`.
+/// Every `w` gives a valid lower bound, so the search only has to be good, not exact.
+fn improve_bound(
+    convex: &ConvexCone,
+    triangle: &Triangle,
+    aabb: &Aabb,
+    margin: f32,
+    start: Vec3,
+    start_bound: f32,
+) -> (f32, Vec3) {
+    let (center, half) = (aabb.center(), (aabb.max - aabb.min) * 0.5);
+    let value = |w: Vec3| convex.bound(w, triangle_box_support(triangle, center, half, w) - margin);
+    let (mut w, mut best) = (start, start_bound.max(value(start)));
+    for step in [0.2_f32, 0.05, 0.0125] {
+        for _ in 0..2 {
+            let helper = if w.z.abs() < 0.9 { Vec3::Z } else { Vec3::X };
+            let u = w.cross(helper).normalize_or_zero();
+            let v = w.cross(u);
+            let mut improved = false;
+            for direction in [u, -u, v, -v] {
+                let candidate = (w + direction * step).normalize_or_zero();
+                let bound = value(candidate);
+                if bound > best {
+                    (best, w, improved) = (bound, candidate, true);
+                }
+            }
+            if !improved {
+                break;
+            }
+        }
+    }
+    (best, w)
+}
+
+/// The distance along the unit `direction` from `origin` to `triangle` (Möller–Trumbore),
+/// or `None` when the ray misses it.
+fn ray_triangle(origin: Vec3, direction: Vec3, triangle: &Triangle) -> Option<f32> {
+    let [a, b, c] = triangle.0;
+    let (e1, e2) = (b - a, c - a);
+    let p = direction.cross(e2);
+    let det = e1.dot(p);
+    if det.is_nan() || det.abs() < 1e-12 {
+        return None;
+    }
+    let s = origin - a;
+    let u = s.dot(p) / det;
+    let q = s.cross(e1);
+    let v = direction.dot(q) / det;
+    let t = e2.dot(q) / det;
+    (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t >= 0.0 && t.is_finite()).then_some(t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cones::DirectionCones;
+
+    fn generator(mut state: u64) -> impl FnMut() -> f32 {
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
+    /// The smallest `|m − v|` in `cone` over a grid of triangle and box points (an upper
+    /// estimate of the true directional distance), or infinity.
+    fn sampled(aabb: &Aabb, triangle: &Triangle, cone: &Cone) -> f32 {
+        let [a, b, c] = triangle.0;
+        let mut best = f32::INFINITY;
+        let n = 14;
+        for i in 0..=n {
+            for j in 0..=(n - i) {
+                let m = a + (b - a) * (i as f32 / n as f32) + (c - a) * (j as f32 / n as f32);
+                for k in 0..125 {
+                    let t = Vec3::new((k % 5) as f32, ((k / 5) % 5) as f32, (k / 25) as f32) / 4.0;
+                    let v = aabb.min + (aabb.max - aabb.min) * t;
+                    if let Some((azimuth, elevation)) = azimuth_elevation(m - v)
+                        && cone.contains_at(azimuth, elevation)
+                    {
+                        best = best.min(m.distance(v));
+                    }
+                }
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn cone_bounds_are_below_sampled_distances_and_witnesses_above_them() {
+        let mut next = generator(0x2545_f491_4f6c_dd1d);
+        let cone_sets = [
+            DirectionCones::downward(8, 1).unwrap(),
+            DirectionCones::downward(2, 1).unwrap(),
+            DirectionCones::full(4, 2).unwrap(),
+            DirectionCones::downward(4, 2).unwrap(),
+            DirectionCones::full(3, 3).unwrap(),
+        ];
+        let (mut gap_sum, mut finite, mut witnessed) = (0.0, 0, 0);
+        for _ in 0..150 {
+            let size = 0.2 + next() * 0.8;
+            let aabb = Aabb { min: Vec3::splat(-size / 2.0), max: Vec3::splat(size / 2.0) };
+            let mut vertex = || Vec3::new(next(), next(), next()) * 6.0 - 3.0;
+            let triangle = Triangle([vertex(), vertex(), vertex()]);
+            let apart = TriangleAxes::of(&triangle).apart_from(&triangle, &aabb);
+            let nearest = closest_point_on_triangle(aabb.center(), &triangle);
+            for cones in cone_sets {
+                for index in 0..cones.count() {
+                    let cone = cones.cone(index).unwrap();
+                    let convex = ConvexCone::holding(&cone);
+                    let truth = sampled(&aabb, &triangle, &cone);
+                    let (mut bound, axis) = cone_bound(&convex, &triangle, &aabb, &apart);
+                    bound = bound.max(apart.gap);
+                    if let Some(axis) = axis {
+                        bound = bound.max(improve_bound(&convex, &triangle, &aabb, apart.margin, axis, bound).0);
+                    }
+                    assert!(
+                        bound <= truth + 1e-5,
+                        "{triangle:?} {aabb:?} cone {cone:?}: bound {bound} > sampled {truth}"
+                    );
+                    if truth.is_finite() {
+                        gap_sum += truth - bound;
+                        finite += 1;
+                    }
+                    let witnesses = [
+                        axis.and_then(|axis| ray_witness(&cone, &convex, &aabb, &triangle, axis, nearest))
+                            .map(|(distance, _)| distance),
+                        box_witness(&cone, &convex, &aabb, nearest),
+                        box_witness(&cone, &convex, &aabb, triangle.center()),
+                    ];
+                    for witness in witnesses.into_iter().flatten() {
+                        witnessed += 1;
+                        assert!(
+                            witness >= bound - 1e-4,
+                            "{triangle:?} {aabb:?} cone {cone:?}: witness {witness} < bound {bound}"
+                        );
+                    }
+                }
+            }
+        }
+        let mean_gap = gap_sum / finite as f32;
+        // Measured: mean (sampled − bound) 0.131 voxel over 3128 pairs (part of it the
+        // sampling grid's own error), 3941 witnesses.
+        assert!(finite > 500 && witnessed > 500, "{finite} {witnessed}");
+        assert!(mean_gap < 0.16, "mean gap {mean_gap}");
+        std::println!("mean gap {mean_gap} over {finite}, {witnessed} witnesses");
     }
 }

@@ -77,11 +77,12 @@ fn stored_values_never_exceed_sampled_distances() {
         );
         // The search is at least as tight as the previous computation on average.
         assert!(fast_mean <= reference_mean + 1e-3, "search {fast_mean} looser than reference {reference_mean}");
-        // Measured mean gaps: 0.298 (full 4×2), 0.312 (downward 8×1), 0.169 (plain map); the
+        // Measured mean gaps: 0.288 (full 4×2), 0.300 (downward 8×1), 0.169 (plain map)
+        // (before the cone-aware bounds and witnesses: 0.298, 0.312, 0.169); the
         // reference: 0.466, 0.525, 0.196. Part of each is the sampling's own error (32²
         // point pairs per triangle miss the nearest pair), which also makes the largest gap
         // (3.3 voxel, the same for both) a sampling artefact of grazing directions.
-        assert!(fast_mean < 0.33, "the bound is too loose: {fast_mean}");
+        assert!(fast_mean < 0.32, "the bound is too loose: {fast_mean}");
     }
 }
 

@@ -323,7 +323,14 @@ fn impostor_sample(ray: ImpostorGrainRay, uniforms: ImpostorSamplingUniforms) ->
             } else if uniforms.mode == 1u {
                 point = proxy;
             } else if planar.w == 1.0 && proxy.w == 1.0 {
-                let t = distance_ratio;
+                var t = distance_ratio;
+                if uniforms.mode == 3u {
+                    // Rust: sampling::smoothstep(0.2 ρ/R, ρ/R, d/R), spelled out.
+                    let proxy_ratio = 0.5 * (uniforms.inner_radius + outer) / outer;
+                    let low = 0.2 * proxy_ratio;
+                    let s = clamp((distance_ratio - low) / (proxy_ratio - low), 0.0, 1.0);
+                    t = s * s * (3.0 - 2.0 * s);
+                }
                 point = vec4<f32>(planar.xyz * t + proxy.xyz * (1.0 - t), 1.0);
             } else {
                 point = select(proxy, planar, planar.w == 1.0);

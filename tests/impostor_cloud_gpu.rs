@@ -442,6 +442,8 @@ fn a_sphere_impostor_reproduces_the_analytic_sphere_in_every_mode() {
             // Measured: band 0.097 R, mean 11.4°, max 22.3°, depth 0.368 R (n = 8 views
             // are up to ~9° from the camera; P reads texels of other surface points).
             SamplingMode::Planar => (0.11, 12.0, 24.0, 0.4),
+            // Measured: band 0.088 R, mean 7.64°, max 21.8°, depth 0.356 R.
+            SamplingMode::MixedSmooth => (0.10, 8.5, 23.5, 0.39),
         };
         assert!(band <= band_limit, "{mode:?}: coverage differs {band} R from the silhouette");
         assert!(

@@ -25,6 +25,7 @@ fn mode_colour(mode: SamplingMode) -> RGBColor {
         SamplingMode::Planar => RGBColor(31, 119, 180),
         SamplingMode::Spherical => RGBColor(44, 160, 44),
         SamplingMode::Mixed => RGBColor(214, 39, 40),
+        SamplingMode::MixedSmooth => RGBColor(148, 103, 189),
     }
 }
 
@@ -129,7 +130,7 @@ fn draw_chart(path: &Path, rows: &[SweepRow], diameter: f32, grain_names: &[Stri
 /// The markdown table of SSIM at `(n, p)` for every grain, mode and diameter.
 fn table(rows: &[SweepRow], n: u32, p: u32) -> String {
     let mut out = format!(
-        "SSIM (RMSE) at n = {n}, p = {p}\n\n| grain | px | planar | spherical | mixed |\n|---|---|---|---|---|\n"
+        "SSIM (RMSE) at n = {n}, p = {p}\n\n| grain | px | planar | spherical | mixed | mixed, smooth (GrainViewer) |\n|---|---|---|---|---|---|\n"
     );
     let mut keys: Vec<(String, u32)> = Vec::new();
     let rows: Vec<&SweepRow> = rows.iter().filter(|r| r.layout == ViewLayout::Listing1).collect();

@@ -93,7 +93,7 @@ proptest! {
         scale in any_bits(),
         rotation in (any_bits(), any_bits(), any_bits(), any_bits()),
         n in 1_u32..=16,
-        mode in 0_usize..3,
+        mode in 0_usize..4,
         compact in any::<bool>(),
         per_grain in any::<bool>(),
         inner in 0.01_f32..=1.0,

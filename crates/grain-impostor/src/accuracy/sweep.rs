@@ -51,8 +51,8 @@ pub struct SweepSettings {
 }
 
 impl SweepSettings {
-    /// The full sweep: `n ∈ {4, 6, 8, 10, 12}`, `p ∈ {32, 64, 128}`, three modes, 64
-    /// views, grains 32 and 64 pixels wide.
+    /// The full sweep: `n ∈ {4, 6, 8, 10, 12}`, `p ∈ {32, 64, 128}`, every sampling
+    /// mode, both layouts, 64 views, grains 32 and 64 pixels wide.
     pub fn full() -> Self {
         Self {
             subdivisions: vec![4, 6, 8, 10, 12],

@@ -17,6 +17,7 @@ pub fn sampling_mode_name(mode: SamplingMode) -> &'static str {
         SamplingMode::Planar => "planar",
         SamplingMode::Spherical => "spherical",
         SamplingMode::Mixed => "mixed",
+        SamplingMode::MixedSmooth => "mixed-smooth",
     }
 }
 

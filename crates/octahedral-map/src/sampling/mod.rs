@@ -52,8 +52,10 @@
 //!   `IntersectRayBillboard_MixedHit` does (it falls back to its plane hit when the
 //!   sphere hit is invalid). Note that the paper's formula is then **discontinuous** at
 //!   `d = ρ`: just inside, `M` still weighs `S` by `1 − ρ/R = (R − r)/(2R)`. `GrainViewer`
-//!   avoids the jump with `smoothstep(0.2 ρ/R, ρ/R, d/R)` as the weight of `P`; we keep
-//!   the paper's formula, as specified, and document the jump.
+//!   avoids the jump with `smoothstep(0.2 ρ/R, ρ/R, d/R)` as the weight of `P`:
+//!   [`SamplingMode::Mixed`] keeps the paper's formula and its jump,
+//!   [`SamplingMode::MixedSmooth`] is the official code's variant, and the accuracy
+//!   experiment of `grain-impostor` measures both.
 //! - **Ray starting inside the proxy sphere**: its exit point (`GrainViewer`'s
 //!   `intersectRaySphere` does the same).
 //! - **Ray (nearly) parallel to a view plane**, `|direction·ω_i| < MIN_PLANE_COSINE`: `P`
@@ -103,11 +105,22 @@ pub enum SamplingMode {
     Spherical = 1,
     /// `M = (d/R)·P + (1 − d/R)·S`, the paper's mixed sampling.
     Mixed = 2,
+    /// The continuous variant of the official code (`GrainViewer`): `M = w·P + (1 − w)·S`
+    /// with `w = smoothstep(0.2 ρ/R, ρ/R, d/R)`, so that `M` reaches `P` exactly where the
+    /// ray leaves the proxy sphere (`d = ρ`) instead of jumping there.
+    MixedSmooth = 3,
 }
 
 impl SamplingMode {
-    /// The three modes.
-    pub const ALL: [Self; 3] = [Self::Planar, Self::Spherical, Self::Mixed];
+    /// Every mode: the paper's three and the official code's continuous mixed variant.
+    pub const ALL: [Self; 4] = [Self::Planar, Self::Spherical, Self::Mixed, Self::MixedSmooth];
+}
+
+/// `smoothstep(low, high, x) = t²(3 − 2t)` with `t = clamp((x − low)/(high − low), 0, 1)`,
+/// written as WGSL defines it (the twin spells it out, so both round alike).
+fn smoothstep(low: f32, high: f32, x: f32) -> f32 {
+    let t = ((x - low) / (high - low)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
 }
 
 /// Which view indices the samplers return.
@@ -237,6 +250,11 @@ pub fn sample_impostor(ray: &GrainRay, uniforms: &ImpostorSamplingUniforms) -> I
         let point = match (uniforms.mode, planar, proxy_hit) {
             (0, p, _) => p,
             (1, _, s) => s,
+            (3, Some(p), Some(s)) => {
+                let proxy_ratio = proxy_radius(uniforms) / outer;
+                let t = smoothstep(0.2 * proxy_ratio, proxy_ratio, distance_ratio);
+                Some(p * t + s * (1.0 - t))
+            }
             (_, Some(p), Some(s)) => {
                 let t = distance_ratio;
                 Some(p * t + s * (1.0 - t))

@@ -240,7 +240,7 @@ pub fn rasterize_gbuffer(gpu: &Gpu, mesh: &BaseMesh, camera: &Camera) -> Result<
                 let buffer = device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("base G-buffer readback"),
                     size: u64::from(padded_row_bytes) * u64::from(height),
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 });
                 encoder.copy_texture_to_buffer(

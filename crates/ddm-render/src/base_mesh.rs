@@ -89,7 +89,8 @@ pub fn scaled_vertices(mesh: &BaseMesh) -> Option<Vec<BaseVertex>> {
         .map(|i| {
             let (a_u, a_v, g) = sums[group_of[i]];
             let det = g.x * g.z - g.y * g.y;
-            if !(det > f32::EPSILON * g.x * g.z) {
+            // NaN sums fail the comparison too.
+            if det.partial_cmp(&(f32::EPSILON * g.x * g.z)) != Some(std::cmp::Ordering::Greater) {
                 return None;
             }
             let dp_du = (a_u * g.z - a_v * g.y) / det;

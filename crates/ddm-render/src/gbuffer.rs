@@ -284,3 +284,19 @@ pub fn rasterize_gbuffer(gpu: &Gpu, mesh: &BaseMesh, camera: &Camera) -> Result<
         .collect();
     Ok(GBuffer { width, height, texels, raster_seconds })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use wgsl_gen::{ComposedShader, check_layout};
+
+    #[test]
+    fn raster_shader_validates_and_matches_the_rust_layouts() {
+        let source = raster_shader().unwrap();
+        let shader = ComposedShader::new("ddm_render_raster").with_part("gbuffer.rs", &source);
+        shader.validate().unwrap_or_else(|e| panic!("{e}"));
+        let module = shader.parse().unwrap();
+        check_layout(&module, &[StructDecl::of::<BaseCamera>(), StructDecl::of::<BaseVertex>()])
+            .unwrap_or_else(|e| panic!("{e:?}"));
+    }
+}

@@ -38,7 +38,8 @@ fn render_tangent_ray(texel: BaseGBufferTexel, frame: mat3x3<f32>, eye: vec3<f32
     return mat2x3<f32>(origin, render_to_tangent(frame, texel.position_coverage.xyz - eye));
 }
 
-// Whether the tangent-space point `p` is in shadow for the tangent-space light direction
+// Rust: ddm_tracer::tangent_space::in_shadow (relief scenes run relief mapping through
+// trace_ray). Whether the tangent-space point `p` is in shadow for the tangent-space light direction
 // `l` (pointing toward the light): a light below the tangent plane shadows; otherwise a
 // ray from where the shadow ray leaves the top of the slab is traced back toward `p`
 // (the tracer only follows descending rays), and a hit more than `tolerance` voxels

@@ -6,7 +6,8 @@
 //!   plane-tile path traces through that pixel (same camera): origin on the eye ray at
 //!   the slab top, same direction, and the same hit. The compute pass's ray also equals
 //!   the CPU reference `tangent_space_ray` applied to the read-back G-buffer texel
-//!   (CPU = GPU for `render_tangent_ray`), and its hit equals the CPU tracer's.
+//!   (CPU = GPU for `render_tangent_ray`), its hit equals the CPU tracer's, and its shadow
+//!   flag equals `in_shadow` on the CPU (CPU = GPU for `render_in_shadow`).
 //! - Torus: the G-buffer frames at every covered pixel are orthonormal (after
 //!   normalisation) and match `torus_base_mesh`'s analytic frame at the pixel's texture
 //!   coordinates, and the positions lie on the torus.
@@ -14,13 +15,17 @@
 use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
 use ddm_render::{Camera, plane_base_mesh, rasterize_gbuffer, render_pixels};
 use ddm_tracer::gpu::GpuScene;
-use ddm_tracer::tangent_space::{BaseRenderParams, PIXEL_HIT, PIXEL_UNCOVERED, tangent_space_ray};
+use ddm_tracer::tangent_space::{
+    BaseRenderParams, PIXEL_HIT, PIXEL_UNCOVERED, TangentFrame, in_shadow, tangent_space_ray,
+};
 use ddm_tracer::{CompressedMaps, Method, PatchSettings, TraceSettings, VoxelPatches, trace};
 use glam::{UVec2, UVec3, Vec3, Vec4};
 use integration_tests::gpu;
 use mesostructure::Mesostructure;
 
 const DIMS: UVec3 = UVec3::new(12, 12, 6);
+/// Shadow rays: how far short of the shaded point (voxels) a hit must be.
+const SHADOW_TOLERANCE: f32 = 0.02;
 
 /// The camera of `xtask ddm-trace`'s view: above and to the side of the tile.
 fn plane_camera(width: u32, height: u32) -> Camera {
@@ -54,7 +59,7 @@ fn check_plane_tile(structure: Mesostructure) {
     let params = BaseRenderParams {
         eye: camera.eye.extend(0.0),
         light: Vec4::new(0.45, 0.3, 0.84, 0.0).normalize().with_w(0.2),
-        slab: slab.extend(-1.0),
+        slab: slab.extend(SHADOW_TOLERANCE),
         miss_color: Vec4::new(0.2, 0.25, 0.35, 0.0),
     };
     let pass = render_pixels(gpu, &gbuffer, &scene, &params).unwrap();
@@ -62,7 +67,8 @@ fn check_plane_tile(structure: Mesostructure) {
     let (mut covered, mut hits) = (0, 0);
     let (mut worst_origin, mut worst_direction, mut worst_mirror, mut worst_hit, mut worst_eye_hit) =
         (0.0_f32, 0.0_f32, 0.0_f32, 0.0_f32, 0.0_f32);
-    let mut hit_miss_differ = 0;
+    let (mut hit_miss_differ, mut shadow_differ, mut shadowed) = (0, 0, 0);
+    let light = params.light.truncate();
     for y in 0..camera.height {
         for x in 0..camera.width {
             let i = (x + y * camera.width) as usize;
@@ -93,6 +99,15 @@ fn check_plane_tile(structure: Mesostructure) {
                 (Some(c), Some(e), true) => {
                     worst_hit = worst_hit.max((c.point - pixel.hit.truncate()).length());
                     worst_eye_hit = worst_eye_hit.max((e.point - pixel.hit.truncate()).length());
+                    // CPU = GPU for the shadow ray (cast where the hit faces the light).
+                    let frame = TangentFrame::new(texel, slab).unwrap();
+                    let lit_side = frame.normal_to_world(c.normal).dot(light) > 0.0;
+                    let tangent_light = frame.to_tangent(light);
+                    let expected = lit_side
+                        && in_shadow(&maps, Some(&patches), c.point, tangent_light, SHADOW_TOLERANCE, trace_settings);
+                    let gpu_shadowed = pixel.ray_direction.w == 1.0;
+                    shadowed += usize::from(gpu_shadowed);
+                    shadow_differ += usize::from(expected != gpu_shadowed);
                 }
                 (None, None, false) => {}
                 _ => hit_miss_differ += 1,
@@ -100,7 +115,8 @@ fn check_plane_tile(structure: Mesostructure) {
         }
     }
     println!(
-        "{}: covered {covered}, hits {hits}, hit/miss differ {hit_miss_differ}; worst: mirror {worst_mirror:e}, \
+        "{}: covered {covered}, hits {hits}, hit/miss differ {hit_miss_differ}, shadowed {shadowed}, \
+         shadow differs {shadow_differ}; worst: mirror {worst_mirror:e}, \
          origin {worst_origin:e} voxel, direction {worst_direction:e} rad, hit vs CPU {worst_hit:e}, \
          hit vs eye ray {worst_eye_hit:e} voxel; compute {}",
         structure.name(),
@@ -113,6 +129,8 @@ fn check_plane_tile(structure: Mesostructure) {
     // carried along); the maze's 157 misses (quadric holes) are the CPU tracer's too; direction
     // 2.1e-6 rad.
     assert_eq!(hit_miss_differ, 0);
+    assert!(shadowed > 0, "no shadow to compare");
+    assert_eq!(shadow_differ, 0);
     assert!(worst_mirror < 1e-5, "{worst_mirror}");
     assert!(worst_origin < 5e-4, "{worst_origin}");
     assert!(worst_direction < 1e-5, "{worst_direction}");

@@ -26,6 +26,10 @@
 use glam::{Vec3, Vec4};
 use gpu_layout::{GpuConst, gpu_const, gpu_struct};
 
+use crate::maps::DistanceSource;
+use crate::patches::VoxelPatches;
+use crate::trace::{TraceSettings, trace};
+
 /// `BaseRenderPixel::color.w` of a pixel the base mesh does not cover.
 pub const PIXEL_UNCOVERED: f32 = 0.0;
 /// `BaseRenderPixel::color.w` of a covered pixel whose ray misses the mesostructure.
@@ -135,6 +139,29 @@ pub fn tangent_space_ray(texel: &BaseGBufferTexel, eye: Vec3, slab: Vec3, size_z
     let origin = Vec3::new(texel.tangent_u.w * slab.x, texel.bitangent_v.w * slab.y, size_z);
     let direction = frame.to_tangent(texel.position_coverage.truncate() - eye);
     Some((origin, direction))
+}
+
+/// Whether the tangent-space point `point` is in shadow for the tangent-space direction
+/// toward the light `light`: a light at or below the tangent plane (`light.z ≤ 0`)
+/// shadows; otherwise the ray from where the shadow ray leaves the top of the slab is
+/// traced back toward `point` (the tracer follows descending rays only), and a hit more
+/// than `tolerance` voxels before `point` shadows it. WGSL twin: `render_in_shadow` (which
+/// also runs relief mapping when the scene is a relief scene).
+pub fn in_shadow<S: DistanceSource>(
+    source: &S,
+    patches: Option<&VoxelPatches>,
+    point: Vec3,
+    light: Vec3,
+    tolerance: f32,
+    settings: TraceSettings,
+) -> bool {
+    if light.z.partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater) {
+        return true;
+    }
+    let size_z = source.dims().z as f32;
+    let top = point + light * ((size_z - point.z) / light.z);
+    let distance = (top - point).length();
+    trace(source, patches, top, -light, settings).hit.is_some_and(|hit| hit.t < distance - tolerance)
 }
 
 #[cfg(test)]

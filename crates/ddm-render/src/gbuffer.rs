@@ -122,6 +122,20 @@ pub fn rasterize_gbuffer(gpu: &Gpu, mesh: &BaseMesh, camera: &Camera) -> Result<
     if vertices.is_empty() || indices.is_empty() {
         return Err(HarnessError::InvalidRequest("base mesh is empty".into()));
     }
+    let vertex_bytes = (vertices.len() * size_of::<BaseVertex>()) as u64;
+    let storage_limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+    if vertex_bytes > storage_limit {
+        return Err(HarnessError::TooLarge {
+            what: "base mesh vertices in bytes".into(),
+            requested: vertex_bytes,
+            limit: storage_limit,
+        });
+    }
+    let index_count = u32::try_from(indices.len()).map_err(|_| HarnessError::TooLarge {
+        what: "base mesh indices".into(),
+        requested: indices.len() as u64,
+        limit: u64::from(u32::MAX),
+    })?;
     let reach = mesh.positions.iter().map(|p| (*p - camera.eye).length()).fold(0.0_f32, f32::max);
     let uniforms = camera.uniforms((reach * 1e-3).max(1e-3), reach * 1.5 + 1.0);
     let source = raster_shader()?;
@@ -232,7 +246,7 @@ pub fn rasterize_gbuffer(gpu: &Gpu, mesh: &BaseMesh, camera: &Camera) -> Result<
             pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
             pass.set_index_buffer(index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..indices.len() as u32, 0, 0..1);
+            pass.draw_indexed(0..index_count, 0, 0..1);
         }
         let readbacks: Vec<wgpu::Buffer> = textures
             .iter()

@@ -26,6 +26,7 @@
 //! - [`relief`]: the relief mapping baseline on height fields.
 //! - [`ground_truth`]: exact ray–triangle intersection of the periodic mesh (BVH).
 //! - [`gpu`]: the structs and buffers of the WGSL twin.
+//! - [`tangent_space`]: the per-pixel ray of a mesostructure mapped on a base mesh.
 //!
 //! # Features
 //!
@@ -40,6 +41,7 @@ pub mod ground_truth;
 pub mod maps;
 pub mod patches;
 pub mod relief;
+pub mod tangent_space;
 pub mod trace;
 
 pub use ground_truth::{MeshHit, MeshRaycaster};

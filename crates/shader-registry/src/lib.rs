@@ -140,11 +140,26 @@ static MODULES: &[ShaderModule] = &[
         },
         constants: ddm_tracer::gpu::WGSL_CONSTANTS,
     },
+    ShaderModule {
+        name: "ddm_render",
+        generated: wgsl_file!("shaders/generated/ddm_render.wgsl"),
+        library: wgsl_file!("shaders/ddm_render.wgsl"),
+        kernels: &[wgsl_file!("shaders/kernels/ddm_render_compute.wgsl")],
+        structs: || {
+            vec![
+                StructDecl::of::<ddm_tracer::tangent_space::BaseGBufferTexel>(),
+                StructDecl::of::<ddm_tracer::tangent_space::BaseRenderParams>(),
+                StructDecl::of::<ddm_tracer::tangent_space::BaseRenderPixel>(),
+            ]
+        },
+        constants: ddm_tracer::tangent_space::WGSL_CONSTANTS,
+    },
 ];
 
 /// Modules whose library calls other modules' functions: the generated declarations and
 /// library of each listed dependency are composed before the module's own, in order.
-static DEPENDENCIES: &[(&str, &[&str])] = &[("ddm_tracer", &["quadric_fit", "ddm_compress"])];
+static DEPENDENCIES: &[(&str, &[&str])] =
+    &[("ddm_tracer", &["quadric_fit", "ddm_compress"]), ("ddm_render", &["quadric_fit", "ddm_compress", "ddm_tracer"])];
 
 /// The modules that `name`'s library builds on (see [`ShaderModule::library_shader`]).
 pub fn dependencies(name: &str) -> &'static [&'static str] {

@@ -1,0 +1,229 @@
+//! `cargo xtask ddm-render [OUT_DIR] [--quick]`: mesostructures mapped onto a base mesh and
+//! rendered as Mehra & Kumar do (§3), with `ddm-render`: the coarse base mesh (a plane of
+//! 4 × 4 tiles, and a torus) is rasterized into a G-buffer (texture coordinates, tangent
+//! frame, world position), then a compute pass builds each covered pixel's ray in the
+//! mesostructure's tangent space, traces it with the WGSL tracer, shades the hit (Lambert
+//! and ambient, normal mapped back to world space with the frame) and casts a shadow ray
+//! toward the light through the same maps (shadowed hits get ambient only). Pixels whose
+//! ray leaves the slab without a hit show the base mesh's own colour (blue-grey), pixels
+//! off the base mesh the background.
+//!
+//! Each mesostructure (maze, bricks, beads, ball, chain mail) is rendered with each method:
+//! sphere tracing with the plain distance map (DM) and with the DDM 4×1 (both stop at the
+//! first zero-distance voxel, shading its entry wall), DDM 4×1 + quadric (Algorithm 3.1),
+//! and relief mapping on the height fields (32 linear + 8 binary steps, 2 texels per voxel).
+//! Shadow rays accept hits up to a tolerance short of the shaded point: 1.75 voxel for
+//! sphere tracing (its hits are voxel entry points, up to a voxel diagonal from where a
+//! shadow ray enters the same voxel), 0.25 voxel for relief, 0.02 voxel for the quadric.
+//!
+//! The torus's slab is `h = 0.4` world units thick for tiles about 1.3–1.9 world units
+//! wide: the mesostructure is flattened about 1.4× against its voxel proportions, to keep
+//! the rays' depth small against the tube's radius of curvature (the tangent frame is held
+//! constant along each ray, the paper's approximation).
+//!
+//! Writes to `OUT_DIR` (default `target/ddm-render`) `<mesostructure>_<base>_<method>.png`
+//! and `ddm_render_times.csv`: per image the covered, hit and shadowed pixels, mean and
+//! max tracer steps per covered pixel (primary ray), the compute pass's GPU time (fastest
+//! of 3; timestamps, lavapipe here), the wall time of the whole call (shader compilation,
+//! uploads, dispatch and readback; fastest of 3), the same call's fixed cost (measured on
+//! a single uncovered texel), their difference `trace_wall_ms` (the per-pixel work) and the
+//! raster pass's wall time. On lavapipe the timestamp difference stays about 0.01–0.07 ms
+//! whatever the work (it does not bracket the software execution), so `trace_wall_ms` is
+//! the meaningful time there; on a hardware adapter the timestamps are.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
+use ddm_render::{Camera, GBuffer, pixels_to_image, plane_base_mesh, rasterize_gbuffer, render_pixels};
+use ddm_tracer::gpu::GpuScene;
+use ddm_tracer::tangent_space::{BaseRenderParams, PIXEL_HIT, PIXEL_UNCOVERED};
+use ddm_tracer::{CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, TraceSettings, VoxelPatches};
+use glam::{UVec2, UVec3, Vec2, Vec3, Vec4};
+use gpu_harness::Gpu;
+use mesostructure::Mesostructure;
+
+const MAX_STEPS: u32 = 256;
+const RELIEF_LINEAR: u32 = 32;
+const RELIEF_BINARY: u32 = 8;
+const BACKGROUND: [u8; 3] = [18, 20, 30];
+
+/// One base mesh with its camera, light and slab.
+struct Base {
+    name: &'static str,
+    gbuffer: GBuffer,
+    eye: Vec3,
+    light: Vec3,
+    /// `(L_x, L_y, L_z / h)`.
+    slab: Vec3,
+}
+
+/// Runs the renders; `args` are `[OUT_DIR] [--quick]`.
+pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
+    let mut out = default_out;
+    let mut quick = false;
+    for &arg in args {
+        match arg {
+            "--quick" => quick = true,
+            _ => out = PathBuf::from(arg),
+        }
+    }
+    std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
+    let (dims, width, height) =
+        if quick { (UVec3::new(12, 12, 6), 160, 120) } else { (UVec3::new(16, 16, 8), 320, 240) };
+    let gpu = Gpu::new().map_err(|e| e.to_string())?;
+    println!(
+        "DDM on a base mesh: {}x{}x{} voxels per tile, {width}x{height} pixels, GPU: {}",
+        dims.x,
+        dims.y,
+        dims.z,
+        gpu.describe()
+    );
+    if gpu.is_software() {
+        println!("(GPU times are from lavapipe, a software Vulkan on the CPU, not a GPU)");
+    }
+    let bases = base_meshes(&gpu, dims, width, height)?;
+    let one_texel = GBuffer { width: 1, height: 1, texels: vec![bytemuck::Zeroable::zeroed()], raster_seconds: 0.0 };
+    let mut csv = String::from(
+        "mesostructure,base,method,covered_pixels,hit_pixels,shadowed_pixels,mean_steps,max_steps,gpu_ms,gpu_timing,pass_call_wall_ms,call_overhead_wall_ms,trace_wall_ms,raster_wall_ms\n",
+    );
+    let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+    println!(
+        "{:<11} {:<6} {:<18} {:>8} {:>8} {:>8} {:>7} {:>5} {:>9} {:>9}",
+        "structure", "base", "method", "covered", "hits", "shadow", "steps", "max", "GPU ms", "trace ms"
+    );
+    for structure in Mesostructure::ALL {
+        let triangles = structure.triangles(dims);
+        let plain = compute_distance_maps(dims, &triangles, None, settings).ok_or("invalid scene")?;
+        let ddm =
+            compute_distance_maps(dims, &triangles, DirectionCones::downward(4, 1), settings).ok_or("invalid scene")?;
+        let patches = VoxelPatches::build(dims, &triangles, &ddm.surface, PatchSettings::default())
+            .ok_or("patch construction failed")?;
+        let sphere = TraceSettings { method: Method::SphereTracing, max_steps: MAX_STEPS };
+        let quadric = TraceSettings { method: Method::Quadric, max_steps: MAX_STEPS };
+        let pack = |m| CompressedMaps::compress(m, 1).ok_or("cannot pack the maps");
+        let (plain_packed, ddm_packed) = (pack(&plain)?, pack(&ddm)?);
+        let mut scenes: Vec<(&'static str, GpuScene, f32)> = vec![
+            ("dm", GpuScene::new(&plain_packed, None, sphere).ok_or("scene does not pack")?, 1.75),
+            ("ddm4x1", GpuScene::new(&ddm_packed, None, sphere).ok_or("scene does not pack")?, 1.75),
+            ("ddm4x1_quadric", GpuScene::new(&ddm_packed, Some(&patches), quadric).ok_or("scene does not pack")?, 0.02),
+        ];
+        if matches!(structure, Mesostructure::Maze(_) | Mesostructure::Bricks) {
+            let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));
+            let height_map = HeightMap::from_mesh(&mesh, dims, 2);
+            let scene = GpuScene::new(&plain_packed, None, sphere)
+                .and_then(|s| s.with_relief(&height_map, RELIEF_LINEAR, RELIEF_BINARY))
+                .ok_or("the relief scene does not pack")?;
+            scenes.push(("relief", scene, 0.25));
+        }
+        for base in &bases {
+            for (method, scene, tolerance) in &scenes {
+                let params = BaseRenderParams {
+                    eye: base.eye.extend(0.0),
+                    light: base.light.extend(0.2),
+                    slab: base.slab.extend(*tolerance),
+                    miss_color: Vec4::new(0.22, 0.27, 0.36, 0.0),
+                };
+                let mut best = f64::INFINITY;
+                let mut pixels = Vec::new();
+                let mut timing_name = "";
+                let mut call_wall = f64::INFINITY;
+                for _ in 0..3 {
+                    let started = std::time::Instant::now();
+                    let pass = render_pixels(&gpu, &base.gbuffer, scene, &params).map_err(|e| e.to_string())?;
+                    call_wall = call_wall.min(started.elapsed().as_secs_f64());
+                    best = best.min(pass.timing.seconds);
+                    timing_name = match pass.timing.source {
+                        gpu_harness::TimingSource::Timestamps => "timestamps",
+                        gpu_harness::TimingSource::WallClock => "wall clock",
+                    };
+                    pixels = pass.pixels;
+                }
+                // The call's fixed cost (shader compilation, scene upload): the same call
+                // on a single uncovered texel.
+                let mut overhead = f64::INFINITY;
+                for _ in 0..3 {
+                    let started = std::time::Instant::now();
+                    render_pixels(&gpu, &one_texel, scene, &params).map_err(|e| e.to_string())?;
+                    overhead = overhead.min(started.elapsed().as_secs_f64());
+                }
+                let trace_wall = (call_wall - overhead).max(0.0);
+                let covered: Vec<_> = pixels.iter().filter(|p| p.color.w != PIXEL_UNCOVERED).collect();
+                let hits = covered.iter().filter(|p| p.color.w == PIXEL_HIT).count();
+                let shadowed = covered.iter().filter(|p| p.color.w == PIXEL_HIT && p.ray_direction.w == 1.0).count();
+                let mean_steps =
+                    covered.iter().map(|p| f64::from(p.ray_origin.w)).sum::<f64>() / covered.len().max(1) as f64;
+                let max_steps = covered.iter().map(|p| p.ray_origin.w as u32).max().unwrap_or(0);
+                let image = pixels_to_image(&pixels, base.gbuffer.width, base.gbuffer.height, BACKGROUND);
+                let path = out.join(format!("{}_{}_{method}.png", structure.name(), base.name));
+                image.save(&path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                println!(
+                    "{:<11} {:<6} {:<18} {:>8} {:>8} {:>8} {:>7.2} {:>5} {:>9.3} {:>9.1}",
+                    structure.name(),
+                    base.name,
+                    method,
+                    covered.len(),
+                    hits,
+                    shadowed,
+                    mean_steps,
+                    max_steps,
+                    best * 1e3,
+                    trace_wall * 1e3
+                );
+                writeln!(
+                    csv,
+                    "{},{},{method},{},{hits},{shadowed},{mean_steps:.3},{max_steps},{:.4},{timing_name},{:.2},{:.2},{:.2},{:.3}",
+                    structure.name(),
+                    base.name,
+                    covered.len(),
+                    best * 1e3,
+                    call_wall * 1e3,
+                    overhead * 1e3,
+                    trace_wall * 1e3,
+                    base.gbuffer.raster_seconds * 1e3
+                )
+                .map_err(|e| e.to_string())?;
+            }
+        }
+    }
+    let path = out.join("ddm_render_times.csv");
+    std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    println!("wrote {} and the PNGs beside it", path.display());
+    Ok(())
+}
+
+/// The plane tile (4 × 4 tiles seen by `xtask ddm-trace`'s camera) and the torus, each
+/// rasterized once.
+fn base_meshes(gpu: &Gpu, dims: UVec3, width: u32, height: u32) -> Result<Vec<Base>, String> {
+    let size = dims.as_vec3();
+    let target = Vec3::new(size.x, size.y, 0.3 * size.z);
+    let plane_camera = Camera {
+        eye: target + Vec3::new(-0.9 * size.x, -1.3 * size.y, 1.1 * size.x.max(size.y)),
+        target,
+        up: Vec3::Z,
+        half_fov_y: 25f32.to_radians(),
+        width,
+        height,
+    };
+    let plane = plane_base_mesh(dims, UVec2::new(4, 4)).ok_or("empty plane")?;
+    let torus = mesostructure::torus_base_mesh(3.0, 1.2, 96, 48, UVec2::new(16, 6)).ok_or("invalid torus")?;
+    let torus_camera = Camera {
+        eye: Vec3::new(0.0, -7.5, 5.5),
+        target: Vec3::new(0.0, 0.0, -0.3),
+        up: Vec3::Z,
+        half_fov_y: 28f32.to_radians(),
+        width,
+        height,
+    };
+    let thickness = 0.4;
+    let mut bases = Vec::new();
+    for (name, mesh, camera, light, slab) in [
+        ("plane", plane, plane_camera, Vec3::new(0.45, 0.3, 0.84), Vec3::new(size.x, size.y, 1.0)),
+        ("torus", torus, torus_camera, Vec3::new(-0.35, -0.55, 0.75), Vec3::new(size.x, size.y, size.z / thickness)),
+    ] {
+        let gbuffer = rasterize_gbuffer(gpu, &mesh, &camera).map_err(|e| format!("{name}: {e}"))?;
+        println!("{name}: G-buffer raster {:.2} ms (wall clock)", gbuffer.raster_seconds * 1e3);
+        bases.push(Base { name, gbuffer, eye: camera.eye, light: light.normalize(), slab });
+    }
+    Ok(bases)
+}

@@ -117,11 +117,12 @@ fn run(args: &[String]) -> Result<(), String> {
             let out = rest.first().map_or_else(|| workspace_root().join("target/showcase"), PathBuf::from);
             // Everything that can be shown so far, at quick settings: the octahedral layout,
             // impostor accuracy (Fig. 12-13), the A-buffer masks' coverage error, Fig. 9 and
-            // the DDM tracer's tables.
+            // the DDM tracer's tables and its renders on a plane and a torus.
             showcase::run(&out)?;
             let out_text = out.to_string_lossy().into_owned();
             impostor_accuracy::run(&[out_text.as_str(), "--quick"], out.clone())?;
             ddm_trace::run(&[out_text.as_str(), "--quick"], out.clone())?;
+            ddm_render::run(&[out_text.as_str(), "--quick"], out.clone())?;
             abuffer_chart::run(&out)?;
             fig9::run(&["--quick"], out)
         }

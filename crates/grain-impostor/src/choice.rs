@@ -139,7 +139,7 @@ mod tests {
                 for p in [32, 64, 128] {
                     let count =
                         rows.iter().filter(|r| r.grain == grain && r.subdivisions == n && r.texels == p).count();
-                    assert_eq!(count, 12, "{grain} n={n} p={p}: 3 modes × 2 layouts × 2 screen sizes");
+                    assert_eq!(count, 16, "{grain} n={n} p={p}: 4 modes × 2 layouts × 2 screen sizes");
                 }
             }
         }

@@ -102,7 +102,12 @@ pub fn maze_height_field(size: UVec3, seed: u64) -> HeightField {
     let walls = maze_walls(cells, seed);
     let blocks = 2 * cells;
     let (floor, top) = (0.125 * size.z as f32, 0.75 * size.z as f32);
-    let block_of = |t: f32, extent: u32| ((t / extent.max(1) as f32 * blocks as f32) as u32).min(blocks - 1);
+    // Corners on the far edge (t = extent) wrap to block 0, like the near edge, so that the
+    // tile repeats without a seam.
+    let block_of = |t: f32, extent: u32| {
+        let extent = extent.max(1) as f32;
+        ((t.rem_euclid(extent) / extent * blocks as f32) as u32).min(blocks - 1)
+    };
     HeightField::from_fn(size.x, size.y, |x, y| {
         let (bx, by) = (block_of(x, size.x), block_of(y, size.y));
         if walls[(bx + blocks * by) as usize] { top } else { floor }
@@ -140,4 +145,29 @@ pub fn bricks_height_field(size: UVec3) -> HeightField {
             mortar + (top - mortar) * (1.0 - t * t).max(0.0).sqrt()
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Tiles repeat without a seam: the far edge's corners equal the near edge's.
+    fn assert_periodic(field: &HeightField, name: &str) {
+        for y in 0..=field.height {
+            assert_eq!(field.corner(0, y), field.corner(field.width, y), "{name}: seam at x, row {y}");
+        }
+        for x in 0..=field.width {
+            assert_eq!(field.corner(x, 0), field.corner(x, field.height), "{name}: seam at y, column {x}");
+        }
+    }
+
+    #[test]
+    fn maze_and_bricks_tile_without_seams() {
+        for size in [UVec3::new(12, 12, 6), UVec3::new(16, 16, 8), UVec3::new(24, 20, 8), UVec3::new(64, 64, 16)] {
+            for seed in [1, 7, 42] {
+                assert_periodic(&maze_height_field(size, seed), "maze");
+            }
+            assert_periodic(&bricks_height_field(size), "bricks");
+        }
+    }
 }

@@ -7,9 +7,8 @@
 //! resolve occlusion front to back like a ray tracer.
 
 use glam::{Quat, Vec2, Vec3, Vec4};
-use grain_impostor::cloud::{
-    AtlasBinding, CloudFrame, CloudSettings, GBufferBinding, ImpostorCloudPass, create_gbuffer_textures,
-};
+use grain_impostor::cloud::{AtlasBinding, CloudFrame, CloudSettings, GBufferBinding, ImpostorCloudPass};
+use grain_impostor::mesh_gbuffer::ScreenGbuffer;
 use grain_impostor::scene::{CameraUniforms, GrainInstance};
 use integration_tests::{gpu, random_unit_directions};
 use octahedral_map::{GrainRay, ImpostorSampler, OctahedralViews, SamplingMode, ViewFrame, ViewLayout, ViewSelection};
@@ -195,8 +194,8 @@ fn render(
     )
     .unwrap()
     .uniforms();
-    let gbuffer = create_gbuffer_textures(device, SIZE, SIZE);
-    let gviews = gbuffer.each_ref().map(|t| t.create_view(&Default::default()));
+    let screen = ScreenGbuffer::new(device, (SIZE, SIZE)).unwrap();
+    let (gbuffer, gviews) = (&screen.textures, &screen.views);
     let array_view = |t: &wgpu::Texture| {
         t.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),

@@ -78,19 +78,6 @@ pub fn raster_shader() -> Result<String, HarnessError> {
     Ok(format!("{declarations}\n{RASTER_WGSL}"))
 }
 
-/// Runs `work` in a validation + out-of-memory error scope.
-fn scoped<T>(gpu: &Gpu, work: impl FnOnce() -> T) -> Result<T, HarnessError> {
-    let validation = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-    let value = work();
-    let memory_error = pollster::block_on(memory.pop());
-    let validation_error = pollster::block_on(validation.pop());
-    match validation_error.or(memory_error) {
-        Some(e) => Err(HarnessError::Wgpu(e.to_string())),
-        None => Ok(value),
-    }
-}
-
 /// Rasterizes `mesh` seen by `camera` into a G-buffer (depth test, no culling; uncovered
 /// texels are zero). Errors name the limit or the wgpu problem: an image larger than the
 /// adapter's 2-D textures, more colour bytes per sample than it allows, a mesh whose
@@ -142,7 +129,7 @@ pub fn rasterize_gbuffer(gpu: &Gpu, mesh: &BaseMesh, camera: &Camera) -> Result<
     let row_bytes = width * TARGET_BYTES;
     let padded_row_bytes = row_bytes.next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
     let extent = wgpu::Extent3d { width, height, depth_or_array_layers: 1 };
-    let (readbacks, started) = scoped(gpu, || {
+    let (readbacks, started) = gpu.scoped(|| {
         let device = &gpu.device;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("base G-buffer"),

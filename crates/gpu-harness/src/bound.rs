@@ -4,18 +4,9 @@
 use bytemuck::Pod;
 use wgpu::util::DeviceExt;
 
-use crate::compute::WORKGROUP_SIZE;
+use crate::compute::{Kernel, WORKGROUP_SIZE};
 use crate::timing::PassTimer;
 use crate::{Gpu, GpuTiming, HarnessError, TimingSource};
-
-fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
-        count: None,
-    }
-}
 
 impl Gpu {
     /// Runs `entry_point` of `wgsl` once per element of `inputs`, like
@@ -73,36 +64,8 @@ impl Gpu {
                 limit: limits.max_storage_buffer_binding_size,
             });
         }
-        let (pipeline, layout, uniform_buffer, scene) = self.scoped(|| {
-            let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(entry_point),
-                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
-            });
-            let mut entries = vec![
-                entry(0, wgpu::BufferBindingType::Uniform),
-                entry(1, wgpu::BufferBindingType::Storage { read_only: true }),
-                entry(2, wgpu::BufferBindingType::Storage { read_only: false }),
-            ];
-            for k in 0..storage.len() {
-                entries.push(entry(3 + k as u32, wgpu::BufferBindingType::Storage { read_only: true }));
-            }
-            let layout = self.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("gpu-harness compute_map_with_storage"),
-                entries: &entries,
-            });
-            let pipeline_layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("gpu-harness compute_map_with_storage"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-            let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry_point),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(entry_point),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+        let Kernel { pipeline, layout } = self.kernel(wgsl, entry_point, storage.len())?;
+        let (uniform_buffer, scene) = self.scoped(|| {
             let mut uniform_bytes = uniforms.to_vec();
             uniform_bytes.resize(uniform_bytes.len().next_multiple_of(16).max(16), 0);
             let uniform_buffer = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -122,7 +85,7 @@ impl Gpu {
                     })
                 })
                 .collect();
-            (pipeline, layout, uniform_buffer, scene)
+            (uniform_buffer, scene)
         })?;
         let timer = PassTimer::new(self);
         let mut outputs = Vec::with_capacity(inputs.len());

@@ -13,9 +13,9 @@ use crate::{Gpu, GpuTiming, HarnessError, TimingSource};
 pub const WORKGROUP_SIZE: u32 = 64;
 
 /// A compiled kernel and its explicit bind group layout.
-struct Kernel {
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
+pub(crate) struct Kernel {
+    pub(crate) pipeline: wgpu::ComputePipeline,
+    pub(crate) layout: wgpu::BindGroupLayout,
 }
 
 fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
@@ -32,7 +32,10 @@ fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
 }
 
 impl Gpu {
-    fn kernel(&self, wgsl: &str, entry_point: &str) -> Result<Kernel, HarnessError> {
+    /// Compiles `entry_point` of `wgsl` with the harness's bind group layout: the uniform
+    /// block at binding 0, the input at 1, the output at 2, and `scene_buffers` read-only
+    /// storage buffers at bindings `3..` (see [`compute_map_with_storage`](Self::compute_map_with_storage)).
+    pub(crate) fn kernel(&self, wgsl: &str, entry_point: &str, scene_buffers: usize) -> Result<Kernel, HarnessError> {
         self.scoped(|| {
             let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(entry_point),
@@ -48,9 +51,11 @@ impl Gpu {
                 },
                 count: None,
             };
+            let mut entries = vec![uniform, storage_entry(1, true), storage_entry(2, false)];
+            entries.extend((0..scene_buffers).map(|k| storage_entry(3 + k as u32, true)));
             let layout = self.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("gpu-harness compute_map"),
-                entries: &[uniform, storage_entry(1, true), storage_entry(2, false)],
+                entries: &entries,
             });
             let pipeline_layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("gpu-harness compute_map"),
@@ -141,7 +146,7 @@ impl Gpu {
                 limit: limits.max_storage_buffer_binding_size,
             });
         }
-        let kernel = self.kernel(wgsl, entry_point)?;
+        let kernel = self.kernel(wgsl, entry_point, 0)?;
         let mut uniform_bytes = uniforms.to_vec();
         uniform_bytes.resize(uniform_bytes.len().next_multiple_of(16).max(16), 0);
         let uniform_buffer = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

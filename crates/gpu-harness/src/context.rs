@@ -74,8 +74,6 @@ pub struct Gpu {
     /// The device's queue.
     pub queue: wgpu::Queue,
     info: wgpu::AdapterInfo,
-    /// Serializes error scopes: they are a stack shared by every thread using the device.
-    scope_lock: std::sync::Mutex<()>,
 }
 
 impl Gpu {
@@ -106,7 +104,7 @@ impl Gpu {
         let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))
             .map_err(|e| HarnessError::RequestDevice(e.to_string()))?;
         let info = adapter.get_info();
-        Ok(Self { adapter, device, queue, info, scope_lock: std::sync::Mutex::new(()) })
+        Ok(Self { adapter, device, queue, info })
     }
 
     /// The adapter's information.
@@ -135,19 +133,10 @@ impl Gpu {
     }
 
     /// Runs `work` inside a validation and out-of-memory error scope, turning wgpu's
-    /// errors into [`HarnessError::Wgpu`] instead of its default panic.
-    pub(crate) fn scoped<T>(&self, work: impl FnOnce() -> T) -> Result<T, HarnessError> {
-        // A panic while holding the lock leaves no scope pushed, so a poisoned lock is safe.
-        let _guard = self.scope_lock.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let value = work();
-        let memory_error = pollster::block_on(memory.pop());
-        let validation_error = pollster::block_on(validation.pop());
-        match validation_error.or(memory_error) {
-            Some(e) => Err(HarnessError::Wgpu(e.to_string())),
-            None => Ok(value),
-        }
+    /// errors into [`HarnessError::Wgpu`] instead of its default panic (see
+    /// [`error_scoped`]).
+    pub fn scoped<T>(&self, work: impl FnOnce() -> T) -> Result<T, HarnessError> {
+        error_scoped(&self.device, work)
     }
 
     /// Blocks until the queue is idle.
@@ -156,5 +145,28 @@ impl Gpu {
             .poll(wgpu::PollType::wait_indefinitely())
             .map(|_| ())
             .map_err(|e| HarnessError::Readback(e.to_string()))
+    }
+}
+
+/// Serializes the error scopes of [`error_scoped`]: they form one stack per device, shared by
+/// every thread that uses it (tests run on several threads), so pushes and pops of two
+/// threads must not interleave. Never held across nested calls.
+static SCOPE_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// Runs `work` inside validation and out-of-memory error scopes on `device`, so that wgpu
+/// errors become [`HarnessError::Wgpu`] instead of wgpu's default panic. One process-wide
+/// lock serializes the scopes of every caller (this crate, the pipeline crates); `work` must
+/// not call `error_scoped` itself.
+pub fn error_scoped<T>(device: &wgpu::Device, work: impl FnOnce() -> T) -> Result<T, HarnessError> {
+    // A panic while holding the lock leaves no scope pushed, so a poisoned lock is safe.
+    let _guard = SCOPE_LOCK.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let value = work();
+    let memory_error = pollster::block_on(memory.pop());
+    let validation_error = pollster::block_on(validation.pop());
+    match validation_error.or(memory_error) {
+        Some(e) => Err(HarnessError::Wgpu(e.to_string())),
+        None => Ok(value),
     }
 }

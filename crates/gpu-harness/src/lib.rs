@@ -37,7 +37,7 @@ mod render;
 mod timing;
 
 pub use compute::WORKGROUP_SIZE;
-pub use context::{ADAPTER_ENV, AdapterPreference, Gpu};
+pub use context::{ADAPTER_ENV, AdapterPreference, Gpu, error_scoped};
 pub use error::HarnessError;
 pub use render::RENDER_FORMAT;
 pub use timing::{GpuTiming, TimingSource};

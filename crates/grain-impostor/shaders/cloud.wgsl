@@ -213,9 +213,11 @@ fn cloud_grain_index(group: vec3<u32>, groups: vec3<u32>) -> u32 {
     return group.x + group.y * groups.x;
 }
 
-@compute @workgroup_size(8, 8)
-fn splat_depth(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
-    let g = cloud_grain_index(group, groups);
+// The walk of both splat passes: every pixel of grain `g`'s screen rectangle, the workgroup's
+// 8 × 8 invocations striding over it. The depth pass keeps the nearest covering depth per
+// pixel; the owner pass (`owner_pass`) then lets the grain whose depth equals it claim the
+// pixel (the smallest index among equal depths).
+fn cloud_splat(g: u32, local: vec3<u32>, owner_pass: bool) {
     if g >= cloud.grain_count {
         return;
     }
@@ -224,30 +226,27 @@ fn splat_depth(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups)
     for (var y = rect.y + local.y; y < rect.w; y += CLOUD_TILE) {
         for (var x = rect.x + local.x; x < rect.z; x += CLOUD_TILE) {
             let hit = cloud_hit(vec2<f32>(f32(x) + 0.5, f32(y) + 0.5), grain);
-            if hit.covered {
-                atomicMin(&nearest_depth[cloud_pixel_index(vec2<u32>(x, y))], bitcast<u32>(hit.depth));
+            if !hit.covered {
+                continue;
+            }
+            let i = cloud_pixel_index(vec2<u32>(x, y));
+            if !owner_pass {
+                atomicMin(&nearest_depth[i], bitcast<u32>(hit.depth));
+            } else if bitcast<u32>(hit.depth) == atomicLoad(&nearest_depth[i]) {
+                atomicMin(&owner[i], g);
             }
         }
     }
 }
 
 @compute @workgroup_size(8, 8)
+fn splat_depth(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    cloud_splat(cloud_grain_index(group, groups), local, false);
+}
+
+@compute @workgroup_size(8, 8)
 fn splat_owner(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
-    let g = cloud_grain_index(group, groups);
-    if g >= cloud.grain_count {
-        return;
-    }
-    let grain = instances[g];
-    let rect = cloud_grain_rectangle(grain);
-    for (var y = rect.y + local.y; y < rect.w; y += CLOUD_TILE) {
-        for (var x = rect.x + local.x; x < rect.z; x += CLOUD_TILE) {
-            let hit = cloud_hit(vec2<f32>(f32(x) + 0.5, f32(y) + 0.5), grain);
-            let i = cloud_pixel_index(vec2<u32>(x, y));
-            if hit.covered && bitcast<u32>(hit.depth) == atomicLoad(&nearest_depth[i]) {
-                atomicMin(&owner[i], g);
-            }
-        }
-    }
+    cloud_splat(cloud_grain_index(group, groups), local, true);
 }
 
 @compute @workgroup_size(8, 8)

@@ -42,6 +42,8 @@ use gpu_layout::gpu_struct;
 use octahedral_map::ImpostorSamplingUniforms;
 use wgsl_gen::{ComposedShader, GenerateError, StructDecl, generate_declarations};
 
+use crate::gpu_util::storage_texture_entry;
+use crate::mesh_gbuffer::GBUFFER_FORMATS;
 use crate::scene::CameraUniforms;
 
 gpu_struct! {
@@ -167,7 +169,7 @@ pub struct AtlasBinding<'a> {
 }
 
 /// The G-buffer targets in [`GBUFFER_LAYERS`](crate::scene::GBUFFER_LAYERS) order; the
-/// textures need `STORAGE_BINDING` (see [`create_gbuffer_textures`]).
+/// textures need `STORAGE_BINDING` (as those of [`ScreenGbuffer`](crate::mesh_gbuffer::ScreenGbuffer)).
 #[derive(Clone, Copy, Debug)]
 pub struct GBufferBinding<'a> {
     /// `normal_coverage` (`Rgba16Float`).
@@ -178,35 +180,6 @@ pub struct GBufferBinding<'a> {
     pub material: &'a wgpu::TextureView,
     /// `depth` (`R32Float`).
     pub depth: &'a wgpu::TextureView,
-}
-
-/// The wgpu formats of [`GBUFFER_LAYERS`](crate::scene::GBUFFER_LAYERS), in order.
-pub const GBUFFER_FORMATS: [wgpu::TextureFormat; 4] = [
-    wgpu::TextureFormat::Rgba16Float,
-    wgpu::TextureFormat::Rgba8Unorm,
-    wgpu::TextureFormat::Rgba8Unorm,
-    wgpu::TextureFormat::R32Float,
-];
-
-/// G-buffer textures of `width × height` pixels usable by the cloud pass (storage), by a
-/// raster pass (render attachment), by a shading pass (texture binding) and for readback.
-pub fn create_gbuffer_textures(device: &wgpu::Device, width: u32, height: u32) -> [wgpu::Texture; 4] {
-    let names = crate::scene::GBUFFER_LAYERS.map(|layer| layer.name);
-    std::array::from_fn(|i| {
-        device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(names[i]),
-            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: GBUFFER_FORMATS[i],
-            usage: wgpu::TextureUsages::STORAGE_BINDING
-                | wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        })
-    })
 }
 
 /// The compiled cloud passes.
@@ -253,19 +226,6 @@ fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLay
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
-        count: None,
-    }
-}
-
-fn storage_texture_entry(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::StorageTexture {
-            access: wgpu::StorageTextureAccess::WriteOnly,
-            format,
-            view_dimension: wgpu::TextureViewDimension::D2,
-        },
         count: None,
     }
 }

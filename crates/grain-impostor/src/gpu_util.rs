@@ -38,24 +38,14 @@ impl fmt::Display for GpuError {
 
 impl std::error::Error for GpuError {}
 
-/// Serializes the error scopes of [`scoped`]: they form one stack per device, shared by
-/// every thread that uses it (tests run on several threads). Never held across nested calls.
-static SCOPE_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
 /// Runs `work` inside validation and out-of-memory error scopes, so that wgpu errors become
-/// [`GpuError::Wgpu`] instead of wgpu's default panic. `work` must not call `scoped`.
+/// [`GpuError::Wgpu`] instead of wgpu's default panic; the scopes are serialized with every
+/// other user of [`gpu_harness::error_scoped`]. `work` must not call `scoped`.
 pub(crate) fn scoped<T>(device: &wgpu::Device, work: impl FnOnce() -> T) -> Result<T, GpuError> {
-    // A panic while holding the lock leaves no scope pushed, so a poisoned lock is safe.
-    let _guard = SCOPE_LOCK.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-    let value = work();
-    let memory_error = pollster::block_on(memory.pop());
-    let validation_error = pollster::block_on(validation.pop());
-    match validation_error.or(memory_error) {
-        Some(e) => Err(GpuError::Wgpu(e.to_string())),
-        None => Ok(value),
-    }
+    gpu_harness::error_scoped(device, work).map_err(|e| match e {
+        gpu_harness::HarnessError::Wgpu(message) => GpuError::Wgpu(message),
+        other => GpuError::Wgpu(other.to_string()),
+    })
 }
 
 /// Blocks until the device's queue is idle.

@@ -132,7 +132,8 @@ fn trace_patch_hit(first: u32, count: u32, local: vec3<f32>, direction: vec3<f32
         if hit.y == 0.0 {
             continue;
         }
-        if count > 1u && !trace_inside_polygon(piece, local + direction * hit.x) {
+        let clipped = count > 1u || piece.ij_corners.w == TRACE_BOUNDED_PATCH;
+        if clipped && !trace_inside_polygon(piece, local + direction * hit.x) {
             continue;
         }
         if best.z == 0.0 || hit.x < best.x {

@@ -11,6 +11,8 @@ const TRACE_NUDGE: f32 = 0x1.a36e2ep-14f; // 1e-4
 
 const TRACE_POLYGON_TOLERANCE: f32 = 0x1.a36e2ep-14f; // 1e-4
 
+const TRACE_BOUNDED_PATCH: f32 = 0x1.000000p+0f; // 1e0
+
 // Rust size 128 bytes.
 struct TracePatch {
     abcd: vec4<f32>, // offset 0

@@ -35,8 +35,8 @@ use std::time::Instant;
 use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, compute_distance_maps};
 use ddm_tracer::gpu::{GpuScene, TraceRay, TraceResult};
 use ddm_tracer::{
-    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, TraceOutcome, TraceSettings, VoxelPatches,
-    relief_trace, trace,
+    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, TraceOutcome, TraceSettings,
+    VoxelPatches, relief_trace, trace,
 };
 use glam::{DVec3, UVec3, Vec2, Vec3};
 use gpu_harness::Gpu;
@@ -281,7 +281,7 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
         let start = Instant::now();
         let patches = VoxelPatches::build(dims, &triangles, &maps[0].1.surface, PatchSettings::default())
             .ok_or("patch construction failed")?;
-        let fitted_settings = PatchSettings { c0: false, ..PatchSettings::default() };
+        let fitted_settings = PatchSettings { surface: PatchSurface::FittedQuadric, ..PatchSettings::default() };
         let fitted = VoxelPatches::build(dims, &triangles, &maps[0].1.surface, fitted_settings)
             .ok_or("patch construction failed")?;
         println!(

@@ -17,6 +17,10 @@ pub const METHOD_SPHERE_TRACING: u32 = 0;
 pub const METHOD_QUADRIC: u32 = 1;
 /// `TraceUniforms::cones_method.z` for relief mapping ([`crate::relief_trace`]).
 pub const METHOD_RELIEF: u32 = 2;
+/// `TracePatch::ij_corners.w` of a *bounded* patch: its hits count only inside its
+/// polygon even when it is alone in its voxel (the exact triangles of
+/// [`crate::exact_patches`]). Other patches store 0 there.
+pub const BOUNDED_PATCH: f32 = 1.0;
 
 gpu_struct! {
     /// One quadric patch of a zero-distance voxel, voxel-local (see
@@ -26,7 +30,9 @@ gpu_struct! {
         pub abcd: Vec4,
         /// `(E, F, G, H)`.
         pub efgh: Vec4,
-        /// `(I, J, corners, 0)`: the last coefficients and the polygon's corner count (3 or 4).
+        /// `(I, J, corners, bounded)`: the last coefficients, the polygon's corner count (3
+        /// or 4) and [`BOUNDED_PATCH`] for a patch clipped to its polygon even when alone
+        /// in its voxel (0 otherwise).
         pub ij_corners: Vec4,
         /// The polygon's unit Newell normal in `xyz`; `w` zero.
         pub normal: Vec4,
@@ -96,6 +102,7 @@ pub const WGSL_CONSTANTS: &[GpuConst] = &[
     gpu_const!(METHOD_RELIEF: u32 as "TRACE_METHOD_RELIEF"),
     gpu_const!(NUDGE: f32 as "TRACE_NUDGE"),
     gpu_const!(POLYGON_TOLERANCE: f32 as "TRACE_POLYGON_TOLERANCE"),
+    gpu_const!(BOUNDED_PATCH: f32 as "TRACE_BOUNDED_PATCH"),
 ];
 
 impl TraceRay {

@@ -22,6 +22,8 @@
 //!
 //! - [`maps`]: raw or compressed maps behind one trait, and the ray's cone.
 //! - [`patches`]: the per-voxel C⁰ quadric patches (§3.1) in tracer form.
+//! - [`exact_patches`]: exact triangle patches and the per-voxel choice between a fitted
+//!   quadric and them under an error budget (beyond the paper).
 //! - [`trace`]: Algorithm 3.1–3.3 and plain sphere tracing.
 //! - [`relief`]: the relief mapping baseline on height fields.
 //! - [`ground_truth`]: exact ray–triangle intersection of the periodic mesh (BVH).
@@ -36,6 +38,7 @@
 
 extern crate alloc;
 
+pub mod exact_patches;
 pub mod gpu;
 pub mod ground_truth;
 pub mod maps;
@@ -46,6 +49,6 @@ pub mod trace;
 
 pub use ground_truth::{MeshHit, MeshRaycaster};
 pub use maps::{CompressedMaps, ConeSelector, DistanceSource};
-pub use patches::{PatchSettings, VoxelPatches};
+pub use patches::{PatchSettings, PatchSurface, VoxelPatches};
 pub use relief::{HeightMap, relief_trace};
 pub use trace::{Method, TraceHit, TraceOutcome, TraceSettings, trace};

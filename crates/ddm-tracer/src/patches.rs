@@ -21,16 +21,43 @@
 //! accepts any hit inside the voxel (the patch's border lies on the voxel's faces); a voxel
 //! with several patches (a fan, or separate sheets) accepts a hit on a patch only inside
 //! that patch's polygon (see [`inside_polygon`]).
+//!
+//! [`PatchSettings::surface`] picks what a voxel keeps: the C⁰ patches above (the
+//! paper), the fitted quadric of step a alone, the mesh's own triangles (exact, bounded
+//! by their polygon even when alone: [`crate::exact_patches`]), or per voxel the cheaper
+//! of the fitted quadric and the triangles that meets an error budget.
 
 use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
 
 use ddm_compress::Triangle;
 use glam::{DVec3, UVec3, Vec3, Vec4};
-use quadric_fit::surface::Skipped;
+use quadric_fit::surface::{C0Surface, Skipped};
 use quadric_fit::{GpuQuadric, Quadric, build_surface, fit_plane, fit_quadric};
 
-use crate::gpu::TracePatch;
+use crate::exact_patches::{probe_directions, representation_error, voxel_triangle_patches};
+use crate::gpu::{BOUNDED_PATCH, TracePatch};
+
+/// What replaces the mesostructure inside a zero-distance voxel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PatchSurface {
+    /// The C⁰ patches of §3.1 steps b–c (the paper's construction).
+    C0,
+    /// Each voxel keeps its fitted quadric of step a as its only patch, intersected
+    /// anywhere inside the voxel (Algorithm 3.2 on `Q_V` itself; not C⁰ across voxels, but
+    /// it follows sharp edges and corners that the sign-based polygons of step c cut off).
+    FittedQuadric,
+    /// Each voxel keeps the mesh triangles that touch it as bounded plane patches: the
+    /// tracer returns the mesh's own hit (beyond the paper; see [`crate::exact_patches`]).
+    Triangles,
+    /// Per voxel, the fitted quadric where its hits stay within `max_error` voxels of the
+    /// triangles' on the probe segments of [`crate::exact_patches::representation_error`],
+    /// else the triangles: the cheapest of the two that meets the budget.
+    Adaptive {
+        /// The error budget, in voxels.
+        max_error: f32,
+    },
+}
 
 /// Settings of [`VoxelPatches::build`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,16 +68,13 @@ pub struct PatchSettings {
     pub margin: f32,
     /// Subdivisions per triangle edge when sampling (`n (n + 1) / 2` barycentric points).
     pub samples_per_edge: u32,
-    /// `true` (default): the C⁰ patches of steps b–c. `false`: each voxel keeps its fitted
-    /// quadric of step a as its only patch, intersected anywhere inside the voxel (Algorithm
-    /// 3.2 on `Q_V` itself; not C⁰ across voxels, but it follows sharp edges and corners
-    /// that the sign-based polygons of step c cut off).
-    pub c0: bool,
+    /// What each voxel keeps ([`PatchSurface::C0`] by default, the paper's construction).
+    pub surface: PatchSurface,
 }
 
 impl Default for PatchSettings {
     fn default() -> Self {
-        Self { margin: 0.0, samples_per_edge: 16, c0: true }
+        Self { margin: 0.0, samples_per_edge: 16, surface: PatchSurface::C0 }
     }
 }
 
@@ -66,6 +90,10 @@ pub struct VoxelPatches {
     pub patches: Vec<TracePatch>,
     /// Surface voxels that got no patch (the fitted quadric crosses none of their edges).
     pub voxels_without_patch: u32,
+    /// Voxels whose patches are a quadric (fitted, or the C⁰ patches).
+    pub quadric_voxels: u32,
+    /// Voxels whose patches are exact triangles.
+    pub triangle_voxels: u32,
 }
 
 /// Tolerance of the polygon test, in voxels: a hit this far outside a patch's polygon
@@ -122,10 +150,12 @@ impl VoxelPatches {
                 }
             }
         }
-        // Step a: one quadric per surface voxel of the padded grid.
+        // Step a: one quadric per surface voxel of the padded grid (not needed for exact
+        // triangles).
         let mut quadrics = BTreeMap::new();
         let mut points = Vec::new();
-        for (&(i, j, k), list) in &bins {
+        let fit_needed = settings.surface != PatchSurface::Triangles;
+        for (&(i, j, k), list) in bins.iter().filter(|_| fit_needed) {
             let lo = DVec3::new(f64::from(i), f64::from(j), f64::from(k)) - f64::from(settings.margin);
             let hi = lo + 1.0 + 2.0 * f64::from(settings.margin);
             points.clear();
@@ -136,70 +166,75 @@ impl VoxelPatches {
                 quadrics.insert((i, j, k), fit.quadric);
             }
         }
-        // Steps b–c. A fitted quadric that crosses none of its voxel's edges (a surface
-        // curving inside the voxel, or a fit whose second sheet takes over) leaves a hole;
-        // such voxels get the least-squares plane of their samples instead (it passes
-        // through their centroid, inside the voxel, so it crosses some edges).
-        let mut built = build_surface(&quadrics);
-        let mut replaced = false;
-        for (&key, &why) in &built.skipped {
-            if why != Skipped::NoCrossing {
-                continue;
-            }
-            let Some(list) = bins.get(&key) else { continue };
-            let lo = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2)) - f64::from(settings.margin);
-            let hi = lo + 1.0 + 2.0 * f64::from(settings.margin);
-            points.clear();
-            for &t in list {
-                sample_triangle(&tiled[t as usize], settings.samples_per_edge, lo, hi, &mut points);
-            }
-            if let Some(plane) = fit_plane(&points) {
-                quadrics.insert(key, plane.quadric);
-                replaced = true;
-            }
-        }
-        if replaced {
-            built = build_surface(&quadrics);
-        }
+        let built = if settings.surface == PatchSurface::C0 {
+            Some(c0_surface(&mut quadrics, &bins, &tiled, settings))
+        } else {
+            None
+        };
+        let directions = probe_directions();
         let mut offsets = Vec::with_capacity(voxels + 1);
         let mut patches = Vec::new();
-        let mut voxels_without_patch = 0;
+        let (mut voxels_without_patch, mut quadric_voxels, mut triangle_voxels) = (0, 0, 0);
+        let mut exact = Vec::new();
         offsets.push(0);
         for z in 0..dims.z {
             for y in 0..dims.y {
                 for x in 0..dims.x {
                     let index = (x + dims.x * (y + dims.y * z)) as usize;
                     let key = (x + 1, y + 1, z);
+                    let origin = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2));
+                    let fitted = || quadrics.get(&key).and_then(|q| fitted_patch(q, origin));
+                    let triangles = |out: &mut Vec<TracePatch>| {
+                        let list = bins.get(&key).map_or(&[][..], Vec::as_slice);
+                        voxel_triangle_patches(list.iter().map(|&t| &tiled[t as usize]), origin.as_vec3(), out);
+                    };
                     let before = patches.len();
-                    if !settings.c0 {
-                        let origin = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2));
-                        if let Some(local) = quadrics.get(&key).and_then(|q| q.in_frame(origin, 1.0)) {
-                            let gpu = GpuQuadric::from_quadric(&local);
-                            patches.push(TracePatch {
-                                abcd: gpu.abcd,
-                                efgh: gpu.efgh,
-                                ij_corners: Vec4::new(gpu.ij.x, gpu.ij.y, 0.0, 0.0),
-                                ..bytemuck::Zeroable::zeroed()
-                            });
-                        }
-                    } else if let Some(voxel) = built.voxels.get(&key) {
-                        let origin = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2));
-                        for surface_loop in &voxel.loops {
-                            for patch in &surface_loop.patches {
-                                if let Some(p) = trace_patch(&patch.quadric, &patch.polygon, origin) {
-                                    patches.push(p);
+                    match settings.surface {
+                        PatchSurface::C0 => {
+                            if let Some(voxel) = built.as_ref().and_then(|b| b.voxels.get(&key)) {
+                                for surface_loop in &voxel.loops {
+                                    for patch in &surface_loop.patches {
+                                        if let Some(p) = trace_patch(&patch.quadric, &patch.polygon, origin) {
+                                            patches.push(p);
+                                        }
+                                    }
                                 }
                             }
                         }
+                        PatchSurface::FittedQuadric => patches.extend(fitted()),
+                        PatchSurface::Triangles => triangles(&mut patches),
+                        PatchSurface::Adaptive { max_error } => {
+                            exact.clear();
+                            triangles(&mut exact);
+                            match fitted() {
+                                Some(quadric) if representation_error(&[quadric], &exact, &directions) <= max_error => {
+                                    patches.push(quadric);
+                                }
+                                _ => patches.extend_from_slice(&exact),
+                            }
+                        }
                     }
-                    if surface[index] && patches.len() == before {
+                    let added = &patches[before..];
+                    if !added.is_empty() {
+                        if added.iter().any(|p| p.ij_corners.w == BOUNDED_PATCH) {
+                            triangle_voxels += 1;
+                        } else {
+                            quadric_voxels += 1;
+                        }
+                    }
+                    if surface[index] && added.is_empty() {
                         voxels_without_patch += 1;
                     }
                     offsets.push(patches.len() as u32);
                 }
             }
         }
-        Some(Self { dims, offsets, patches, voxels_without_patch })
+        Some(Self { dims, offsets, patches, voxels_without_patch, quadric_voxels, triangle_voxels })
+    }
+
+    /// The bytes the tracer reads for the patches: the patches and the offsets.
+    pub fn byte_size(&self) -> usize {
+        self.patches.len() * size_of::<TracePatch>() + self.offsets.len() * 4
     }
 
     /// The patches of voxel `v` (tile coordinates), empty outside the grid.
@@ -211,6 +246,54 @@ impl VoxelPatches {
         let (a, b) = (self.offsets[v] as usize, self.offsets[v + 1] as usize);
         &self.patches[a..b]
     }
+}
+
+/// Steps b–c on the fitted `quadrics` (padded grid). A fitted quadric that crosses none of
+/// its voxel's edges (a surface curving inside the voxel, or a fit whose second sheet
+/// takes over) leaves a hole; such voxels get the least-squares plane of their samples
+/// instead (it passes through their centroid, inside the voxel, so it crosses some edges).
+fn c0_surface(
+    quadrics: &mut BTreeMap<(u32, u32, u32), Quadric>,
+    bins: &BTreeMap<(u32, u32, u32), Vec<u32>>,
+    tiled: &[[Vec3; 3]],
+    settings: PatchSettings,
+) -> C0Surface {
+    let mut built = build_surface(quadrics);
+    let mut replaced = false;
+    let mut points = Vec::new();
+    for (&key, &why) in &built.skipped {
+        if why != Skipped::NoCrossing {
+            continue;
+        }
+        let Some(list) = bins.get(&key) else { continue };
+        let lo = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2)) - f64::from(settings.margin);
+        let hi = lo + 1.0 + 2.0 * f64::from(settings.margin);
+        points.clear();
+        for &t in list {
+            sample_triangle(&tiled[t as usize], settings.samples_per_edge, lo, hi, &mut points);
+        }
+        if let Some(plane) = fit_plane(&points) {
+            quadrics.insert(key, plane.quadric);
+            replaced = true;
+        }
+    }
+    if replaced {
+        built = build_surface(quadrics);
+    }
+    built
+}
+
+/// The single, unbounded patch of a voxel's fitted `quadric` (grid coordinates),
+/// relative to the voxel corner `origin`.
+fn fitted_patch(quadric: &Quadric, origin: DVec3) -> Option<TracePatch> {
+    let local = quadric.in_frame(origin, 1.0)?;
+    let gpu = GpuQuadric::from_quadric(&local);
+    Some(TracePatch {
+        abcd: gpu.abcd,
+        efgh: gpu.efgh,
+        ij_corners: Vec4::new(gpu.ij.x, gpu.ij.y, 0.0, 0.0),
+        ..bytemuck::Zeroable::zeroed()
+    })
 }
 
 /// The [`TracePatch`] of `quadric` (grid coordinates) and its polygon, relative to the

@@ -121,8 +121,9 @@ pub fn voxel_exit(local: Vec3, direction: Vec3) -> f32 {
 }
 
 /// The nearest hit of the ray `local + t direction`, `t ∈ [-NUDGE, t_exit]`, with
-/// `patches` (voxel-local): `(t, patch index)`. With one patch any hit in the segment
-/// counts; with several only hits inside the patch's polygon (Algorithm 3.2 over the
+/// `patches` (voxel-local): `(t, patch index)`. With one unbounded patch any hit in the
+/// segment counts; with several, or on a bounded patch ([`crate::gpu::BOUNDED_PATCH`]:
+/// an exact triangle), only hits inside the patch's polygon (Algorithm 3.2 over the
 /// voxel's patches). The segment starts [`NUDGE`] before the voxel wall: a surface lying on
 /// the wall (a floor at an integer height) is otherwise lost whenever the rounded entry
 /// point lands a few ulps past it.
@@ -130,7 +131,8 @@ pub fn patch_hit(patches: &[TracePatch], local: Vec3, direction: Vec3, t_exit: f
     let mut best: Option<(f32, usize)> = None;
     for (index, patch) in patches.iter().enumerate() {
         let Some(t) = first_hit(&quadric_of(patch), local, direction, -NUDGE, t_exit) else { continue };
-        if patches.len() > 1 && !inside_polygon(patch, local + direction * t) {
+        let clipped = patches.len() > 1 || patch.ij_corners.w == crate::gpu::BOUNDED_PATCH;
+        if clipped && !inside_polygon(patch, local + direction * t) {
             continue;
         }
         if best.is_none_or(|b| t < b.0) {

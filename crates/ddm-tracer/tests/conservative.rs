@@ -3,7 +3,9 @@
 //! the full method (Algorithm 3.1); and the full method's hits are close to the truth.
 
 use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, compute_distance_maps};
-use ddm_tracer::{CompressedMaps, MeshRaycaster, Method, PatchSettings, TraceSettings, VoxelPatches, trace};
+use ddm_tracer::{
+    CompressedMaps, MeshRaycaster, Method, PatchSettings, PatchSurface, TraceSettings, VoxelPatches, trace,
+};
 use glam::{UVec3, Vec2, Vec3};
 use mesostructure::Mesostructure;
 
@@ -39,6 +41,10 @@ struct Scene {
     patches: VoxelPatches,
     /// The fitted quadric of step a per voxel.
     fitted: VoxelPatches,
+    /// The mesh's own triangles per voxel.
+    triangles: VoxelPatches,
+    /// Per voxel the fitted quadric if it is within 1e-3 voxel of the triangles, else them.
+    adaptive: VoxelPatches,
 }
 
 fn scene(which: Mesostructure) -> Scene {
@@ -47,11 +53,19 @@ fn scene(which: Mesostructure) -> Scene {
     let plain = compute_distance_maps(DIMS, &triangles, None, settings).unwrap();
     let ddm = compute_distance_maps(DIMS, &triangles, DirectionCones::downward(4, 1), settings).unwrap();
     let patches = VoxelPatches::build(DIMS, &triangles, &ddm.surface, PatchSettings::default()).unwrap();
-    let fitted =
-        VoxelPatches::build(DIMS, &triangles, &ddm.surface, PatchSettings { c0: false, ..PatchSettings::default() })
-            .unwrap();
+    let fitted = VoxelPatches::build(
+        DIMS,
+        &triangles,
+        &ddm.surface,
+        PatchSettings { surface: PatchSurface::FittedQuadric, ..PatchSettings::default() },
+    )
+    .unwrap();
+    let with = |surface| PatchSettings { surface, ..PatchSettings::default() };
+    let exact = VoxelPatches::build(DIMS, &triangles, &ddm.surface, with(PatchSurface::Triangles)).unwrap();
+    let adaptive =
+        VoxelPatches::build(DIMS, &triangles, &ddm.surface, with(PatchSurface::Adaptive { max_error: 1e-3 })).unwrap();
     let mesh = MeshRaycaster::new(&triangles, Vec2::new(DIMS.x as f32, DIMS.y as f32));
-    Scene { mesh, plain, ddm, patches, fitted }
+    Scene { mesh, plain, ddm, patches, fitted, triangles: exact, adaptive }
 }
 
 #[test]
@@ -153,5 +167,32 @@ fn compression_is_transparent_and_the_quadric_hits_are_accurate() {
         if which == Mesostructure::Ball {
             assert!(close * 100 >= hits * 80 && f_close * 100 >= f_hits * 80, "{}", which.name());
         }
+    }
+}
+
+#[test]
+fn exact_triangles_and_the_adaptive_choice_meet_the_accuracy_goal() {
+    for which in Mesostructure::ALL {
+        let s = scene(which);
+        for (name, patches) in [("triangles", &s.triangles), ("adaptive 1e-3", &s.adaptive)] {
+            let (differ, wrong, close, hits) = quadric_counts(&s, patches);
+            println!(
+                "{} {name}: {} quadric voxels, {} triangle voxels, {} patches ({} bytes); compressed differs \
+                 {differ}, wrong hit/miss {wrong}, within 1e-3 voxel {close}/{hits}",
+                which.name(),
+                patches.quadric_voxels,
+                patches.triangle_voxels,
+                patches.patches.len(),
+                patches.byte_size()
+            );
+            // The issue's goals: compression changes no hit (classification, points within
+            // 1e-5 voxel), no hole or false hit, 99.9 % of the hits within 1e-3 voxel.
+            assert_eq!(differ, 0, "{} {name}", which.name());
+            assert_eq!(wrong, 0, "{} {name}", which.name());
+            assert!(close * 1000 >= hits * 999, "{} {name}: {close}/{hits}", which.name());
+        }
+        // The adaptive choice keeps a quadric somewhere and is never larger than the
+        // triangles.
+        assert!(s.adaptive.byte_size() <= s.triangles.byte_size(), "{}", which.name());
     }
 }

@@ -1,14 +1,17 @@
 //! CPU rays per second of the DDM tracer (Algorithms 3.1–3.3) and its baselines on a
 //! 16 × 16 × 8 maze tile: sphere tracing with the plain distance map and the DDM 4×1, DDM
-//! 4×1 + quadric patches on raw and compressed maps, relief mapping, and the exact mesh
-//! ground truth. Throughput is in rays (one camera ray per element).
+//! 4×1 + quadric patches on raw and compressed maps, DDM 4×1 with exact triangle patches
+//! and with adaptive patches (fitted quadric or triangles per voxel, budget 1e-3 voxel), relief
+//! mapping, and the exact mesh ground truth. Throughput is in rays (one camera ray per
+//! element).
 
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
 use ddm_tracer::{
-    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, TraceSettings, VoxelPatches, relief_trace, trace,
+    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, TraceSettings, VoxelPatches,
+    relief_trace, trace,
 };
 use glam::{UVec3, Vec2, Vec3};
 use mesostructure::Mesostructure;
@@ -39,6 +42,11 @@ fn tracer(c: &mut Criterion) {
     let ddm = compute_distance_maps(dims, &triangles, DirectionCones::downward(4, 1), settings).expect("valid scene");
     let compressed = CompressedMaps::compress(&ddm, 4).expect("compressible");
     let patches = VoxelPatches::build(dims, &triangles, &ddm.surface, PatchSettings::default()).expect("patches");
+    let with = |surface| PatchSettings { surface, ..PatchSettings::default() };
+    let exact = VoxelPatches::build(dims, &triangles, &ddm.surface, with(PatchSurface::Triangles)).expect("patches");
+    let adaptive =
+        VoxelPatches::build(dims, &triangles, &ddm.surface, with(PatchSurface::Adaptive { max_error: 1e-3 }))
+            .expect("patches");
     let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));
     let height_map = HeightMap::from_mesh(&mesh, dims, 2);
     let rays = rays(dims);
@@ -62,6 +70,23 @@ fn tracer(c: &mut Criterion) {
         b.iter(|| {
             rays.iter()
                 .filter(|&&(o, d)| trace(&compressed, Some(&patches), black_box(o), d, quadric).hit.is_some())
+                .count()
+        });
+    });
+    group.bench_function("triangles/ddm_4x1", |b| {
+        b.iter(|| {
+            rays.iter().filter(|&&(o, d)| trace(&ddm, Some(&exact), black_box(o), d, quadric).hit.is_some()).count()
+        });
+    });
+    group.bench_function("adaptive_1e-3/ddm_4x1", |b| {
+        b.iter(|| {
+            rays.iter().filter(|&&(o, d)| trace(&ddm, Some(&adaptive), black_box(o), d, quadric).hit.is_some()).count()
+        });
+    });
+    group.bench_function("adaptive_1e-3/ddm_4x1_compressed_block4", |b| {
+        b.iter(|| {
+            rays.iter()
+                .filter(|&&(o, d)| trace(&compressed, Some(&adaptive), black_box(o), d, quadric).hit.is_some())
                 .count()
         });
     });

@@ -10,11 +10,13 @@
 //!
 //! Each mesostructure (maze, bricks, beads, ball, chain mail) is rendered with each method:
 //! sphere tracing with the plain distance map (DM) and with the DDM 4×1 (both stop at the
-//! first zero-distance voxel, shading its entry wall), DDM 4×1 + quadric (Algorithm 3.1),
+//! first zero-distance voxel, shading its entry wall), DDM 4×1 + quadric (Algorithm 3.1
+//! on the C⁰ patches), DDM 4×1 + adaptive (per voxel the fitted quadric where it stays
+//! within 1e-3 voxel of the mesh's triangles, else the triangles: `ddm_tracer::exact_patches`)
 //! and relief mapping on the height fields (32 linear + 8 binary steps, 2 texels per voxel).
 //! Shadow rays accept hits up to a tolerance short of the shaded point: 1.75 voxel for
 //! sphere tracing (its hits are voxel entry points, up to a voxel diagonal from where a
-//! shadow ray enters the same voxel), 0.25 voxel for relief, 0.02 voxel for the quadric.
+//! shadow ray enters the same voxel), 0.25 voxel for relief, 0.02 voxel for the patches.
 //!
 //! The torus's slab is `h = 0.4` world units thick for tiles about 1.3–1.9 world units
 //! wide: the mesostructure is flattened about 1.4× against its voxel proportions, to keep
@@ -38,7 +40,9 @@ use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
 use ddm_render::{Camera, GBuffer, pixels_to_image, plane_base_mesh, rasterize_gbuffer, render_pixels};
 use ddm_tracer::gpu::GpuScene;
 use ddm_tracer::tangent_space::{BaseRenderParams, PIXEL_HIT, PIXEL_UNCOVERED};
-use ddm_tracer::{CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, TraceSettings, VoxelPatches};
+use ddm_tracer::{
+    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, TraceSettings, VoxelPatches,
+};
 use glam::{UVec2, UVec3, Vec2, Vec3, Vec4};
 use gpu_harness::Gpu;
 use mesostructure::Mesostructure;
@@ -99,6 +103,10 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
             compute_distance_maps(dims, &triangles, DirectionCones::downward(4, 1), settings).ok_or("invalid scene")?;
         let patches = VoxelPatches::build(dims, &triangles, &ddm.surface, PatchSettings::default())
             .ok_or("patch construction failed")?;
+        let adaptive_settings =
+            PatchSettings { surface: PatchSurface::Adaptive { max_error: 1e-3 }, ..PatchSettings::default() };
+        let adaptive = VoxelPatches::build(dims, &triangles, &ddm.surface, adaptive_settings)
+            .ok_or("patch construction failed")?;
         let sphere = TraceSettings { method: Method::SphereTracing, max_steps: MAX_STEPS };
         let quadric = TraceSettings { method: Method::Quadric, max_steps: MAX_STEPS };
         let pack = |m| CompressedMaps::compress(m, 1).ok_or("cannot pack the maps");
@@ -107,6 +115,11 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
             ("dm", GpuScene::new(&plain_packed, None, sphere).ok_or("scene does not pack")?, 1.75),
             ("ddm4x1", GpuScene::new(&ddm_packed, None, sphere).ok_or("scene does not pack")?, 1.75),
             ("ddm4x1_quadric", GpuScene::new(&ddm_packed, Some(&patches), quadric).ok_or("scene does not pack")?, 0.02),
+            (
+                "ddm4x1_adaptive",
+                GpuScene::new(&ddm_packed, Some(&adaptive), quadric).ok_or("scene does not pack")?,
+                0.02,
+            ),
         ];
         if matches!(structure, Mesostructure::Maze(_) | Mesostructure::Bricks) {
             let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));

@@ -5,15 +5,16 @@
 //! sphere tracing with the plain distance map (DM) and with the DDMs 2×1, 4×1, 8×1 and 4×2
 //! (each stopping at the first zero voxel, as Donnelly's sphere tracing does), DDM 4×1 +
 //! quadric (Algorithm 3.1 on the C⁰ patches of §3.1), DDM 4×1 + fitted Q (the same on each
-//! voxel's fitted quadric of step a), and relief mapping (height fields only; height map
+//! voxel's fitted quadric of step a), DDM 4×1 + triangles (the mesh's own triangles per
+//! voxel, exact: beyond the paper), DDM 4×1 + adaptive (per voxel the fitted quadric where
+//! it stays within 1e-3 voxel of the triangles, else the triangles: see
+//! `ddm_tracer::exact_patches`), and relief mapping (height fields only; height map
 //! at 2 texels per voxel, 32 linear + 8 binary steps). Every pixel is compared with the
 //! exact first hit of the original mesh. Every method also runs in the WGSL compute pass
 //! (one ray per invocation), on the raw maps for Tables 1/2.
 //!
-//! Known limits of the inputs, visible in the numbers: the maze mesh has a crack along
-//! the tile seam (its corner heights at x = L differ from x = 0), where the mesh truth
-//! misses and every method reports a false hit; the spheres and tori are coarse meshes,
-//! whose facets a smooth quadric cannot match to 1e-3 voxel.
+//! Known limits of the inputs, visible in the numbers: the spheres and tori are coarse
+//! meshes, whose facets a smooth quadric cannot match to 1e-3 voxel.
 //!
 //! Writes to `OUT_DIR` (default `target/ddm-trace`):
 //! - `ddm_trace_methods.csv` (Tables 1/2): steps per ray (mean, max), hit error in voxels
@@ -25,6 +26,13 @@
 //!   of the surface that hits something behind it);
 //! - `ddm_trace_compression.csv` (Table 3): each DDM method on raw and compressed maps
 //!   (blocks of 4): hit/miss differences, largest hit-point difference, steps, time ratio;
+//! - `ddm_trace_patches.csv`: per patch construction, the voxels kept as quadrics and as
+//!   triangles, the patch count and the bytes the tracer reads;
+//! - `ddm_adaptive_budget.csv`: the adaptive patches at error budgets from 0.3 to 1e-3
+//!   voxel: voxels per representation, bytes, hit error against the mesh, holes, speed
+//!   (one pass);
+//! - `ddm_steps_vs_angle.csv`, `ddm_steps_vs_angle.png`: mean sphere-tracing steps of each
+//!   map against the view angle (see `ddm_steps`);
 //! - `ddm_trace_error_vs_time.png`: mean hit error against CPU time per ray;
 //! - `<mesostructure>_<method>.png`: the view shaded from the hit normals (and `_truth`).
 
@@ -49,6 +57,10 @@ const MAX_STEPS: u32 = 512;
 const COMPRESSION_BLOCK: u32 = 4;
 const RELIEF_LINEAR: u32 = 32;
 const RELIEF_BINARY: u32 = 8;
+/// Error budget (voxels) of the adaptive patches: the accuracy goal.
+const ADAPTIVE_BUDGET: f32 = 1e-3;
+/// Error budgets (voxels) of the adaptive patches' sweep: memory and accuracy against it.
+const BUDGETS: [f32; 6] = [0.3, 0.1, 0.03, 0.01, 3e-3, 1e-3];
 
 /// One camera ray per pixel.
 struct View {
@@ -251,6 +263,12 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
     let mut compression_csv = String::from(
         "mesostructure,method,block,efficiency,raw_mean_steps,compressed_mean_steps,hit_miss_differ,points_differ_over_1e-5_voxel,max_point_difference_voxel,cpu_time_ratio,gpu_time_ratio\n",
     );
+    let mut patches_csv =
+        String::from("mesostructure,patches,quadric_voxels,triangle_voxels,voxels_without_patch,patch_count,bytes\n");
+    let mut steps_rows = Vec::new();
+    let mut budget_csv = String::from(
+        "mesostructure,budget_voxel,quadric_voxels,triangle_voxels,bytes,mean_steps,holes,false_hits,mean_error_voxel,max_error_voxel,within_1e-3_of_truth_pct,cpu_rays_per_s_one_pass\n",
+    );
     let timing_name = if gpu.has_timestamps() { "timestamps" } else { "wall clock" };
     let mut chart_points: Vec<(&'static str, &'static str, f64, f64)> = Vec::new();
     for structure in Mesostructure::ALL {
@@ -284,13 +302,69 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
         let fitted_settings = PatchSettings { surface: PatchSurface::FittedQuadric, ..PatchSettings::default() };
         let fitted = VoxelPatches::build(dims, &triangles, &maps[0].1.surface, fitted_settings)
             .ok_or("patch construction failed")?;
+        let patch_seconds = start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        let exact_settings = PatchSettings { surface: PatchSurface::Triangles, ..PatchSettings::default() };
+        let exact = VoxelPatches::build(dims, &triangles, &maps[0].1.surface, exact_settings)
+            .ok_or("patch construction failed")?;
+        let adaptive_settings = PatchSettings {
+            surface: PatchSurface::Adaptive { max_error: ADAPTIVE_BUDGET },
+            ..PatchSettings::default()
+        };
+        let adaptive = VoxelPatches::build(dims, &triangles, &maps[0].1.surface, adaptive_settings)
+            .ok_or("patch construction failed")?;
         println!(
-            "\n{} ({} triangles): maps {maps_seconds:.1} s, patches {:.2} s ({} patches, {} surface voxels without one)",
+            "\n{} ({} triangles): maps {maps_seconds:.1} s, C0 + fitted patches {patch_seconds:.2} s ({} C0 patches, {} surface voxels without one), triangles + adaptive {:.2} s",
             structure.name(),
             triangles.len(),
-            start.elapsed().as_secs_f64(),
             patches.patches.len(),
-            patches.voxels_without_patch
+            patches.voxels_without_patch,
+            start.elapsed().as_secs_f64()
+        );
+        for (name, set) in [("C0", &patches), ("fitted", &fitted), ("triangles", &exact), ("adaptive", &adaptive)] {
+            writeln!(
+                patches_csv,
+                "{},{name},{},{},{},{},{}",
+                structure.name(),
+                set.quadric_voxels,
+                set.triangle_voxels,
+                set.voxels_without_patch,
+                set.patches.len(),
+                set.byte_size()
+            )
+            .map_err(|e| e.to_string())?;
+        }
+        for budget in BUDGETS {
+            let settings =
+                PatchSettings { surface: PatchSurface::Adaptive { max_error: budget }, ..Default::default() };
+            let set = VoxelPatches::build(dims, &triangles, &maps[0].1.surface, settings)
+                .ok_or("patch construction failed")?;
+            let quadric = TraceSettings { method: Method::Quadric, max_steps: MAX_STEPS };
+            let start = Instant::now();
+            let outcomes: Vec<TraceOutcome> =
+                view.rays.iter().map(|&(o, d)| trace(&maps[2].1, Some(&set), o, d, quadric)).collect();
+            let seconds_per_ray = start.elapsed().as_secs_f64() / view.rays.len() as f64;
+            let s = stats(&outcomes, &truth_points);
+            writeln!(
+                budget_csv,
+                "{},{budget},{},{},{},{:.3},{},{},{:e},{:e},{:.3},{:.0}",
+                structure.name(),
+                set.quadric_voxels,
+                set.triangle_voxels,
+                set.byte_size(),
+                s.mean_steps,
+                s.holes,
+                s.false_hits,
+                s.mean_error,
+                s.max_error,
+                100.0 * s.within as f64 / s.truth_hits.max(1) as f64,
+                1.0 / seconds_per_ray
+            )
+            .map_err(|e| e.to_string())?;
+        }
+        steps_rows.extend(
+            crate::ddm_steps::steps_vs_angle(structure.name(), dims, &maps)
+                .map_err(|e| format!("{}: {e}", structure.name()))?,
         );
         let mut rows: Vec<MethodRow> = Vec::new();
         let sphere = TraceSettings { method: Method::SphereTracing, max_steps: MAX_STEPS };
@@ -299,6 +373,8 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
             maps.iter().map(|(name, m)| (*name, m, None, sphere)).collect();
         cases.push(("DDM 4x1 + quadric", &maps[2].1, Some(&patches), quadric));
         cases.push(("DDM 4x1 + fitted Q", &maps[2].1, Some(&fitted), quadric));
+        cases.push(("DDM 4x1 + triangles", &maps[2].1, Some(&exact), quadric));
+        cases.push(("DDM 4x1 + adaptive", &maps[2].1, Some(&adaptive), quadric));
         for (name, raw, patch_set, trace_settings) in cases {
             let run = timed(&view.rays, |o, d| trace(raw, patch_set, o, d, trace_settings));
             let raw_gpu = CompressedMaps::compress(raw, 1).ok_or("cannot pack the raw maps")?;
@@ -429,6 +505,11 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
     };
     write("ddm_trace_methods.csv", &methods_csv)?;
     write("ddm_trace_compression.csv", &compression_csv)?;
+    write("ddm_trace_patches.csv", &patches_csv)?;
+    write("ddm_adaptive_budget.csv", &budget_csv)?;
+    println!("\nAdaptive patches against the error budget (DDM 4x1):\n{budget_csv}");
+    println!("\nPatch memory (adaptive: budget {ADAPTIVE_BUDGET} voxel):\n{patches_csv}");
+    crate::ddm_steps::write(&out, &steps_rows)?;
     println!("\nTable 3 (tracing with vs without compression, blocks of {COMPRESSION_BLOCK}):\n{compression_csv}");
     error_chart(&out.join("ddm_trace_error_vs_time.png"), &chart_points)?;
     println!("wrote {}", out.join("ddm_trace_error_vs_time.png").display());
@@ -438,8 +519,18 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
 /// Mean hit error against CPU time per ray, one colour per method, one marker per
 /// mesostructure.
 fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), String> {
-    let methods =
-        ["DM", "DDM 2x1", "DDM 4x1", "DDM 8x1", "DDM 4x2", "DDM 4x1 + quadric", "DDM 4x1 + fitted Q", "relief 32+8"];
+    let methods = [
+        "DM",
+        "DDM 2x1",
+        "DDM 4x1",
+        "DDM 8x1",
+        "DDM 4x2",
+        "DDM 4x1 + quadric",
+        "DDM 4x1 + fitted Q",
+        "relief 32+8",
+        "DDM 4x1 + triangles",
+        "DDM 4x1 + adaptive",
+    ];
     let colors = [
         RGBColor(120, 120, 120),
         RGBColor(230, 159, 0),
@@ -449,6 +540,8 @@ fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), Str
         RGBColor(213, 94, 0),
         RGBColor(204, 121, 167),
         RGBColor(0, 158, 115),
+        RGBColor(0, 0, 0),
+        RGBColor(150, 40, 40),
     ];
     let (x_min, x_max) = points.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| (lo.min(p.2), hi.max(p.2)));
     let (y_min, y_max) = points.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| (lo.min(p.3), hi.max(p.3)));

@@ -31,6 +31,7 @@ mod abuffer_chart;
 mod chart;
 mod ddm_compression;
 mod ddm_render;
+mod ddm_steps;
 mod ddm_trace;
 mod fig9;
 mod impostor_accuracy;

@@ -18,9 +18,14 @@
 //!   inside the voxel, each crossed by the [`probe_directions`], down- and upward (view
 //!   and shadow rays);
 //! - a segment where both hit contributes the distance between the two hits; a segment
-//!   where only one hits contributes that hit's distance to the nearer end of the
-//!   segment (the other representation would have to place its hit outside the voxel,
-//!   at least that far away); the error is the largest contribution.
+//!   where only one hits at `t` contributes the distance from `t` to the other
+//!   representation's first hit on `[t − UNMATCHED_ERROR, t + UNMATCHED_ERROR]` (the
+//!   other may place it just outside the voxel; both lists hold whole surfaces, which
+//!   extend past the voxel), or [`UNMATCHED_ERROR`] when there is none there. A quadric
+//!   sheet lying on a voxel face where the mesh has no surface (the fit of a wall top
+//!   whose side lies on the face is the pair of planes) is caught this way: the tracer
+//!   accepts hits up to the segment's end;
+//! - the error is the largest contribution.
 //!
 //! The probes sample the voxel; they are not a proof: a quadric may still stray between
 //! them, which the tracer measurements against the mesh show.
@@ -37,6 +42,10 @@ use crate::trace::{NUDGE, patch_hit, voxel_exit};
 
 /// Probe points per axis of a voxel in [`representation_error`] (at `(i + ½)/n`).
 pub const PROBE_POINTS_PER_AXIS: u32 = 3;
+
+/// The error (voxels) of a probe hit that the other representation does not match
+/// within this distance; also the reach of that search.
+pub const UNMATCHED_ERROR: f32 = 0.5;
 
 /// Angles from the vertical, in degrees, of the [`probe_directions`] (each at 8
 /// azimuths except 0°, down and up).
@@ -124,7 +133,8 @@ pub fn representation_error(candidate: &[TracePatch], exact: &[TracePatch], dire
                     let b = patch_hit(exact, entry, d, t_exit).map(|h| h.0);
                     let error = match (a, b) {
                         (Some(a), Some(b)) => (a - b).abs(),
-                        (Some(t), None) | (None, Some(t)) => t.max(0.0).min((t_exit - t).max(0.0)),
+                        (Some(t), None) => unmatched_error(exact, entry, d, t),
+                        (None, Some(t)) => unmatched_error(candidate, entry, d, t),
                         (None, None) => 0.0,
                     };
                     worst = worst.max(error);
@@ -133,6 +143,14 @@ pub fn representation_error(candidate: &[TracePatch], exact: &[TracePatch], dire
         }
     }
     worst
+}
+
+/// The distance from `t` to the first hit of `patches` on the ray `entry + s direction`,
+/// `s ∈ [t − UNMATCHED_ERROR, t + UNMATCHED_ERROR]`, capped at [`UNMATCHED_ERROR`].
+fn unmatched_error(patches: &[TracePatch], entry: Vec3, direction: Vec3, t: f32) -> f32 {
+    let from = entry + direction * (t - UNMATCHED_ERROR);
+    patch_hit(patches, from, direction, 2.0 * UNMATCHED_ERROR)
+        .map_or(UNMATCHED_ERROR, |(s, _)| (s - UNMATCHED_ERROR).abs().min(UNMATCHED_ERROR))
 }
 
 #[cfg(test)]
@@ -196,10 +214,27 @@ mod tests {
         // A plane 0.01 higher: vertical probes see 0.01, grazing ones up to 0.01 / cos 85°.
         let error = representation_error(&[plane(0.41)], &floor, &directions);
         assert!(error > 0.01 && error < 0.12, "{error}");
-        // No surface at all where the floor is: the error is how deep inside the voxel
-        // the floor's hits lie (0.4 from the bottom wall on vertical probes, more on
-        // slanted ones, never more than half the voxel's diagonal).
-        let empty = representation_error(&[], &floor, &directions);
-        assert!(empty >= 0.4 - 1e-5 && empty < 0.87, "{empty}");
+        // No surface at all where the floor is: unmatched hits.
+        assert_eq!(representation_error(&[], &floor, &directions), UNMATCHED_ERROR);
+        // A wall top whose side lies on the voxel face x = 1 (the mesh: the top z = 0.4
+        // for x ≤ 1 and the side x = 1 below it), against the pair of planes
+        // (x − 1)(z − 0.4) = 0, whose sheet x = 1 above the top lies on the face.
+        let top = [Vec3::new(-1.0, -1.0, 0.4), Vec3::new(1.0, -1.0, 0.4), Vec3::new(1.0, 3.0, 0.4)];
+        let top2 = [Vec3::new(-1.0, -1.0, 0.4), Vec3::new(1.0, 3.0, 0.4), Vec3::new(-1.0, 3.0, 0.4)];
+        let side = [Vec3::new(1.0, -1.0, 0.4), Vec3::new(1.0, -1.0, -2.0), Vec3::new(1.0, 3.0, -2.0)];
+        let side2 = [Vec3::new(1.0, -1.0, 0.4), Vec3::new(1.0, 3.0, -2.0), Vec3::new(1.0, 3.0, 0.4)];
+        let mut wall = Vec::new();
+        voxel_triangle_patches(&[top, top2, side, side2], corner, &mut wall);
+        // `side` lies below z = -0.2 over the voxel: the other three touch it.
+        assert_eq!(wall.len(), 3);
+        let pair = Quadric::new([0.0, 0.0, 0.0, 0.0, 0.0, 1.0, -0.4, 0.0, -1.0, 0.4]).unwrap();
+        let gpu = GpuQuadric::from_quadric(&pair);
+        let pair = TracePatch {
+            abcd: gpu.abcd,
+            efgh: gpu.efgh,
+            ij_corners: Vec4::new(gpu.ij.x, gpu.ij.y, 0.0, 0.0),
+            ..bytemuck::Zeroable::zeroed()
+        };
+        assert!(representation_error(&[pair], &wall, &directions) >= UNMATCHED_ERROR);
     }
 }

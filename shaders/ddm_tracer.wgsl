@@ -53,6 +53,19 @@ fn trace_slab_entry(origin: vec3<f32>, direction: vec3<f32>, size_z: f32) -> f32
     return select(0.0, (size_z - origin.z) / direction.z, origin.z > size_z);
 }
 
+// Rust: ddm_tracer::trace::voxel_entry.
+fn trace_voxel_entry(local: vec3<f32>, direction: vec3<f32>) -> f32 {
+    var entry = 0.0;
+    for (var axis = 0u; axis < 3u; axis++) {
+        let r = direction[axis];
+        if r != 0.0 {
+            let wall = select(1.0, 0.0, r > 0.0);
+            entry = max(entry, (wall - local[axis]) / r);
+        }
+    }
+    return entry;
+}
+
 // Rust: ddm_tracer::trace::voxel_exit.
 fn trace_voxel_exit(local: vec3<f32>, direction: vec3<f32>) -> f32 {
     var exit = 3.40282347e38;
@@ -273,25 +286,28 @@ fn trace_ray(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>) -> Trace
             t += min(value, step_cap);
             continue;
         }
-        let local = p - vec3<f32>(v);
+        let corner = vec3<f32>(v);
         let voxel_index = wrapped.x + dims.x * (wrapped.y + dims.y * wrapped.z);
         if u.cones_method.z == TRACE_METHOD_SPHERE_TRACING {
-            let normal = trace_entry_wall_normal(local, d);
+            let normal = trace_entry_wall_normal(p - corner, d);
             return TraceResult(vec4<f32>(p, t_enter + t), vec4<f32>(normal, 1.0), vec4<u32>(steps, cone, 0u, voxel_index));
         }
-        let t_exit = trace_voxel_exit(local, d);
+        let start_local = start - corner;
+        let t_in = trace_voxel_entry(start_local, d);
+        let entry = start_local + d * t_in;
+        let t_exit = trace_voxel_exit(entry, d);
         let first = trace_patch_offsets[voxel_index];
         let count = trace_patch_offsets[voxel_index + 1u] - first;
-        let hit = trace_patch_hit(first, count, local, d, t_exit);
+        let hit = trace_patch_hit(first, count, entry, d, t_exit);
         if hit.z != 0.0 {
             let th = hit.x;
-            var n = quadric_normal(trace_quadric_of(trace_patches[first + u32(hit.y)]), local + d * th);
+            var n = quadric_normal(trace_quadric_of(trace_patches[first + u32(hit.y)]), entry + d * th);
             if dot(n, d) > 0.0 {
                 n = -n;
             }
-            return TraceResult(vec4<f32>(p + d * th, t_enter + t + th), vec4<f32>(n, 1.0), vec4<u32>(steps, cone, 0u, voxel_index));
+            return TraceResult(vec4<f32>(start + d * (t_in + th), t_enter + t_in + th), vec4<f32>(n, 1.0), vec4<u32>(steps, cone, 0u, voxel_index));
         }
-        t += t_exit;
+        t = max(t, t_in + t_exit);
     }
     return trace_miss(steps, cone, 1u);
 }

@@ -17,8 +17,8 @@
 //! - a zero value means the voxel holds surface. [`Method::SphereTracing`] stops there, as
 //!   Donnelly's distance-map sphere tracing does (its hit is the voxel entry point);
 //!   [`Method::Quadric`] intersects the voxel's patches over the ray's segment inside the
-//!   voxel and returns the nearest hit, or moves to the voxel's exit wall (Algorithm 3.3)
-//!   and continues.
+//!   voxel (from where the ray enters it, whatever step led there) and returns the nearest
+//!   hit, or moves to the voxel's exit wall (Algorithm 3.3) and continues.
 //!
 //! The voxel of a point on a voxel wall is decided by looking [`NUDGE`] ahead along the
 //! ray (Algorithm 3.3's `ε`), without moving the point: every step is then taken from a
@@ -104,6 +104,22 @@ pub fn slab_entry(origin: Vec3, direction: Vec3, size_z: f32) -> f32 {
 /// `direction / |direction|` computed as both CPU and GPU do.
 pub fn unit(direction: Vec3) -> Vec3 {
     direction * (1.0 / libm::sqrtf(direction.dot(direction)))
+}
+
+/// The ray parameter, from the point `local` relative to a unit voxel's lowest corner,
+/// where the ray enters the voxel (the largest of the entry walls' parameters), never
+/// negative: a ray starting inside the voxel enters it at its start. WGSL twin:
+/// `trace_voxel_entry`.
+pub fn voxel_entry(local: Vec3, direction: Vec3) -> f32 {
+    let mut entry = 0.0_f32;
+    for axis in 0..3 {
+        let r = direction[axis];
+        if r != 0.0 {
+            let wall = if r > 0.0 { 0.0 } else { 1.0 };
+            entry = entry.max((wall - local[axis]) / r);
+        }
+    }
+    entry
 }
 
 /// The ray parameter, from the point `local` relative to a unit voxel's lowest corner,
@@ -199,24 +215,29 @@ pub fn trace<S: DistanceSource>(
             continue;
         }
         let corner = v.as_vec3();
-        let local = p - corner;
         if settings.method == Method::SphereTracing {
-            let normal = entry_wall_normal(local, d);
+            let normal = entry_wall_normal(p - corner, d);
             let hit = TraceHit { t: t_enter + t, point: p, normal, voxel: wrapped };
             return TraceOutcome { hit: Some(hit), steps, exhausted: false, cone };
         }
-        let t_exit = voxel_exit(local, d);
+        // The patches are intersected from where the ray enters the voxel (not from `p`,
+        // which depends on the steps that led here): a hit then depends only on the ray
+        // and the voxel, and the same on raw and compressed maps.
+        let start_local = start - corner;
+        let t_in = voxel_entry(start_local, d);
+        let entry = start_local + d * t_in;
+        let t_exit = voxel_exit(entry, d);
         let list = patches.map_or(&[][..], |p| p.of_voxel(wrapped));
-        if let Some((th, index)) = patch_hit(list, local, d, t_exit) {
-            let at = local + d * th;
+        if let Some((th, index)) = patch_hit(list, entry, d, t_exit) {
+            let at = entry + d * th;
             let mut n = normal(&quadric_of(&list[index]), at);
             if n.dot(d) > 0.0 {
                 n = -n;
             }
-            let hit = TraceHit { t: t_enter + t + th, point: p + d * th, normal: n, voxel: wrapped };
+            let hit = TraceHit { t: t_enter + t_in + th, point: start + d * (t_in + th), normal: n, voxel: wrapped };
             return TraceOutcome { hit: Some(hit), steps, exhausted: false, cone };
         }
-        t += t_exit;
+        t = t.max(t_in + t_exit);
     }
     TraceOutcome { hit: None, steps, exhausted: true, cone }
 }

@@ -105,9 +105,24 @@ impl CompressedMap {
     }
 
     /// The stored distance of `voxel` (Algorithm A.2), or `None` outside the map.
+    ///
+    /// Power-of-two blocks (the usual 2, 4, 8) take shifts and masks instead of the six
+    /// integer divisions of [`grid_index`] and [`atlas_index`]; the indices are the same.
     pub fn access(&self, voxel: UVec3) -> Option<f32> {
         if !voxel.cmplt(self.dims).all() {
             return None;
+        }
+        if self.block.is_power_of_two() {
+            let shift = self.block.trailing_zeros();
+            let g = (self.dims + UVec3::splat(self.block - 1)) >> shift;
+            let b = voxel >> shift;
+            let entry = *self.grid.get((b.x + g.x * (b.y + g.y * b.z)) as usize)?;
+            if entry & SURFACE_FLAG == 0 {
+                return Some(f32::from_bits(entry));
+            }
+            let local = voxel & UVec3::splat(self.block - 1);
+            let index = ((((entry & !SURFACE_FLAG) << shift | local.z) << shift | local.y) << shift) | local.x;
+            return self.atlas.get(index as usize).copied();
         }
         let entry = *self.grid.get(grid_index(voxel, self.dims, self.block) as usize)?;
         if entry & SURFACE_FLAG == 0 {
@@ -140,6 +155,31 @@ pub fn atlas_index(entry: u32, voxel: UVec3, block: u32) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_power_of_two_path_reads_the_same_entries_as_the_generic_indices() {
+        let dims = UVec3::new(9, 7, 5);
+        let n = (dims.x * dims.y * dims.z) as usize;
+        let values: Vec<f32> = (0..n).map(|i| i as f32).collect();
+        let surface: Vec<bool> = (0..n).map(|i| i % 3 == 0).collect();
+        for block in [1, 2, 3, 4, 5, 8, 16] {
+            let map = CompressedMap::compress(&values, &surface, dims, block).unwrap();
+            for z in 0..dims.z {
+                for y in 0..dims.y {
+                    for x in 0..dims.x {
+                        let v = UVec3::new(x, y, z);
+                        let entry = map.grid[grid_index(v, dims, block) as usize];
+                        let expected = if entry & SURFACE_FLAG == 0 {
+                            f32::from_bits(entry)
+                        } else {
+                            map.atlas[atlas_index(entry, v, block) as usize]
+                        };
+                        assert_eq!(map.access(v).map(f32::to_bits), Some(expected.to_bits()), "block {block}, {v}");
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn surface_blocks_are_exact_and_others_conservative() {

@@ -27,6 +27,17 @@ fn map_kinds() -> Vec<(&'static str, Option<DirectionCones>)> {
     ]
 }
 
+/// The grid size of a `--size WxHxD` argument (`text` is the word after `--size`).
+pub fn parse_size(text: Option<&str>) -> Result<UVec3, String> {
+    let text = text.ok_or("--size needs WxHxD")?;
+    let parts: Vec<u32> =
+        text.split('x').map(str::parse).collect::<Result<_, _>>().map_err(|e| format!("--size {text}: {e}"))?;
+    match parts[..] {
+        [x, y, z] if x > 0 && y > 0 && z > 0 => Ok(UVec3::new(x, y, z)),
+        _ => Err(format!("--size {text}: expected three positive sizes WxHxD")),
+    }
+}
+
 /// Runs the experiment; `args` are `[OUT_DIR] [--quick] [--size WxHxD]`.
 pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
     let mut out = default_out;
@@ -36,18 +47,7 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
     while let Some(&arg) = args.next() {
         match arg {
             "--quick" => quick = true,
-            "--size" => {
-                let text = args.next().ok_or("--size needs WxHxD")?;
-                let parts: Vec<u32> = text
-                    .split('x')
-                    .map(str::parse)
-                    .collect::<Result<_, _>>()
-                    .map_err(|e| format!("--size {text}: {e}"))?;
-                match parts[..] {
-                    [x, y, z] if x > 0 && y > 0 && z > 0 => size = Some(UVec3::new(x, y, z)),
-                    _ => return Err(format!("--size {text}: expected three positive sizes WxHxD")),
-                }
-            }
+            "--size" => size = Some(parse_size(args.next().copied())?),
             _ => out = PathBuf::from(arg),
         }
     }

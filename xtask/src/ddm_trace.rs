@@ -1,4 +1,5 @@
-//! `cargo xtask ddm-trace [OUT_DIR] [--quick]`: Mehra & Kumar's Tables 1–3, measured.
+//! `cargo xtask ddm-trace [OUT_DIR] [--quick] [--size WxHxD]`: Mehra & Kumar's Tables 1–3,
+//! measured (24×24×8 voxel tiles by default, 12×12×6 with `--quick`).
 //!
 //! For each mesostructure (maze, bricks: height fields; beads, ball: not) on a plane tile,
 //! one perspective view over about 2 × 2 tiles is traced per pixel with each method:
@@ -236,14 +237,18 @@ struct MethodRow {
 pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
     let mut out = default_out;
     let mut quick = false;
-    for &arg in args {
+    let mut size = None;
+    let mut args = args.iter();
+    while let Some(&arg) = args.next() {
         match arg {
             "--quick" => quick = true,
+            "--size" => size = Some(crate::ddm_compression::parse_size(args.next().copied())?),
             _ => out = PathBuf::from(arg),
         }
     }
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let (dims, width, height) = if quick { (UVec3::new(12, 12, 6), 96, 72) } else { (UVec3::new(24, 24, 8), 192, 144) };
+    let dims = size.unwrap_or(dims);
     let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
     println!(

@@ -22,7 +22,7 @@
 //! - `cargo xtask ddm-compression [OUT_DIR] [--quick]`: compression efficiency of the
 //!   distance maps and DDMs of four mesostructures (Mehra & Kumar's Table 3; default
 //!   `target/ddm-compression`).
-//! - `cargo xtask ddm-trace [OUT_DIR] [--quick]`: Mehra & Kumar's Tables 1–3 measured with
+//! - `cargo xtask ddm-trace [OUT_DIR] [--quick] [--size WxHxD]`: Mehra & Kumar's Tables 1–3 measured with
 //!   the DDM tracer on CPU and GPU against the exact mesh (default `target/ddm-trace`).
 //! - `cargo xtask ddm-render [OUT_DIR] [--quick]`: the mesostructures mapped on a plane tile
 //!   and a torus through a raster G-buffer and a compute trace (default `target/ddm-render`).
@@ -139,7 +139,7 @@ fn run(args: &[String]) -> Result<(), String> {
         Some("ddm-trace") => ddm_trace::run(&rest, workspace_root().join("target/ddm-trace")),
         Some("ddm-render") => ddm_render::run(&rest, workspace_root().join("target/ddm-render")),
         _ => Err(
-            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] [--size WxHxD] | ddm-trace [OUT_DIR] [--quick] | ddm-render [OUT_DIR] [--quick] | impostor-accuracy [OUT_DIR] [--quick] [--obj PATH]... | impostor-cloud [OUT_DIR] [--obj PATH | --grain NAME] [--n N] [--p P] [--mode MODE] [--grains COUNT]>"
+            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] [--size WxHxD] | ddm-trace [OUT_DIR] [--quick] [--size WxHxD] | ddm-render [OUT_DIR] [--quick] | impostor-accuracy [OUT_DIR] [--quick] [--obj PATH]... | impostor-cloud [OUT_DIR] [--obj PATH | --grain NAME] [--n N] [--p P] [--mode MODE] [--grains COUNT]>"
                 .into(),
         ),
     }

@@ -138,14 +138,7 @@ pub fn write(out: &Path, rows: &[StepsRow]) -> Result<(), String> {
 
 /// One panel per mesostructure: mean steps against the view angle, one line per map.
 fn chart(path: &Path, rows: &[StepsRow], structures: &[&str]) -> Result<(), String> {
-    let maps = ["DM", "DDM 2x1", "DDM 4x1", "DDM 8x1", "DDM 4x2"];
-    let colors = [
-        RGBColor(120, 120, 120),
-        RGBColor(230, 159, 0),
-        RGBColor(0, 114, 178),
-        RGBColor(86, 180, 233),
-        RGBColor(213, 94, 0),
-    ];
+    let maps = &crate::ddm_trace::METHOD_COLORS[..5];
     let width = 360 * structures.len().max(1) as u32;
     render_png(path, (width, 420), |root| {
         let panels = root.split_evenly((1, structures.len().max(1)));
@@ -165,13 +158,13 @@ fn chart(path: &Path, rows: &[StepsRow], structures: &[&str]) -> Result<(), Stri
                 .label_style(("sans-serif", 14))
                 .draw()
                 .map_err(drawing_error)?;
-            for (map, color) in maps.iter().zip(colors) {
+            for &(map, color) in maps {
                 let line: Vec<(f32, f64)> =
-                    mine.iter().filter(|r| r.map == *map).map(|r| (r.angle_deg, r.mean_steps)).collect();
+                    mine.iter().filter(|r| r.map == map).map(|r| (r.angle_deg, r.mean_steps)).collect();
                 chart
                     .draw_series(LineSeries::new(line, color.stroke_width(2)))
                     .map_err(drawing_error)?
-                    .label(*map)
+                    .label(map)
                     .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], color.stroke_width(2)));
             }
             draw_legend(&mut chart, 13, SeriesLabelPosition::UpperLeft)?;

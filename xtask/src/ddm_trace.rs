@@ -521,33 +521,23 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
     Ok(())
 }
 
+/// Each method's colour in the charts (`ddm_steps` uses the maps' entries).
+pub const METHOD_COLORS: [(&str, RGBColor); 10] = [
+    ("DM", RGBColor(120, 120, 120)),
+    ("DDM 2x1", RGBColor(230, 159, 0)),
+    ("DDM 4x1", RGBColor(0, 114, 178)),
+    ("DDM 8x1", RGBColor(86, 180, 233)),
+    ("DDM 4x2", RGBColor(240, 228, 66)),
+    ("DDM 4x1 + quadric", RGBColor(213, 94, 0)),
+    ("DDM 4x1 + fitted Q", RGBColor(204, 121, 167)),
+    ("relief 32+8", RGBColor(0, 158, 115)),
+    ("DDM 4x1 + triangles", RGBColor(0, 0, 0)),
+    ("DDM 4x1 + adaptive", RGBColor(150, 40, 40)),
+];
+
 /// Mean hit error against CPU time per ray, one colour per method, one marker per
 /// mesostructure.
 fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), String> {
-    let methods = [
-        "DM",
-        "DDM 2x1",
-        "DDM 4x1",
-        "DDM 8x1",
-        "DDM 4x2",
-        "DDM 4x1 + quadric",
-        "DDM 4x1 + fitted Q",
-        "relief 32+8",
-        "DDM 4x1 + triangles",
-        "DDM 4x1 + adaptive",
-    ];
-    let colors = [
-        RGBColor(120, 120, 120),
-        RGBColor(230, 159, 0),
-        RGBColor(0, 114, 178),
-        RGBColor(86, 180, 233),
-        RGBColor(240, 228, 66),
-        RGBColor(213, 94, 0),
-        RGBColor(204, 121, 167),
-        RGBColor(0, 158, 115),
-        RGBColor(0, 0, 0),
-        RGBColor(150, 40, 40),
-    ];
     let (x_min, x_max) = points.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| (lo.min(p.2), hi.max(p.2)));
     let (y_min, y_max) = points.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| (lo.min(p.3), hi.max(p.3)));
     render_png(path, (900, 620), |root| {
@@ -572,8 +562,8 @@ fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), Str
             .label_style(("sans-serif", 16))
             .draw()
             .map_err(drawing_error)?;
-        for (method, color) in methods.iter().zip(colors) {
-            let mine: Vec<_> = points.iter().filter(|p| p.1 == *method).collect();
+        for &(method, color) in &METHOD_COLORS {
+            let mine: Vec<_> = points.iter().filter(|p| p.1 == method).collect();
             let series = mine.iter().map(|p| {
                 let at = (p.2, p.3);
                 let style = color.filled();
@@ -589,7 +579,7 @@ fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), Str
             chart
                 .draw_series(series)
                 .map_err(drawing_error)?
-                .label(*method)
+                .label(method)
                 .legend(move |(x, y)| Circle::new((x + 8, y), 5, color.filled()));
         }
         draw_legend(&mut chart, 16, SeriesLabelPosition::UpperRight)

@@ -10,8 +10,8 @@ use std::hint::black_box;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
 use ddm_tracer::{
-    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, TraceSettings, VoxelPatches,
-    relief_trace, trace,
+    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceSettings,
+    VoxelPatches, relief_trace, trace,
 };
 use glam::{UVec3, Vec2, Vec3};
 use mesostructure::Mesostructure;
@@ -50,8 +50,8 @@ fn tracer(c: &mut Criterion) {
     let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));
     let height_map = HeightMap::from_mesh(&mesh, dims, 2);
     let rays = rays(dims);
-    let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 512 };
-    let quadric = TraceSettings { method: Method::Quadric, max_steps: 512 };
+    let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 512, stepping: Stepping::Distance };
+    let quadric = TraceSettings { method: Method::Quadric, max_steps: 512, stepping: Stepping::Distance };
 
     let mut group = c.benchmark_group("ddm_tracer/maze_16x16x8");
     group.throughput(Throughput::Elements(rays.len() as u64));

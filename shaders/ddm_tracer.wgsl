@@ -283,7 +283,11 @@ fn trace_ray(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>) -> Trace
         steps += 1u;
         let value = trace_map_distance(cone, wrapped);
         if value > 0.0 {
-            t += min(value, step_cap);
+            var inside = 0.0;
+            if u.stepping.x == TRACE_STEPPING_VOXEL_EXIT {
+                inside = trace_voxel_exit(p - vec3<f32>(v), d);
+            }
+            t += min(inside + value, step_cap);
             continue;
         }
         let corner = vec3<f32>(v);

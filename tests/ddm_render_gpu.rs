@@ -18,7 +18,7 @@ use ddm_tracer::gpu::GpuScene;
 use ddm_tracer::tangent_space::{
     BaseRenderParams, PIXEL_HIT, PIXEL_UNCOVERED, TangentFrame, in_shadow, tangent_space_ray,
 };
-use ddm_tracer::{CompressedMaps, Method, PatchSettings, TraceSettings, VoxelPatches, trace};
+use ddm_tracer::{CompressedMaps, Method, PatchSettings, Stepping, TraceSettings, VoxelPatches, trace};
 use glam::{UVec2, UVec3, Vec3, Vec4};
 use integration_tests::gpu;
 use mesostructure::Mesostructure;
@@ -49,7 +49,7 @@ fn check_plane_tile(structure: Mesostructure) {
     let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
     let maps = compute_distance_maps(DIMS, &triangles, DirectionCones::downward(4, 1), settings).unwrap();
     let patches = VoxelPatches::build(DIMS, &triangles, &maps.surface, PatchSettings::default()).unwrap();
-    let trace_settings = TraceSettings { method: Method::Quadric, max_steps: 256 };
+    let trace_settings = TraceSettings { method: Method::Quadric, max_steps: 256, stepping: Stepping::Distance };
     let packed = CompressedMaps::compress(&maps, 1).unwrap();
     let scene = GpuScene::new(&packed, Some(&patches), trace_settings).unwrap();
     let camera = plane_camera(80, 60);

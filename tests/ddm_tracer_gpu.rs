@@ -12,8 +12,8 @@
 use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
 use ddm_tracer::gpu::{GpuScene, TraceRay, TraceResult};
 use ddm_tracer::{
-    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, TraceOutcome, TraceSettings,
-    VoxelPatches, relief_trace, trace,
+    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceOutcome,
+    TraceSettings, VoxelPatches, relief_trace, trace,
 };
 use glam::{UVec3, Vec2, Vec3};
 use integration_tests::gpu;
@@ -148,13 +148,25 @@ fn gpu_tracer_equals_the_cpu_reference() {
             PatchSettings { surface: PatchSurface::Adaptive { max_error: 1e-3 }, ..Default::default() };
         let adaptive = VoxelPatches::build(DIMS, &triangles, &ddm.surface, adaptive_settings).unwrap();
         assert!(adaptive.quadric_voxels > 0 && adaptive.triangle_voxels > 0, "{}", which.name());
-        let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 256 };
-        let quadric = TraceSettings { method: Method::Quadric, max_steps: 256 };
+        let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 256, stepping: Stepping::Distance };
+        let quadric = TraceSettings { method: Method::Quadric, max_steps: 256, stepping: Stepping::Distance };
         let cases = [
             ("plain DM", CompressedMaps::compress(&plain, 2).unwrap(), None, sphere),
             ("DDM 4x1", CompressedMaps::compress(&ddm, 2).unwrap(), None, sphere),
             ("DDM 4x1 + quadric", CompressedMaps::compress(&ddm, 4).unwrap(), Some(&patches), quadric),
             ("DDM 4x1 + adaptive 1e-3", CompressedMaps::compress(&ddm, 4).unwrap(), Some(&adaptive), quadric),
+            (
+                "plain DM, voxel-exit stepping",
+                CompressedMaps::compress(&plain, 2).unwrap(),
+                None,
+                TraceSettings { stepping: Stepping::VoxelExit, ..sphere },
+            ),
+            (
+                "DDM 4x1 + adaptive 1e-3, voxel-exit stepping",
+                CompressedMaps::compress(&ddm, 4).unwrap(),
+                Some(&adaptive),
+                TraceSettings { stepping: Stepping::VoxelExit, ..quadric },
+            ),
             (
                 "DDM 4x1 + quadric, 16 steps",
                 CompressedMaps::compress(&ddm, 1).unwrap(),
@@ -189,9 +201,13 @@ fn gpu_tracer_equals_the_cpu_reference() {
         let mesh = MeshRaycaster::new(&triangles, Vec2::new(DIMS.x as f32, DIMS.y as f32));
         let height_map = HeightMap::from_mesh(&mesh, DIMS, 2);
         let maps = CompressedMaps::compress(&plain, 2).unwrap();
-        let scene = GpuScene::new(&maps, None, TraceSettings { method: Method::SphereTracing, max_steps: 1 })
-            .and_then(|s| s.with_relief(&height_map, 32, 8))
-            .expect("relief scene packs");
+        let scene = GpuScene::new(
+            &maps,
+            None,
+            TraceSettings { method: Method::SphereTracing, max_steps: 1, stepping: Stepping::Distance },
+        )
+        .and_then(|s| s.with_relief(&height_map, 32, 8))
+        .expect("relief scene packs");
         let size_z = DIMS.z as f32;
         let m =
             compare_scene(&scene, None, |o, d| relief_trace(&height_map, size_z, o, d, 32, 8), 0x7e1e + index as u64);
@@ -236,7 +252,7 @@ fn lone_triangle_patches_are_clipped_on_the_gpu_as_on_the_cpu() {
     let exact = PatchSettings { surface: PatchSurface::Triangles, ..Default::default() };
     let patches = VoxelPatches::build(DIMS, &triangles, &maps.surface, exact).unwrap();
     assert_eq!(patches.patches.len(), triangles.len(), "one bounded patch per voxel");
-    let quadric = TraceSettings { method: Method::Quadric, max_steps: 256 };
+    let quadric = TraceSettings { method: Method::Quadric, max_steps: 256, stepping: Stepping::Distance };
     let maps = CompressedMaps::compress(&maps, 2).unwrap();
     let m = compare(&maps, Some(&patches), quadric, 0x10e);
     let rays = rays(6000, 0x10e);

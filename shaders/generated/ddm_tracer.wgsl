@@ -13,6 +13,10 @@ const TRACE_POLYGON_TOLERANCE: f32 = 0x1.a36e2ep-14f; // 1e-4
 
 const TRACE_BOUNDED_PATCH: f32 = 0x1.000000p+0f; // 1e0
 
+const TRACE_STEPPING_DISTANCE: u32 = 0u;
+
+const TRACE_STEPPING_VOXEL_EXIT: u32 = 1u;
+
 // Rust size 128 bytes.
 struct TracePatch {
     abcd: vec4<f32>, // offset 0
@@ -25,12 +29,13 @@ struct TracePatch {
     p3: vec4<f32>, // offset 112
 }
 
-// Rust size 64 bytes.
+// Rust size 80 bytes.
 struct TraceUniforms {
     dims_max_steps: vec4<u32>, // offset 0
     cones_method: vec4<u32>, // offset 16
     elevation_band: vec4<f32>, // offset 32
     relief: vec4<u32>, // offset 48
+    stepping: vec4<u32>, // offset 64
 }
 
 // Rust size 48 bytes.

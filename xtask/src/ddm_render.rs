@@ -41,7 +41,8 @@ use ddm_render::{Camera, GBuffer, pixels_to_image, plane_base_mesh, rasterize_gb
 use ddm_tracer::gpu::GpuScene;
 use ddm_tracer::tangent_space::{BaseRenderParams, PIXEL_HIT, PIXEL_UNCOVERED};
 use ddm_tracer::{
-    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, TraceSettings, VoxelPatches,
+    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceSettings,
+    VoxelPatches,
 };
 use glam::{UVec2, UVec3, Vec2, Vec3, Vec4};
 use gpu_harness::Gpu;
@@ -107,8 +108,9 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
             PatchSettings { surface: PatchSurface::Adaptive { max_error: 1e-3 }, ..PatchSettings::default() };
         let adaptive = VoxelPatches::build(dims, &triangles, &ddm.surface, adaptive_settings)
             .ok_or("patch construction failed")?;
-        let sphere = TraceSettings { method: Method::SphereTracing, max_steps: MAX_STEPS };
-        let quadric = TraceSettings { method: Method::Quadric, max_steps: MAX_STEPS };
+        let sphere =
+            TraceSettings { method: Method::SphereTracing, max_steps: MAX_STEPS, stepping: Stepping::Distance };
+        let quadric = TraceSettings { method: Method::Quadric, max_steps: MAX_STEPS, stepping: Stepping::Distance };
         let pack = |m| CompressedMaps::compress(m, 1).ok_or("cannot pack the maps");
         let (plain_packed, ddm_packed) = (pack(&plain)?, pack(&ddm)?);
         let mut scenes: Vec<(&'static str, GpuScene, f32)> = vec![

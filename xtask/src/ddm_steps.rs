@@ -14,7 +14,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use ddm_compress::DistanceMaps;
-use ddm_tracer::{Method, TraceSettings, trace};
+use ddm_tracer::{Method, Stepping, TraceSettings, trace};
 use glam::{UVec3, Vec3};
 use plotters::prelude::*;
 
@@ -43,7 +43,7 @@ pub fn steps_vs_angle(
     dims: UVec3,
     maps: &[(&'static str, DistanceMaps)],
 ) -> Result<Vec<StepsRow>, String> {
-    let settings = TraceSettings { method: Method::SphereTracing, max_steps: MAX_STEPS };
+    let settings = TraceSettings { method: Method::SphereTracing, max_steps: MAX_STEPS, stepping: Stepping::Distance };
     let mut rows = Vec::new();
     for angle in ANGLES_DEG {
         let theta = angle.to_radians();

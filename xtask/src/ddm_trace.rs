@@ -44,8 +44,8 @@ use std::time::Instant;
 use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, compute_distance_maps};
 use ddm_tracer::gpu::{GpuScene, TraceRay, TraceResult};
 use ddm_tracer::{
-    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, TraceOutcome, TraceSettings,
-    VoxelPatches, relief_trace, trace,
+    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceOutcome,
+    TraceSettings, VoxelPatches, relief_trace, trace,
 };
 use glam::{DVec3, UVec3, Vec2, Vec3};
 use gpu_harness::Gpu;
@@ -344,7 +344,7 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
                 PatchSettings { surface: PatchSurface::Adaptive { max_error: budget }, ..Default::default() };
             let set = VoxelPatches::build(dims, &triangles, &maps[0].1.surface, settings)
                 .ok_or("patch construction failed")?;
-            let quadric = TraceSettings { method: Method::Quadric, max_steps: MAX_STEPS };
+            let quadric = TraceSettings { method: Method::Quadric, max_steps: MAX_STEPS, stepping: Stepping::Distance };
             let start = Instant::now();
             let outcomes: Vec<TraceOutcome> =
                 view.rays.iter().map(|&(o, d)| trace(&maps[2].1, Some(&set), o, d, quadric)).collect();
@@ -372,8 +372,9 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
                 .map_err(|e| format!("{}: {e}", structure.name()))?,
         );
         let mut rows: Vec<MethodRow> = Vec::new();
-        let sphere = TraceSettings { method: Method::SphereTracing, max_steps: MAX_STEPS };
-        let quadric = TraceSettings { method: Method::Quadric, max_steps: MAX_STEPS };
+        let sphere =
+            TraceSettings { method: Method::SphereTracing, max_steps: MAX_STEPS, stepping: Stepping::Distance };
+        let quadric = TraceSettings { method: Method::Quadric, max_steps: MAX_STEPS, stepping: Stepping::Distance };
         let mut cases: Vec<(&'static str, &DistanceMaps, Option<&VoxelPatches>, TraceSettings)> =
             maps.iter().map(|(name, m)| (*name, m, None, sphere)).collect();
         cases.push(("DDM 4x1 + quadric", &maps[2].1, Some(&patches), quadric));

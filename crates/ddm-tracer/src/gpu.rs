@@ -17,6 +17,10 @@ pub const METHOD_SPHERE_TRACING: u32 = 0;
 pub const METHOD_QUADRIC: u32 = 1;
 /// `TraceUniforms::cones_method.z` for relief mapping ([`crate::relief_trace`]).
 pub const METHOD_RELIEF: u32 = 2;
+/// `TraceUniforms::stepping.x` for [`crate::Stepping::Distance`].
+pub const STEPPING_DISTANCE: u32 = 0;
+/// `TraceUniforms::stepping.x` for [`crate::Stepping::VoxelExit`].
+pub const STEPPING_VOXEL_EXIT: u32 = 1;
 /// `TracePatch::ij_corners.w` of a *bounded* patch: its hits count only inside its
 /// polygon even when it is alone in its voxel (the exact triangles of
 /// [`crate::exact_patches`]). Other patches store 0 there.
@@ -58,6 +62,8 @@ gpu_struct! {
         pub elevation_band: Vec4,
         /// Relief mapping: `(linear_steps, binary_steps, texels_per_voxel, 0)`.
         pub relief: UVec4,
+        /// `(stepping, 0, 0, 0)`: [`STEPPING_DISTANCE`] or [`STEPPING_VOXEL_EXIT`].
+        pub stepping: UVec4,
     }
 }
 
@@ -103,6 +109,8 @@ pub const WGSL_CONSTANTS: &[GpuConst] = &[
     gpu_const!(NUDGE: f32 as "TRACE_NUDGE"),
     gpu_const!(POLYGON_TOLERANCE: f32 as "TRACE_POLYGON_TOLERANCE"),
     gpu_const!(BOUNDED_PATCH: f32 as "TRACE_BOUNDED_PATCH"),
+    gpu_const!(STEPPING_DISTANCE: u32 as "TRACE_STEPPING_DISTANCE"),
+    gpu_const!(STEPPING_VOXEL_EXIT: u32 as "TRACE_STEPPING_VOXEL_EXIT"),
 ];
 
 impl TraceRay {
@@ -167,6 +175,7 @@ impl GpuScene {
             cones_method: UVec4::new(selector.azimuths, selector.elevations, settings.method.code(), 0),
             elevation_band: Vec4::new(selector.elevation_min, selector.elevation_max, 0.0, 0.0),
             relief: UVec4::ZERO,
+            stepping: UVec4::new(settings.stepping.code(), 0, 0, 0),
         };
         Some(Self { uniforms, cone_maps, grid, atlas, patch_offsets, patches: patch_list, heights: alloc::vec![0.0] })
     }

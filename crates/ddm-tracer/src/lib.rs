@@ -5,7 +5,7 @@
 //!
 //! ```
 //! use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
-//! use ddm_tracer::{Method, PatchSettings, TraceSettings, VoxelPatches, trace};
+//! use ddm_tracer::{Method, PatchSettings, Stepping, TraceSettings, VoxelPatches, trace};
 //! use glam::{UVec3, Vec3};
 //!
 //! let dims = UVec3::new(8, 8, 4);
@@ -13,7 +13,7 @@
 //! let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
 //! let maps = compute_distance_maps(dims, &floor, DirectionCones::downward(4, 1), settings).unwrap();
 //! let patches = VoxelPatches::build(dims, &floor, &maps.surface, PatchSettings::default()).unwrap();
-//! let settings = TraceSettings { method: Method::Quadric, max_steps: 64 };
+//! let settings = TraceSettings { method: Method::Quadric, max_steps: 64, stepping: Stepping::Distance };
 //! let out = trace(&maps, Some(&patches), Vec3::new(2.5, 3.5, 6.0), Vec3::new(0.3, 0.1, -1.0), settings);
 //! assert!((out.hit.unwrap().point.z - 1.25).abs() < 1e-5);
 //! ```
@@ -51,4 +51,4 @@ pub use ground_truth::{MeshHit, MeshRaycaster};
 pub use maps::{CompressedMaps, ConeSelector, DistanceSource};
 pub use patches::{PatchSettings, PatchSurface, VoxelPatches};
 pub use relief::{HeightMap, relief_trace};
-pub use trace::{Method, TraceHit, TraceOutcome, TraceSettings, trace};
+pub use trace::{Method, Stepping, TraceHit, TraceOutcome, TraceSettings, trace};

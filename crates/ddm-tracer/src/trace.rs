@@ -11,7 +11,9 @@
 //! (one *step* = one map read):
 //!
 //! - a positive value `d` is a safe distance (conservative DDM: no surface point of the
-//!   cone is closer to any point of the voxel), so the ray advances by `d` (capped at
+//!   cone is closer to any point of the voxel), so the ray advances by `d`
+//!   ([`Stepping::Distance`], the paper's rule) or to the voxel's exit wall and `d`
+//!   beyond ([`Stepping::VoxelExit`]) (capped at
 //!   `min(L_x, L_y)`, the distance beyond which the maps, built from the tile and its 8
 //!   neighbours, no longer bound the mesostructure);
 //! - a zero value means the voxel holds surface. [`Method::SphereTracing`] stops there, as
@@ -53,6 +55,30 @@ impl Method {
     }
 }
 
+/// How far a step through a voxel with a positive distance goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stepping {
+    /// The stored distance `d` from the current point (Algorithm 3.1, line 7; Hart's
+    /// sphere tracing).
+    Distance,
+    /// To the voxel's exit wall, then `d` further (beyond the paper). The stored value
+    /// bounds the distance from *every* point of the closed voxel, so the whole segment
+    /// inside the voxel holds no surface (a surface point there would be at distance 0
+    /// from a point of the voxel) and the step from the exit point, still in the voxel, is
+    /// safe: conservative like [`Stepping::Distance`], with fewer map reads.
+    VoxelExit,
+}
+
+impl Stepping {
+    /// The rule's code in [`crate::gpu::TraceUniforms`].
+    pub fn code(self) -> u32 {
+        match self {
+            Self::Distance => crate::gpu::STEPPING_DISTANCE,
+            Self::VoxelExit => crate::gpu::STEPPING_VOXEL_EXIT,
+        }
+    }
+}
+
 /// Settings of [`trace`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TraceSettings {
@@ -60,6 +86,8 @@ pub struct TraceSettings {
     pub method: Method,
     /// Map reads before the ray gives up (reported as [`TraceOutcome::exhausted`]).
     pub max_steps: u32,
+    /// How far a step through free space goes.
+    pub stepping: Stepping,
 }
 
 /// A hit of the tracer.
@@ -211,7 +239,11 @@ pub fn trace<S: DistanceSource>(
         steps += 1;
         let value = source.distance(cone, wrapped);
         if value > 0.0 {
-            t += value.min(step_cap);
+            let inside = match settings.stepping {
+                Stepping::Distance => 0.0,
+                Stepping::VoxelExit => voxel_exit(p - v.as_vec3(), d),
+            };
+            t += (inside + value).min(step_cap);
             continue;
         }
         let corner = v.as_vec3();
@@ -281,8 +313,8 @@ mod tests {
             // floor on voxel walls is slow to bound).
             let maps = compute_distance_maps(dims, &tris, None, settings).unwrap();
             let patches = VoxelPatches::build(dims, &tris, &maps.surface, PatchSettings::default()).unwrap();
-            let quadric = TraceSettings { method: Method::Quadric, max_steps: 64 };
-            let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 64 };
+            let quadric = TraceSettings { method: Method::Quadric, max_steps: 64, stepping: Stepping::Distance };
+            let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 64, stepping: Stepping::Distance };
             for k in 0..80 {
                 let a = k as f32 * 0.7;
                 let origin = Vec3::new(3.3 + k as f32 * 0.37, 2.1 + k as f32 * 0.13, 6.0);
@@ -301,7 +333,7 @@ mod tests {
         let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
         let maps = compute_distance_maps(dims, &tris, DirectionCones::downward(4, 1), settings).unwrap();
         let patches = VoxelPatches::build(dims, &tris, &maps.surface, PatchSettings::default()).unwrap();
-        let quadric = TraceSettings { method: Method::Quadric, max_steps: 64 };
+        let quadric = TraceSettings { method: Method::Quadric, max_steps: 64, stepping: Stepping::Distance };
         // Upward rays and rays outside the downward cones miss without a step.
         let up = trace(&maps, Some(&patches), Vec3::new(1.0, 1.0, 2.0), Vec3::Z, quadric);
         assert_eq!((up.hit, up.steps), (None, 0));

@@ -8,7 +8,9 @@
 //! surfaces in every direction. Each angle from the vertical in [`ANGLES_DEG`] is traced
 //! with parallel rays from a [`GRID`]² lattice over the tile at 8 azimuths (odd multiples
 //! of 22.5°, inside the cones of every map), each map stopping at its first zero voxel
-//! (the sphere tracing of Tables 1/2), and the mean steps per ray are recorded.
+//! (the sphere tracing of Tables 1/2), and the mean steps per ray are recorded; the plain
+//! map and the DDM 4×1 also with voxel-exit stepping (`ddm_tracer::Stepping::VoxelExit`,
+//! beyond the paper: rows `DM exit`, `DDM 4x1 exit`).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -25,6 +27,8 @@ pub const ANGLES_DEG: [f32; 10] = [0.0, 15.0, 30.0, 45.0, 55.0, 65.0, 70.0, 75.0
 /// Ray origins per tile axis.
 pub const GRID: u32 = 24;
 const AZIMUTHS: u32 = 8;
+/// The maps also traced with [`Stepping::VoxelExit`], and their rows' names.
+const EXIT_NAMES: [(&str, &str); 2] = [("DM", "DM exit"), ("DDM 4x1", "DDM 4x1 exit")];
 const MAX_STEPS: u32 = 512;
 
 /// Mean steps of one map at one angle.
@@ -62,7 +66,12 @@ pub fn steps_vs_angle(
                 }
             }
         }
-        for (name, map) in maps {
+        let exit = TraceSettings { stepping: Stepping::VoxelExit, ..settings };
+        let runs =
+            maps.iter().map(|(name, map)| (*name, map, settings)).chain(maps.iter().filter_map(|(name, map)| {
+                EXIT_NAMES.iter().find(|(of, _)| of == name).map(|(_, exit_name)| (*exit_name, map, exit))
+            }));
+        for (name, map, settings) in runs {
             let (mut steps, mut exhausted) = (0_u64, 0);
             for &(origin, direction) in &rays {
                 let out = trace(map, None, origin, direction, settings);
@@ -113,22 +122,28 @@ pub fn write(out: &Path, rows: &[StepsRow]) -> Result<(), String> {
     println!("wrote {}", path.display());
     let mut structures: Vec<&str> = rows.iter().map(|r| r.mesostructure).collect();
     structures.dedup();
-    println!("\nSteps of DDM 4x1 / steps of DM, per view angle from the vertical:");
-    print!("{:<12}", "angle");
-    for angle in ANGLES_DEG {
-        print!("{angle:>7}");
-    }
-    println!();
-    for structure in &structures {
-        print!("{structure:<12}");
+    for (map, what) in [
+        ("DDM 4x1", "DDM 4x1 / DM, both with the paper's distance stepping"),
+        ("DDM 4x1 exit", "DDM 4x1 with voxel-exit stepping / DM with the paper's stepping"),
+        ("DM exit", "DM with voxel-exit stepping / DM with the paper's stepping"),
+    ] {
+        println!("\nSteps of {what}, per view angle from the vertical:");
+        print!("{:<12}", "angle");
         for angle in ANGLES_DEG {
-            let ratio = rows
-                .iter()
-                .find(|r| r.mesostructure == *structure && r.angle_deg == angle && r.map == "DDM 4x1")
-                .map_or(f64::NAN, |r| r.mean_steps / dm_steps(r));
-            print!("{ratio:>7.3}");
+            print!("{angle:>7}");
         }
         println!();
+        for structure in &structures {
+            print!("{structure:<12}");
+            for angle in ANGLES_DEG {
+                let ratio = rows
+                    .iter()
+                    .find(|r| r.mesostructure == *structure && r.angle_deg == angle && r.map == map)
+                    .map_or(f64::NAN, |r| r.mean_steps / dm_steps(r));
+                print!("{ratio:>7.3}");
+            }
+            println!();
+        }
     }
     let path = out.join("ddm_steps_vs_angle.png");
     chart(&path, rows, &structures)?;
@@ -138,7 +153,11 @@ pub fn write(out: &Path, rows: &[StepsRow]) -> Result<(), String> {
 
 /// One panel per mesostructure: mean steps against the view angle, one line per map.
 fn chart(path: &Path, rows: &[StepsRow], structures: &[&str]) -> Result<(), String> {
-    let maps = &crate::ddm_trace::METHOD_COLORS[..5];
+    let maps: Vec<(&str, RGBColor)> = crate::ddm_trace::METHOD_COLORS[..5]
+        .iter()
+        .copied()
+        .chain(crate::ddm_trace::METHOD_COLORS.iter().copied().filter(|(name, _)| name.ends_with(" exit")))
+        .collect();
     let width = 360 * structures.len().max(1) as u32;
     render_png(path, (width, 420), |root| {
         let panels = root.split_evenly((1, structures.len().max(1)));
@@ -158,7 +177,7 @@ fn chart(path: &Path, rows: &[StepsRow], structures: &[&str]) -> Result<(), Stri
                 .label_style(("sans-serif", 14))
                 .draw()
                 .map_err(drawing_error)?;
-            for &(map, color) in maps {
+            for &(map, color) in &maps {
                 let line: Vec<(f32, f64)> =
                     mine.iter().filter(|r| r.map == map).map(|r| (r.angle_deg, r.mean_steps)).collect();
                 chart

@@ -9,7 +9,9 @@
 //! voxel's fitted quadric of step a), DDM 4×1 + triangles (the mesh's own triangles per
 //! voxel, exact: beyond the paper), DDM 4×1 + adaptive (per voxel the fitted quadric where
 //! it stays within 1e-3 voxel of the triangles, else the triangles: see
-//! `ddm_tracer::exact_patches`), and relief mapping (height fields only; height map
+//! `ddm_tracer::exact_patches`), DM / DDM 4×1 / DDM 4×1 + adaptive with voxel-exit
+//! stepping (`... exit`: `ddm_tracer::Stepping::VoxelExit`, beyond the paper; every other
+//! row steps by the stored distance as Algorithm 3.1 does), and relief mapping (height fields only; height map
 //! at 2 texels per voxel, 32 linear + 8 binary steps). Every pixel is compared with the
 //! exact first hit of the original mesh. Every method also runs in the WGSL compute pass
 //! (one ray per invocation), on the raw maps for Tables 1/2.
@@ -381,6 +383,10 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
         cases.push(("DDM 4x1 + fitted Q", &maps[2].1, Some(&fitted), quadric));
         cases.push(("DDM 4x1 + triangles", &maps[2].1, Some(&exact), quadric));
         cases.push(("DDM 4x1 + adaptive", &maps[2].1, Some(&adaptive), quadric));
+        let exit = |settings| TraceSettings { stepping: Stepping::VoxelExit, ..settings };
+        cases.push(("DM exit", &maps[0].1, None, exit(sphere)));
+        cases.push(("DDM 4x1 exit", &maps[2].1, None, exit(sphere)));
+        cases.push(("DDM 4x1 + adaptive exit", &maps[2].1, Some(&adaptive), exit(quadric)));
         for (name, raw, patch_set, trace_settings) in cases {
             let run = timed(&view.rays, |o, d| trace(raw, patch_set, o, d, trace_settings));
             let raw_gpu = CompressedMaps::compress(raw, 1).ok_or("cannot pack the raw maps")?;
@@ -523,7 +529,7 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
 }
 
 /// Each method's colour in the charts (`ddm_steps` uses the maps' entries).
-pub const METHOD_COLORS: [(&str, RGBColor); 10] = [
+pub const METHOD_COLORS: [(&str, RGBColor); 13] = [
     ("DM", RGBColor(120, 120, 120)),
     ("DDM 2x1", RGBColor(230, 159, 0)),
     ("DDM 4x1", RGBColor(0, 114, 178)),
@@ -534,6 +540,9 @@ pub const METHOD_COLORS: [(&str, RGBColor); 10] = [
     ("relief 32+8", RGBColor(0, 158, 115)),
     ("DDM 4x1 + triangles", RGBColor(0, 0, 0)),
     ("DDM 4x1 + adaptive", RGBColor(150, 40, 40)),
+    ("DM exit", RGBColor(60, 60, 60)),
+    ("DDM 4x1 exit", RGBColor(0, 60, 110)),
+    ("DDM 4x1 + adaptive exit", RGBColor(90, 20, 20)),
 ];
 
 /// Mean hit error against CPU time per ray, one colour per method, one marker per

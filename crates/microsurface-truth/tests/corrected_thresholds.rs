@@ -102,11 +102,13 @@ fn corrected_model_on_non_gaussian_surfaces() {
 /// Limits on the corrected model's max error 0–85° (view only, view and light) for the
 /// Gaussian-correlation, fBm, band-pass, cellular and ridged surfaces, just above the
 /// measured values (fractions of the attribute range; eq. 17 → corrected, measured):
-/// Gaussian ℓ = 12: view 2.400 % → 0.409 %, light 2.662 % → 0.690 %; fBm: view 0.480 % →
-/// 0.389 %, light 0.510 % → 0.342 %; band-pass: view 3.286 % → 0.227 %, light 3.045 % →
-/// 0.648 %; cellular (own map): view 0.392 % → 0.338 %, light 1.586 % → 0.508 %; ridged
-/// (own map): view 3.052 % → 0.276 %, light 3.561 % → 0.847 %. The ≤ 0.5 % goal is met
-/// on every view-only sweep and on the fBm view-and-light sweep; the other
-/// view-and-light sweeps miss it at this size (0.51–0.85 %).
+/// Gaussian ℓ = 12: view 2.400 % → 0.409 %, light 2.662 % → 0.689 %; fBm: view 0.480 % →
+/// 0.389 %, light 0.510 % → 0.345 %; band-pass: view 3.286 % → 0.227 %, light 3.045 % →
+/// 0.648 %; cellular (own map): view 0.392 % → 0.338 %, light 1.586 % → 0.589 %; ridged
+/// (own map): view 3.052 % → 0.276 %, light 3.561 % → 0.846 % (with `ρ` clamped to
+/// `[−2, 2]`; the cellular light sweep was 0.508 % with `[−2, 1]`, which made the
+/// cellular texture worse than eq. 17 at `Δφ = 180°` on `cargo xtask fig9`). The ≤ 0.5 %
+/// goal is met on every view-only sweep and on the fBm view-and-light sweep; the other
+/// view-and-light sweeps miss it at this size (0.59–0.85 %).
 const LIMITS: [[f64; 2]; 5] =
-    [[0.0045, 0.0072], [0.0043, 0.0038], [0.0026, 0.0069], [0.0038, 0.0054], [0.0031, 0.0089]];
+    [[0.0045, 0.0072], [0.0043, 0.0038], [0.0026, 0.0069], [0.0038, 0.0062], [0.0031, 0.0089]];

@@ -1,6 +1,7 @@
 //! Exploration: ray-traced visible-and-lit samples on a grid of view angle, light angle
 //! and azimuth difference, with the Λ' each needs, as CSV on stdout.
-//! `cargo run --release -p microsurface-truth --example light_grid -- [SIZE] [RAYS]`
+//! `cargo run --release -p microsurface-truth --example light_grid -- [SIZE] [RAYS] [SURFACE]`
+//! (angles from the environment: `LIGHT_ANGLES=55,65 VIEW_ANGLES=30,60,80`).
 
 use glam::DVec3;
 use microsurface_truth::comparison::{attribute_s, slope_deviation};
@@ -53,17 +54,22 @@ fn main() {
         let slopes = slope_deviation(&stats).unwrap();
         let mean = field.heights().iter().map(|&h| attribute_s(&stats, h)).sum::<f64>() / field.heights().len() as f64;
         let mut seed = 1000;
-        for &tl in &[40.0, 55.0, 65.0, 75.0, 82.0] {
+        let list = |key: &str, default: &[f64]| -> Vec<f64> {
+            std::env::var(key).map_or(default.to_vec(), |v| v.split(',').filter_map(|x| x.parse().ok()).collect())
+        };
+        let light_angles = list("LIGHT_ANGLES", &[40.0, 55.0, 65.0, 75.0, 82.0]);
+        let view_angles = list("VIEW_ANGLES", &[30.0, 50.0, 62.0, 70.0, 76.0, 80.0, 83.0, 85.0, 87.0]);
+        for &tl in &light_angles {
             for &dphi in &[0.0, 45.0, 90.0, 135.0, 180.0] {
-                for &tv in &[30.0, 50.0, 62.0, 70.0, 76.0, 80.0, 83.0, 85.0, 87.0] {
+                for &tv in &view_angles {
                     seed += 1;
                     let az = 10.0 + seed as f64 * 37.0;
                     let v = direction(tv, az);
                     let l = direction(tl, az + dphi);
                     let lv = smith_micro::smith_lambda_direction(v.as_vec3(), slopes).unwrap();
                     let ll = smith_micro::smith_lambda_direction(l.as_vec3(), slopes).unwrap();
-                    let a = corrected_lambda(lv, &model.view()).unwrap() as f64;
-                    let b = corrected_lambda(ll, &model.light()).unwrap() as f64;
+                    let a = f64::from(corrected_lambda(lv, &model.view()).unwrap());
+                    let b = f64::from(corrected_lambda(ll, &model.light()).unwrap());
                     let Some(e) =
                         VisibleAverage::new(field, rays, seed).mean_attribute(v, Some(l), |h| attribute_s(&stats, h))
                     else {

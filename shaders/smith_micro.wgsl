@@ -560,6 +560,13 @@ fn smith_correlated_lambda(lambda_view: SmithValue, lambda_light: SmithValue, co
     if !smith_visibility_correction_is_valid(model) {
         return smith_none();
     }
+    return smith_correlated_lambda_of_valid_model(lambda_view, lambda_light, cos_difference, model);
+}
+
+// Rust: correlated::correlated_lambda, for a model that
+// smith_visibility_correction_is_valid accepts (as Rust's VisibilityCorrection::new
+// guarantees): a renderer can check a material's model once and skip the check per call.
+fn smith_correlated_lambda_of_valid_model(lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
     let view = smith_corrected_lambda_of_valid_table(lambda_view, LambdaCorrection(model.view_low, model.view_high));
     let light = smith_corrected_lambda_of_valid_table(lambda_light, LambdaCorrection(model.light_low, model.light_high));
     if view.kind == SMITH_NONE || light.kind == SMITH_NONE {
@@ -574,10 +581,19 @@ fn smith_correlated_lambda(lambda_view: SmithValue, lambda_light: SmithValue, co
 
 // Rust: correlated::correlated_visible_mean_attribute.
 fn smith_correlated_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
+    if !smith_visibility_correction_is_valid(model) {
+        return smith_none();
+    }
+    return smith_correlated_visible_mean_attribute_of_valid_model(correlated_attribute, lambda_view, lambda_light, cos_difference, model);
+}
+
+// Rust: correlated::correlated_visible_mean_attribute, for a model that
+// smith_visibility_correction_is_valid accepts (see smith_correlated_lambda_of_valid_model).
+fn smith_correlated_visible_mean_attribute_of_valid_model(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
     if !smith_attribute_is_valid(correlated_attribute) {
         return smith_none();
     }
-    let lambda = smith_correlated_lambda(lambda_view, lambda_light, cos_difference, model);
+    let lambda = smith_correlated_lambda_of_valid_model(lambda_view, lambda_light, cos_difference, model);
     if lambda.kind == SMITH_NONE {
         return smith_none();
     }

@@ -76,11 +76,12 @@
 //! azimuth differences, so the same- and opposite-azimuth sweeps keep up to 1.1 % and
 //! 2.1 %; the band-pass spectrum keeps 0.88 % at `Δφ = 90°`, where its error peaks with
 //! the view as high as the light (60–65°): its ray-traced `ρ` grows with `Λ(v)/Λ(l)`
-//! (0–0.3 at equal elevations, 0.7–1 with the view 20° lower), which `ρ(cos Δφ)` does
-//! not see. A term `ρ₃ t (1 − c)`, `t = (A − B)/(A + B)`, fitted on lights at 50° and
-//! 70° and evaluated at 60° (1024², `examples/light_grid.rs`), brings the band-pass
-//! error at 90° from 0.68 % to 0.49 % there but its worst sweep only from 1.54 % to
-//! 1.32 %: not the ≤ 0.5 % asked for, so it is not part of the model. The fit
+//! (0–0.3 at similar elevations, 0.7–1 with the view 20–25° nearer grazing than the
+//! light; 512² grid), which `ρ(cos Δφ)` does not see. A term `ρ₃ t (1 − c)`,
+//! `t = (A − B)/(A + B)`, fitted on lights at 50° and 70° and evaluated at 60° (1024²,
+//! `examples/light_grid.rs`), brings the band-pass error at 90° from 0.68 % to 0.49 %
+//! there but its worst azimuth only from 1.54 % to 1.32 %: not the ≤ 0.5 % asked for,
+//! so it is not part of the model. The fit
 //! (`microsurface-truth`'s `fit_visibility_correction`) shrinks the model toward eq. 17
 //! as far as held-out samples ask, eq. 17 itself included.
 //!

@@ -458,17 +458,12 @@ fn smith_visible_mean_attribute_for_directions(correlated_attribute: vec2<f32>, 
 // shaders/generated/smith_micro.wgsl: factors at u = i/7, knots 0-3 in `low`, 4-7 in
 // `high`.
 
-// Rust: correction::LambdaCorrection::is_valid.
+// Rust: correction::LambdaCorrection::is_valid: every knot equals itself clamped to the
+// range (a NaN knot equals nothing, an infinite one is moved by the clamp).
 fn smith_correction_is_valid(correction: LambdaCorrection) -> bool {
-    var valid = true;
-    for (var i = 0u; i < 4u; i++) {
-        for (var half = 0u; half < 2u; half++) {
-            let k = select(correction.low[i], correction.high[i], half == 1u);
-            valid = valid && !smith_is_nan(k) && smith_is_finite(k)
-                && k >= SMITH_MIN_CORRECTION_FACTOR && k <= SMITH_MAX_CORRECTION_FACTOR;
-        }
-    }
-    return valid;
+    let low = vec4<f32>(SMITH_MIN_CORRECTION_FACTOR);
+    let high = vec4<f32>(SMITH_MAX_CORRECTION_FACTOR);
+    return all((clamp(correction.low, low, high) == correction.low) & (clamp(correction.high, low, high) == correction.high));
 }
 
 // Rust: correction::LambdaCorrection::factor, for u in [0, 1].
@@ -487,8 +482,17 @@ fn smith_correction_factor(correction: LambdaCorrection, u: f32) -> f32 {
 
 // Rust: correction::corrected_lambda.
 fn smith_corrected_lambda(lambda: SmithValue, correction: LambdaCorrection) -> SmithValue {
+    if !smith_correction_is_valid(correction) {
+        return smith_none();
+    }
+    return smith_corrected_lambda_of_valid_table(lambda, correction);
+}
+
+// Rust: correction::corrected_lambda, for a table that smith_correction_is_valid accepts
+// (the callers check it once).
+fn smith_corrected_lambda_of_valid_table(lambda: SmithValue, correction: LambdaCorrection) -> SmithValue {
     let valid = lambda.kind == SMITH_POSITIVE_INFINITY || (lambda.kind == SMITH_FINITE && lambda.value >= 0.0);
-    if !valid || !smith_correction_is_valid(correction) {
+    if !valid {
         return smith_none();
     }
     if lambda.kind == SMITH_POSITIVE_INFINITY || lambda.value > SMITH_MAX_CORRECTED_LAMBDA {
@@ -512,7 +516,7 @@ fn smith_corrected_visible_mean_attribute(correlated_attribute: vec2<f32>, lambd
     if !any_infinite && !(lambda_view.value > SMITH_F32_MAX - lambda_light.value) {
         lambda = smith_finite(smith_flush_subnormal(lambda_view.value + lambda_light.value));
     }
-    let corrected = smith_corrected_lambda(lambda, correction);
+    let corrected = smith_corrected_lambda_of_valid_table(lambda, correction);
     var visible_fraction = 1.0;
     if corrected.kind == SMITH_FINITE {
         if corrected.value == 0.0 {
@@ -530,11 +534,8 @@ fn smith_corrected_visible_mean_attribute(correlated_attribute: vec2<f32>, lambd
 
 // Rust: correlated::VisibilityCorrection::is_valid.
 fn smith_visibility_correction_is_valid(model: VisibilityCorrection) -> bool {
-    let r = model.correlation.xyz;
-    let finite = smith_is_finite(r.x) && smith_is_finite(r.y) && smith_is_finite(r.z)
-        && !smith_is_nan(r.x) && !smith_is_nan(r.y) && !smith_is_nan(r.z);
-    let bounded = all(abs(r) <= vec3<f32>(SMITH_MAX_CORRELATION_COEFFICIENT));
-    return finite && bounded
+    // A NaN or infinite coefficient fails the bound.
+    return all(abs(model.correlation.xyz) <= vec3<f32>(SMITH_MAX_CORRELATION_COEFFICIENT))
         && smith_correction_is_valid(LambdaCorrection(model.view_low, model.view_high))
         && smith_correction_is_valid(LambdaCorrection(model.light_low, model.light_high));
 }
@@ -559,8 +560,15 @@ fn smith_correlated_lambda(lambda_view: SmithValue, lambda_light: SmithValue, co
     if !smith_visibility_correction_is_valid(model) {
         return smith_none();
     }
-    let view = smith_corrected_lambda(lambda_view, LambdaCorrection(model.view_low, model.view_high));
-    let light = smith_corrected_lambda(lambda_light, LambdaCorrection(model.light_low, model.light_high));
+    return smith_correlated_lambda_of_valid_model(lambda_view, lambda_light, cos_difference, model);
+}
+
+// Rust: correlated::correlated_lambda, for a model that
+// smith_visibility_correction_is_valid accepts (as Rust's VisibilityCorrection::new
+// guarantees): a renderer can check a material's model once and skip the check per call.
+fn smith_correlated_lambda_of_valid_model(lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
+    let view = smith_corrected_lambda_of_valid_table(lambda_view, LambdaCorrection(model.view_low, model.view_high));
+    let light = smith_corrected_lambda_of_valid_table(lambda_light, LambdaCorrection(model.light_low, model.light_high));
     if view.kind == SMITH_NONE || light.kind == SMITH_NONE {
         return smith_none();
     }
@@ -573,10 +581,19 @@ fn smith_correlated_lambda(lambda_view: SmithValue, lambda_light: SmithValue, co
 
 // Rust: correlated::correlated_visible_mean_attribute.
 fn smith_correlated_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
+    if !smith_visibility_correction_is_valid(model) {
+        return smith_none();
+    }
+    return smith_correlated_visible_mean_attribute_of_valid_model(correlated_attribute, lambda_view, lambda_light, cos_difference, model);
+}
+
+// Rust: correlated::correlated_visible_mean_attribute, for a model that
+// smith_visibility_correction_is_valid accepts (see smith_correlated_lambda_of_valid_model).
+fn smith_correlated_visible_mean_attribute_of_valid_model(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
     if !smith_attribute_is_valid(correlated_attribute) {
         return smith_none();
     }
-    let lambda = smith_correlated_lambda(lambda_view, lambda_light, cos_difference, model);
+    let lambda = smith_correlated_lambda_of_valid_model(lambda_view, lambda_light, cos_difference, model);
     if lambda.kind == SMITH_NONE {
         return smith_none();
     }

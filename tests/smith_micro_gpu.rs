@@ -469,8 +469,11 @@ fn correlated_cases() -> Vec<CorrelatedCase> {
 /// Tolerances of the 4 correlated results of one case: `Λ'` carries each table's
 /// interpolation error (as `correction_tolerances`, ≤ 30 ε |Δk|/c relative) and the
 /// rounding of `ρ = ρ₀ + c(ρ₁ + c ρ₂)` (≤ 8 ε (|ρ₀|+|ρ₁|+|ρ₂|) absolute, FMA contraction),
-/// which moves `Λ'` by at most that times `min(A, B) ≤ Λ'` (`ρ ≤ 1` keeps `Λ' ≥ max(A,B)`,
-/// no cancellation), plus 8 ε for the sums; `cos Δφ` is compared absolutely (1e-6: a few
+/// which moves `Λ'` by at most that times `min(A, B)`, plus 8 ε for the sums; all of these
+/// relative to `A + B + 2 min(A, B)`, the largest term of `Λ' = A + B − ρ min(A, B)`
+/// (`ρ` up to 2 cancels down to `|A − B|`, so `Λ'` carries them amplified by
+/// `(A + B + 2 min)/Λ'`, and the attributes by `2 (A + B + 2 min)/(Λ' + 2)²`, the slope of
+/// `x = Λ'/(Λ' + 2)` times `Λ'`); `cos Δφ` is compared absolutely (1e-6: a few
 /// ulp of its inputs); the attributes add the cancellation of `ā + a_s x` (as
 /// `correction_tolerances`), and the directions' Λs the `exp` bound of `tolerances`.
 fn correlated_tolerances(case: &CorrelatedCase, cpu: &[f32; 4]) -> [f64; 4] {
@@ -497,9 +500,33 @@ fn correlated_tolerances(case: &CorrelatedCase, cpu: &[f32; 4]) -> [f64; 4] {
                 + 8.0 * epsilon,
         )
     };
+    // The cancellation in Λ' (see above), from the CPU's corrected Λs; 1 where they are
+    // not finite positive.
+    let model = smith_micro::VisibilityCorrection {
+        view_low: case.view_low,
+        view_high: case.view_high,
+        light_low: case.light_low,
+        light_high: case.light_high,
+        correlation: case.correlation,
+    };
+    let corrected = |lambda: f64, table: smith_micro::LambdaCorrection| {
+        smith_micro::corrected_lambda(lambda as f32, &table).map(f64::from).filter(|l| l.is_finite())
+    };
+    let (terms, lambda_prime) = match (
+        corrected(lambda_view, model.view()),
+        corrected(lambda_light, model.light()),
+        smith_micro::correlated_lambda(lambda_view as f32, lambda_light as f32, 0.0, &model),
+    ) {
+        (Some(a), Some(b), Some(_)) if cpu[0].is_finite() => (a + b + 2.0 * a.min(b), f64::from(cpu[0])),
+        _ => (0.0, 0.0),
+    };
+    let amplification = if terms > 0.0 { (terms / lambda_prime.max(1e-30)).max(1.0) } else { 1.0 };
+    let attribute_amplification = if terms > 0.0 { (2.0 * terms / (lambda_prime + 2.0).powi(2)).max(1.0) } else { 1.0 };
     let relative_to = |absolute: f64, value: f32| absolute / f64::from(value.abs()).max(1e-30);
     let sum_rounding = 1e-6 * (mean.abs() + correlation.abs());
-    let attribute = |lambda: f64, value: f32| BASE.max(relative_to(correlation.abs() * lambda + sum_rounding, value));
+    let attribute = |lambda: f64, value: f32| {
+        BASE.max(relative_to(correlation.abs() * lambda * attribute_amplification + sum_rounding, value))
+    };
     // The directions' Λs: Λ(ν) through exp(−ν²), ν ≤ cot θ / (√2 σ).
     let slopes = SlopeDeviation::new(case.light.w, case.light.w);
     let nu_squared = |d: Vec3| {
@@ -508,7 +535,12 @@ fn correlated_tolerances(case: &CorrelatedCase, cpu: &[f32; 4]) -> [f64; 4] {
     let directions_lambda =
         exp_tolerance(nu_squared(case.view.truncate())).max(exp_tolerance(nu_squared(case.light.truncate())));
     let for_directions = attribute(lambda(1.0, 1.0) + directions_lambda + 64.0 * epsilon, cpu[3]);
-    [lambda(lambda_view, lambda_light), attribute(lambda(lambda_view, lambda_light), cpu[1]), 1e-6, for_directions]
+    [
+        lambda(lambda_view, lambda_light) * amplification,
+        attribute(lambda(lambda_view, lambda_light), cpu[1]),
+        1e-6,
+        for_directions,
+    ]
 }
 
 #[test]

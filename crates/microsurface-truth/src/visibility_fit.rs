@@ -178,12 +178,17 @@ pub const SHRINKAGE_STEPS: [f64; 9] = [0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75
 /// realizations of one material, of any sizes): `rays` rays per direction pair, ray
 /// seeds from `seed`. `None` for flat fields or a degenerate fit.
 ///
-/// With two fields or more, each part of the model (view table, light table,
-/// correlation) is then shrunk toward eq. 17 by the factor `α` of [`SHRINKAGE_STEPS`]
-/// that minimizes the worst leave-one-out error: the model fitted without one
-/// realization predicts that realization's samples, and the worst realization counts. A material whose realizations differ from each
-/// other more than from eq. 17 (realization noise, not Monte-Carlo noise, which the
-/// weights already cover) so keeps eq. 17 where a correction would not transfer.
+/// Each part of the model (view table, light table, correlation) is then shrunk toward
+/// eq. 17 by the factor `α` of [`SHRINKAGE_STEPS`] that minimizes the worst held-out
+/// error: with two fields or more, the model fitted without one realization predicts
+/// that realization's samples (leave one out); with one field (a texture), the model
+/// fitted on every other sample direction predicts the others, and the reverse. The
+/// worst fold counts. Last, the whole model is shrunk by one common factor chosen the
+/// same way on all samples together, whose candidates include `0`, eq. 17 itself: the
+/// model returned is never worse than eq. 17 on the held-out samples. A material whose
+/// realizations differ from each other more than from eq. 17 (realization noise, not
+/// Monte-Carlo noise, which the weights already cover) so keeps eq. 17 where a
+/// correction would not transfer.
 pub fn fit_visibility_correction(fields: &[HeightField], rays: usize, seed: u64) -> Option<VisibilityCorrection> {
     let per_field: Vec<VisibilitySamples> = fields
         .iter()
@@ -191,13 +196,13 @@ pub fn fit_visibility_correction(fields: &[HeightField], rays: usize, seed: u64)
         .map(|(i, field)| collect_samples(field, rays, seed.wrapping_add(10_000 * i as u64)))
         .collect::<Option<_>>()?;
     let full = fit_samples(&pool(per_field.iter()))?;
-    if per_field.len() < 2 {
-        return Some(full);
-    }
-    let folds: Vec<(VisibilityCorrection, &VisibilitySamples)> = (0..per_field.len())
+    // One field: two folds of alternate sample directions.
+    let fold_sets: Vec<VisibilitySamples> =
+        if per_field.len() < 2 { per_field.first().map(halves)?.into() } else { per_field };
+    let folds: Vec<(VisibilityCorrection, &VisibilitySamples)> = (0..fold_sets.len())
         .map(|held_out| {
-            let rest = per_field.iter().enumerate().filter(|&(i, _)| i != held_out).map(|(_, s)| s);
-            fit_samples(&pool(rest)).map(|model| (model, &per_field[held_out]))
+            let rest = fold_sets.iter().enumerate().filter(|&(i, _)| i != held_out).map(|(_, s)| s);
+            fit_samples(&pool(rest)).map(|model| (model, &fold_sets[held_out]))
         })
         .collect::<Option<_>>()?;
     // Each part in turn: the view table, the light table, then ρ with both tables shrunk.
@@ -218,7 +223,37 @@ pub fn fit_visibility_correction(fields: &[HeightField], rays: usize, seed: u64)
             .min_by(|a, b| a.1.total_cmp(&b.1))?;
         alphas[part] = best.0;
     }
-    shrink(&full, alphas)
+    // The whole model, toward eq. 17 (α = 0) when the parts together do not transfer.
+    let total_error = |alpha: f64| {
+        let trial = alphas.map(|a| a * alpha);
+        folds
+            .iter()
+            .map(|(model, held_out)| {
+                let shrunk = shrink(model, trial)?;
+                (0..3).map(|part| held_out_error(&shrunk, held_out, part)).sum::<Option<f64>>()
+            })
+            .try_fold(0.0_f64, |worst, e| e.map(|e| worst.max(e)))
+    };
+    let common = SHRINKAGE_STEPS
+        .iter()
+        .filter_map(|&alpha| total_error(alpha).map(|e| (alpha, e)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))?
+        .0;
+    shrink(&full, alphas.map(|a| a * common))
+}
+
+/// `samples` split into two folds: every other sample direction of each kind.
+fn halves(samples: &VisibilitySamples) -> [VisibilitySamples; 2] {
+    fn split<T: Clone>(items: &[T]) -> [Vec<T>; 2] {
+        let pick = |parity: usize| items.iter().skip(parity).step_by(2).cloned().collect();
+        [pick(0), pick(1)]
+    }
+    let ([view_a, view_b], [light_a, light_b], [pairs_a, pairs_b]) =
+        (split(&samples.view), split(&samples.light), split(&samples.pairs));
+    [
+        VisibilitySamples { view: view_a, light: light_a, pairs: pairs_a },
+        VisibilitySamples { view: view_b, light: light_b, pairs: pairs_b },
+    ]
 }
 
 /// The samples of `sets`, pooled.

@@ -7,6 +7,12 @@
 //! these sweeps' rays. Non-Gaussian surfaces (textures) are fitted on their own height
 //! map, with other rays, azimuths and lights (see `corrected_model_on_non_gaussian_surfaces`).
 //!
+//! Two more view-and-light sweeps, with the light at the view's azimuth and opposite
+//! (20 000 rays per angle), assert only that the corrected model beats eq. 17 there
+//! (measured, eq. 17 → corrected, 0° / 180°: Gaussian 2.267 → 0.890 / 4.056 → 1.287 %;
+//! fBm 1.186 → 0.548 / 1.920 → 1.116 %; band-pass 2.460 → 0.831 / 3.574 → 1.423 %;
+//! cellular 1.148 → 0.441 / 3.612 → 3.266 %; ridged 2.351 → 0.916 / 6.043 → 1.834 %).
+//!
 //! Thresholds are set just above what was measured (printed by this test), so that a
 //! change of the model, the fit or the ground truth fails here. At this size (512², 40 000
 //! rays per angle) the Monte-Carlo standard error of one angle is 0.13–0.19 % of the
@@ -29,10 +35,14 @@ const FIT_RAYS: usize = 10_000;
 /// Rays per angle of the evaluation sweeps.
 const RAYS: usize = 40_000;
 
+/// Rays per angle of the two sweeps with the light at the view's azimuth and opposite.
+const AZIMUTH_RAYS: usize = 20_000;
+
 /// The largest errors up to 85° on the view-only and the view-and-light sweeps of
 /// `evaluation`, with the model fitted on `fitting`:
-/// `[eq17 view, corrected view, eq17 light, corrected light]`.
-fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f64; 4] {
+/// `[eq17 view, corrected view, eq17 light, corrected light, eq17 and corrected with the
+/// light at the view's azimuth, eq17 and corrected with the light opposite]`.
+fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f64; 8] {
     let model = fit_visibility_correction(fitting, FIT_RAYS, 41).expect("the surfaces are not flat");
     let t = 60_f64.to_radians();
     let light = glam::DVec3::new(0.0, t.sin(), t.cos());
@@ -41,6 +51,12 @@ fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f6
     let identity = LambdaCorrection::IDENTITY;
     let view = compare_models(evaluation, &view_sweep, &identity, &model).expect("the surface is not flat");
     let lit = compare_models(evaluation, &light_sweep, &identity, &model).expect("the surface is not flat");
+    let azimuth_sweep = |x: f64, seed: u64| {
+        let light = glam::DVec3::new(x * t.sin(), 0.0, t.cos());
+        let sweep = Sweep { angles_deg: &ANGLES, view_azimuth: 0.0, light: Some(light), rays: AZIMUTH_RAYS, seed };
+        compare_models(evaluation, &sweep, &identity, &model).expect("the surface is not flat")
+    };
+    let (same, opposite) = (azimuth_sweep(1.0, 97), azimuth_sweep(-1.0, 96));
     let max = |rows: &[AngleComparison], error: fn(&AngleComparison) -> f64| max_error(rows, 0.0, 85.0, error);
     let standard_error = |rows: &[AngleComparison]| max(rows, |r| r.truth_standard_error / 2.0);
     let errors = [
@@ -48,10 +64,15 @@ fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f6
         max(&view, AngleComparison::correlated_error),
         max(&lit, AngleComparison::eq17_error),
         max(&lit, AngleComparison::correlated_error),
+        max(&same, AngleComparison::eq17_error),
+        max(&same, AngleComparison::correlated_error),
+        max(&opposite, AngleComparison::eq17_error),
+        max(&opposite, AngleComparison::correlated_error),
     ];
     println!(
         "{name}: view {:?}, light {:?}, rho {:?}\n  max error 0-85°: view eq. 17 {:.3}%, corrected {:.3}%; \
-         light eq. 17 {:.3}%, corrected {:.3}% (standard error per angle ≤ {:.3}%, {:.3}%)",
+         light eq. 17 {:.3}%, corrected {:.3}% (standard error per angle ≤ {:.3}%, {:.3}%); \
+         light at 0°: eq. 17 {:.3}%, corrected {:.3}%; at 180°: eq. 17 {:.3}%, corrected {:.3}%",
         model.view().knots(),
         model.light().knots(),
         model.correlation_coefficients(),
@@ -61,17 +82,23 @@ fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f6
         100.0 * errors[3],
         100.0 * standard_error(&view),
         100.0 * standard_error(&lit),
+        100.0 * errors[4],
+        100.0 * errors[5],
+        100.0 * errors[6],
+        100.0 * errors[7],
     );
     errors
 }
 
 /// Asserts the corrected model's errors against `limits` (view, light) and that it is
-/// not worse than eq. 17 on either sweep.
-fn check(name: &str, errors: [f64; 4], limits: [f64; 2]) {
+/// not worse than eq. 17 on any of the four sweeps.
+fn check(name: &str, errors: [f64; 8], limits: [f64; 2]) {
     assert!(errors[1] <= limits[0], "{name}: corrected view error {} > {}", errors[1], limits[0]);
     assert!(errors[3] <= limits[1], "{name}: corrected light error {} > {}", errors[3], limits[1]);
     assert!(errors[1] < errors[0], "{name}: the corrected model is worse than eq. 17 (view): {errors:?}");
     assert!(errors[3] < errors[2], "{name}: the corrected model is worse than eq. 17 (light): {errors:?}");
+    assert!(errors[5] < errors[4], "{name}: the corrected model is worse than eq. 17 (light at 0°): {errors:?}");
+    assert!(errors[7] < errors[6], "{name}: the corrected model is worse than eq. 17 (light at 180°): {errors:?}");
 }
 
 #[test]
@@ -102,11 +129,13 @@ fn corrected_model_on_non_gaussian_surfaces() {
 /// Limits on the corrected model's max error 0–85° (view only, view and light) for the
 /// Gaussian-correlation, fBm, band-pass, cellular and ridged surfaces, just above the
 /// measured values (fractions of the attribute range; eq. 17 → corrected, measured):
-/// Gaussian ℓ = 12: view 2.400 % → 0.409 %, light 2.662 % → 0.690 %; fBm: view 0.480 % →
-/// 0.389 %, light 0.510 % → 0.342 %; band-pass: view 3.286 % → 0.227 %, light 3.045 % →
-/// 0.648 %; cellular (own map): view 0.392 % → 0.338 %, light 1.586 % → 0.508 %; ridged
-/// (own map): view 3.052 % → 0.276 %, light 3.561 % → 0.847 %. The ≤ 0.5 % goal is met
-/// on every view-only sweep and on the fBm view-and-light sweep; the other
-/// view-and-light sweeps miss it at this size (0.51–0.85 %).
+/// Gaussian ℓ = 12: view 2.400 % → 0.409 %, light 2.662 % → 0.689 %; fBm: view 0.480 % →
+/// 0.389 %, light 0.510 % → 0.345 %; band-pass: view 3.286 % → 0.227 %, light 3.045 % →
+/// 0.648 %; cellular (own map): view 0.392 % → 0.338 %, light 1.586 % → 0.589 %; ridged
+/// (own map): view 3.052 % → 0.276 %, light 3.561 % → 0.846 % (with `ρ` clamped to
+/// `[−2, 2]`; the cellular light sweep was 0.508 % with `[−2, 1]`, which made the
+/// cellular texture worse than eq. 17 at `Δφ = 180°` on `cargo xtask fig9`). The ≤ 0.5 %
+/// goal is met on every view-only sweep and on the fBm view-and-light sweep; the other
+/// view-and-light sweeps miss it at this size (0.59–0.85 %).
 const LIMITS: [[f64; 2]; 5] =
-    [[0.0045, 0.0072], [0.0043, 0.0038], [0.0026, 0.0069], [0.0038, 0.0054], [0.0031, 0.0089]];
+    [[0.0045, 0.0072], [0.0043, 0.0038], [0.0026, 0.0069], [0.0038, 0.0062], [0.0031, 0.0089]];

@@ -32,9 +32,11 @@
 //! ```
 
 mod compose;
+mod cost;
 mod generate;
 mod layout_check;
 
 pub use compose::{ComposedShader, ShaderError, ValidatedModule};
+pub use cost::{OperationCount, operation_count};
 pub use generate::{GenerateError, StructDecl, generate_declarations, wgsl_float_literal, wgsl_type_name};
 pub use layout_check::{LayoutMismatch, check_layout};

@@ -1,0 +1,52 @@
+//! The GPU cost of `smith-micro`'s corrected visibility model over eq. 17 (issue 5 asks
+//! for "at most a few extra instructions"), counted on naga's IR of the WGSL twins with
+//! `wgsl_gen::operation_count`: arithmetic per component, dynamic indexing and branches,
+//! callees inlined, both sides of every branch (the static size of the inlined code).
+//!
+//! Both functions take the two Smith Λs (eq. 6), which the shader computes either way;
+//! the corrected model also takes `cos Δφ`, whose computation from the directions is
+//! counted separately. The thresholds are the measured counts (printed): a change that
+//! makes the model dearer fails here and must say why.
+//!
+//! Measured: eq. 17 61 operations (45 arithmetic, 16 branches); the corrected model 191
+//! (158 arithmetic, 4 indexed loads, 29 branches), 130 more, of which 53 validate the
+//! model's 16 knots and 3 coefficients on every call (a per-material constant) and 77
+//! evaluate it (two table lookups, `ρ`, `min`, the combination, and the special cases of
+//! both Λs): `smith_correlated_visible_mean_attribute_of_valid_model`, for a model
+//! checked once, costs 138. Before this count existed the WGSL twin had 282 (loops
+//! counted once: its validity checks looped over the knots, four tables' worth per call).
+
+use wgsl_gen::{OperationCount, operation_count};
+
+fn count(name: &str) -> OperationCount {
+    let module = shader_registry::module("smith_micro").expect("smith_micro is registered");
+    let validated = module.library_shader().validate().unwrap_or_else(|e| panic!("{e}"));
+    operation_count(&validated, name).unwrap_or_else(|| panic!("no function {name}"))
+}
+
+#[test]
+fn corrected_model_costs_a_few_operations_more_than_eq17() {
+    let eq17 = count("smith_visible_mean_attribute");
+    let corrected = count("smith_correlated_visible_mean_attribute");
+    let of_valid_model = count("smith_correlated_visible_mean_attribute_of_valid_model");
+    let validity = count("smith_visibility_correction_is_valid");
+    let cos = count("smith_cos_azimuth_difference");
+    let lambda = count("smith_lambda_direction");
+    println!("eq. 17:                 {eq17:?} total {}", eq17.total());
+    println!("corrected model:        {corrected:?} total {}", corrected.total());
+    println!("  of which model check: {validity:?} total {}", validity.total());
+    println!("model checked once:     {of_valid_model:?} total {}", of_valid_model.total());
+    println!("cos Δφ from directions: {cos:?} total {}", cos.total());
+    println!("one Smith Λ (eq. 6):    {lambda:?} total {}", lambda.total());
+    let extra = corrected.total() - eq17.total();
+    let extra_of_valid = of_valid_model.total() - eq17.total();
+    println!("extra operations: {extra} per call, {extra_of_valid} with the model checked once per material");
+    assert_eq!((eq17.loops, corrected.loops, of_valid_model.loops), (0, 0, 0), "a loop's count would be per iteration");
+    // The check, its `!` and branch, then the same code.
+    assert_eq!(corrected.total(), validity.total() + 2 + of_valid_model.total());
+    // Measured 61, 130, 77 and 51.
+    assert!(eq17.total() <= 61, "eq. 17 got dearer: {eq17:?}");
+    assert!(extra <= 130, "the corrected model got dearer: {extra} extra operations");
+    assert!(extra_of_valid <= 77, "the corrected model got dearer: {extra_of_valid} extra operations");
+    assert!(validity.total() <= 51, "the model check got dearer: {validity:?}");
+}

@@ -1,7 +1,8 @@
 //! CPU rays per second of the DDM tracer (Algorithms 3.1–3.3) and its baselines on a
 //! 16 × 16 × 8 maze tile: sphere tracing with the plain distance map and the DDM 4×1, DDM
 //! 4×1 + quadric patches on raw and compressed maps, DDM 4×1 with exact triangle patches
-//! and with adaptive patches (fitted quadric or triangles per voxel, budget 1e-3 voxel), relief
+//! and with adaptive patches (fitted quadric or triangles per voxel, budget 1e-3 voxel), both
+//! also with voxel-exit stepping, relief
 //! mapping, and the exact mesh ground truth. Throughput is in rays (one camera ray per
 //! element).
 
@@ -87,6 +88,19 @@ fn tracer(c: &mut Criterion) {
         b.iter(|| {
             rays.iter()
                 .filter(|&&(o, d)| trace(&compressed, Some(&adaptive), black_box(o), d, quadric).hit.is_some())
+                .count()
+        });
+    });
+    let exit = |settings| TraceSettings { stepping: Stepping::VoxelExit, ..settings };
+    group.bench_function("sphere_tracing/ddm_4x1_voxel_exit", |b| {
+        b.iter(|| {
+            rays.iter().filter(|&&(o, d)| trace(&ddm, None, black_box(o), d, exit(sphere)).hit.is_some()).count()
+        });
+    });
+    group.bench_function("adaptive_1e-3/ddm_4x1_voxel_exit", |b| {
+        b.iter(|| {
+            rays.iter()
+                .filter(|&&(o, d)| trace(&ddm, Some(&adaptive), black_box(o), d, exit(quadric)).hit.is_some())
                 .count()
         });
     });

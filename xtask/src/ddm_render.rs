@@ -12,7 +12,8 @@
 //! sphere tracing with the plain distance map (DM) and with the DDM 4×1 (both stop at the
 //! first zero-distance voxel, shading its entry wall), DDM 4×1 + quadric (Algorithm 3.1
 //! on the C⁰ patches), DDM 4×1 + adaptive (per voxel the fitted quadric where it stays
-//! within 1e-3 voxel of the mesh's triangles, else the triangles: `ddm_tracer::exact_patches`)
+//! within 1e-3 voxel of the mesh's triangles, else the triangles: `ddm_tracer::exact_patches`;
+//! also with voxel-exit stepping, `ddm4x1_adaptive_exit`: `ddm_tracer::Stepping::VoxelExit`)
 //! and relief mapping on the height fields (32 linear + 8 binary steps, 2 texels per voxel).
 //! Shadow rays accept hits up to a tolerance short of the shaded point: 1.75 voxel for
 //! sphere tracing (its hits are voxel entry points, up to a voxel diagonal from where a
@@ -94,7 +95,7 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
     );
     let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
     println!(
-        "{:<11} {:<6} {:<18} {:>8} {:>8} {:>8} {:>7} {:>5} {:>9} {:>9}",
+        "{:<11} {:<6} {:<20} {:>8} {:>8} {:>8} {:>7} {:>5} {:>9} {:>9}",
         "structure", "base", "method", "covered", "hits", "shadow", "steps", "max", "GPU ms", "trace ms"
     );
     for structure in Mesostructure::ALL {
@@ -120,6 +121,12 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
             (
                 "ddm4x1_adaptive",
                 GpuScene::new(&ddm_packed, Some(&adaptive), quadric).ok_or("scene does not pack")?,
+                0.02,
+            ),
+            (
+                "ddm4x1_adaptive_exit",
+                GpuScene::new(&ddm_packed, Some(&adaptive), TraceSettings { stepping: Stepping::VoxelExit, ..quadric })
+                    .ok_or("scene does not pack")?,
                 0.02,
             ),
         ];
@@ -173,7 +180,7 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
                 let path = out.join(format!("{}_{}_{method}.png", structure.name(), base.name));
                 image.save(&path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
                 println!(
-                    "{:<11} {:<6} {:<18} {:>8} {:>8} {:>8} {:>7.2} {:>5} {:>9.3} {:>9.1}",
+                    "{:<11} {:<6} {:<20} {:>8} {:>8} {:>8} {:>7.2} {:>5} {:>9.3} {:>9.1}",
                     structure.name(),
                     base.name,
                     method,

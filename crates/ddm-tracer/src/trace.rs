@@ -58,7 +58,7 @@ impl Method {
 /// How far a step through a voxel with a positive distance goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stepping {
-    /// The stored distance `d` from the current point (Algorithm 3.1, line 7; Hart's
+    /// The stored distance `d` from the current point (Algorithm 3.1, line 9; Hart's
     /// sphere tracing).
     Distance,
     /// To the voxel's exit wall, then `d` further (beyond the paper). The stored value

@@ -9,8 +9,10 @@
 //! mesh itself is exact: a voxel can keep the triangles that cross it, each stored as a
 //! plane patch ([`crate::gpu::TracePatch`]) *bounded* by its triangle
 //! ([`crate::gpu::BOUNDED_PATCH`]), and the tracer's Algorithm 3.2 then returns the
-//! mesh's own first hit inside the voxel. Triangles cost one 128-byte patch each where
-//! a quadric costs one per voxel, so [`crate::PatchSurface::Adaptive`] keeps the fitted
+//! mesh's own first hit inside the voxel. Two triangles of a voxel that form a convex
+//! planar quadrilateral (a mesh's quad, split in two) share one 4-corner patch
+//! ([`MERGE_TOLERANCE`]). Triangles still cost one 128-byte patch each (or pair) where a
+//! quadric costs one per voxel, so [`crate::PatchSurface::Adaptive`] keeps the fitted
 //! quadric wherever it is good enough:
 //!
 //! - [`representation_error`] traces probe segments through the voxel with both
@@ -75,43 +77,111 @@ pub fn probe_directions() -> Vec<Vec3> {
 /// and its three corners as the polygon. `None` for a degenerate (zero-area or
 /// non-finite) triangle.
 pub fn triangle_patch(triangle: &[Vec3; 3], origin: DVec3) -> Option<TracePatch> {
-    let [a, b, c] = triangle.map(|v| v.as_dvec3() - origin);
-    let normal = (b - a).cross(c - a);
+    let corners = triangle.map(|v| v.as_dvec3() - origin);
+    bounded_patch(&corners, triangle_normal(&corners)?)
+}
+
+/// The unit normal of the voxel-local triangle `t` (right-handed order), `None` when
+/// degenerate or not finite.
+fn triangle_normal(t: &[DVec3; 3]) -> Option<DVec3> {
+    let normal = (t[1] - t[0]).cross(t[2] - t[0]);
     let length = normal.length();
-    if !(length.is_finite() && length > 0.0) {
+    (length.is_finite() && length > 0.0).then(|| normal / length)
+}
+
+/// The bounded patch of the convex, counter-clockwise (about `normal`) voxel-local polygon
+/// `corners` (3 or 4): its plane through corner 0 and the polygon.
+fn bounded_patch(corners: &[DVec3], normal: DVec3) -> Option<TracePatch> {
+    if !(3..=4).contains(&corners.len()) {
         return None;
     }
-    let normal = normal / length;
-    // The plane in the voxel's frame directly: n · p − n · a = 0.
-    let plane = Quadric::plane(normal, -normal.dot(a))?;
+    let plane = Quadric::plane(normal, -normal.dot(corners[0]))?;
     let gpu = GpuQuadric::from_quadric(&plane);
+    let corner = |i: usize| corners[i.min(corners.len() - 1)].as_vec3().extend(0.0);
     Some(TracePatch {
         abcd: gpu.abcd,
         efgh: gpu.efgh,
-        ij_corners: Vec4::new(gpu.ij.x, gpu.ij.y, 3.0, BOUNDED_PATCH),
+        ij_corners: Vec4::new(gpu.ij.x, gpu.ij.y, corners.len() as f32, BOUNDED_PATCH),
         normal: normal.as_vec3().extend(0.0),
-        p0: a.as_vec3().extend(0.0),
-        p1: b.as_vec3().extend(0.0),
-        p2: c.as_vec3().extend(0.0),
-        p3: c.as_vec3().extend(0.0),
+        p0: corner(0),
+        p1: corner(1),
+        p2: corner(2),
+        p3: corner(3),
     })
+}
+
+/// How far (voxels) the far corner of a triangle may lie from its neighbour's plane for
+/// the two to merge into one quadrilateral patch: the `f32` rounding of the vertices of a
+/// planar quad (a sphere's or a torus's facet) is about 1e-6 voxel on tiles of a few dozen
+/// voxels, 1000 times below the accuracy goal of 1e-3 voxel.
+pub const MERGE_TOLERANCE: f64 = 1e-6;
+
+/// The convex quadrilateral `[p, s, q, r]` of two voxel-local triangles that share an edge
+/// (`a` has `p → q`, `b` has `q → p`, exactly equal corners), lie in one plane (`b`'s far
+/// corner `s` within [`MERGE_TOLERANCE`] of `a`'s plane, normals on the same side) and
+/// turn the same way at every corner; `None` otherwise.
+fn merged_quad(a: &[DVec3; 3], b: &[DVec3; 3], normal: DVec3) -> Option<[DVec3; 4]> {
+    if normal.dot(triangle_normal(b)?) < 0.99 {
+        return None;
+    }
+    for i in 0..3 {
+        let (p, q, r) = (a[i], a[(i + 1) % 3], a[(i + 2) % 3]);
+        for j in 0..3 {
+            if b[j] == q && b[(j + 1) % 3] == p {
+                let s = b[(j + 2) % 3];
+                if normal.dot(s - p).abs() > MERGE_TOLERANCE {
+                    return None;
+                }
+                let quad = [p, s, q, r];
+                let convex = (0..4).all(|k| {
+                    let (u, v, w) = (quad[k], quad[(k + 1) % 4], quad[(k + 2) % 4]);
+                    (v - u).cross(w - v).dot(normal) > 1e-12
+                });
+                return convex.then_some(quad);
+            }
+        }
+    }
+    None
 }
 
 /// The bounded patches of the `triangles` (grid coordinates) that touch the unit voxel
 /// with lowest corner `corner`, grown by `2 NUDGE` (the tracer's segment in a voxel starts
-/// [`NUDGE`] before its entry wall), relative to `corner`.
+/// [`NUDGE`] before its entry wall), relative to `corner`. Two touching triangles that
+/// share an edge and form a convex planar quadrilateral (the two halves of a mesh's quad)
+/// become one 4-corner patch: the same surface, half the patches.
 pub fn voxel_triangle_patches<'a>(
     triangles: impl IntoIterator<Item = &'a [Vec3; 3]>,
     corner: Vec3,
     out: &mut Vec<TracePatch>,
 ) {
     let grown = Aabb { min: corner - Vec3::splat(2.0 * NUDGE), max: corner + Vec3::splat(1.0 + 2.0 * NUDGE) };
-    for triangle in triangles {
-        if triangle_overlaps_box(&Triangle(*triangle), &grown)
-            && let Some(patch) = triangle_patch(triangle, corner.as_dvec3())
-        {
-            out.push(patch);
+    let origin = corner.as_dvec3();
+    let touching: Vec<([DVec3; 3], DVec3)> = triangles
+        .into_iter()
+        .filter(|t| triangle_overlaps_box(&Triangle(**t), &grown))
+        .filter_map(|t| {
+            let local = t.map(|v| v.as_dvec3() - origin);
+            Some((local, triangle_normal(&local)?))
+        })
+        .collect();
+    let mut used = alloc::vec![false; touching.len()];
+    for i in 0..touching.len() {
+        if used[i] {
+            continue;
         }
+        used[i] = true;
+        let (a, normal) = &touching[i];
+        let partner = (i + 1..touching.len())
+            .filter(|&j| !used[j])
+            .find_map(|j| merged_quad(a, &touching[j].0, *normal).map(|quad| (j, quad)));
+        let patch = match partner {
+            Some((j, quad)) => {
+                used[j] = true;
+                bounded_patch(&quad, *normal)
+            }
+            None => bounded_patch(a, *normal),
+        };
+        out.extend(patch);
     }
 }
 
@@ -182,14 +252,44 @@ mod tests {
     fn triangles_are_kept_by_the_voxels_they_touch() {
         let mut out = Vec::new();
         // A floor on the voxel wall z = 2 belongs to the voxels below and above it.
+        // The two triangles of the quad become one 4-corner patch.
         voxel_triangle_patches(&quad(2.0), Vec3::new(0.0, 0.0, 1.0), &mut out);
-        assert_eq!(out.len(), 2);
+        assert_eq!(out.len(), 1);
+        assert_eq!(out[0].ij_corners.z, 4.0);
         out.clear();
         voxel_triangle_patches(&quad(2.0), Vec3::new(0.0, 0.0, 2.0), &mut out);
-        assert_eq!(out.len(), 2);
+        assert_eq!(out.len(), 1);
         out.clear();
         voxel_triangle_patches(&quad(2.0), Vec3::new(0.0, 0.0, 3.0), &mut out);
         assert!(out.is_empty());
+    }
+
+    #[test]
+    fn only_coplanar_convex_pairs_sharing_an_edge_are_merged() {
+        let corner = Vec3::ZERO;
+        let (a, b, c, d) =
+            (Vec3::new(0.0, 0.0, 0.5), Vec3::new(1.0, 0.0, 0.5), Vec3::new(1.0, 1.0, 0.5), Vec3::new(0.0, 1.0, 0.5));
+        let mut out = Vec::new();
+        // Folded along the shared diagonal: two patches.
+        voxel_triangle_patches(&[[a, b, c], [a, c, d + Vec3::Z * 0.2]], corner, &mut out);
+        assert_eq!(out.len(), 2);
+        // A concave union (the fourth corner pulled inside): two patches.
+        out.clear();
+        voxel_triangle_patches(&[[a, b, c], [a, c, Vec3::new(0.7, 0.6, 0.5)]], corner, &mut out);
+        assert_eq!(out.len(), 2);
+        // Opposite orientations (the second triangle flipped): two patches.
+        out.clear();
+        voxel_triangle_patches(&[[a, b, c], [a, d, c]], corner, &mut out);
+        assert_eq!(out.len(), 2);
+        // The merged quad is hit exactly where either triangle is, and only there.
+        out.clear();
+        voxel_triangle_patches(&[[a, b, c], [a, c, d]], corner, &mut out);
+        assert_eq!(out.len(), 1);
+        let mut separate = Vec::new();
+        for t in [[a, b, c], [a, c, d]] {
+            separate.extend(triangle_patch(&t, DVec3::ZERO));
+        }
+        assert!(representation_error(&out, &separate, &probe_directions()) < 1e-6);
     }
 
     #[test]
@@ -225,8 +325,8 @@ mod tests {
         let side2 = [Vec3::new(1.0, -1.0, 0.4), Vec3::new(1.0, 3.0, -2.0), Vec3::new(1.0, 3.0, 0.4)];
         let mut wall = Vec::new();
         voxel_triangle_patches(&[top, top2, side, side2], corner, &mut wall);
-        // `side` lies below z = -0.2 over the voxel: the other three touch it.
-        assert_eq!(wall.len(), 3);
+        // `side` lies below z = -0.2 over the voxel: the top's quad and `side2` touch it.
+        assert_eq!(wall.len(), 2);
         let pair = Quadric::new([0.0, 0.0, 0.0, 0.0, 0.0, 1.0, -0.4, 0.0, -1.0, 0.4]).unwrap();
         let gpu = GpuQuadric::from_quadric(&pair);
         let pair = TracePatch {

@@ -424,6 +424,15 @@ fn smith_attribute_at_height(correlated_attribute: vec2<f32>, height: f32, devia
     return smith_finite(correlated_attribute.x + correlated_attribute.y * s);
 }
 
+// Rust: attribute::visible_fraction_of_finite (Λ/(Λ + 2) of eq. 17 for a finite,
+// flushed Λ ≥ 0).
+fn smith_visible_fraction_of_finite(lambda: f32) -> f32 {
+    if lambda == 0.0 {
+        return 0.0;
+    }
+    return 1.0 / (1.0 + 2.0 / lambda);
+}
+
 // Rust: correlated_attribute::visible_mean_attribute (eq. 17). `correlated_attribute` = (ā, a_s).
 fn smith_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue) -> SmithValue {
     let valid_view = lambda_view.kind == SMITH_POSITIVE_INFINITY || (lambda_view.kind == SMITH_FINITE && lambda_view.value >= 0.0);
@@ -434,12 +443,7 @@ fn smith_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: Sm
     var visible_fraction = 1.0;
     let any_infinite = lambda_view.kind == SMITH_POSITIVE_INFINITY || lambda_light.kind == SMITH_POSITIVE_INFINITY;
     if !any_infinite && !(lambda_view.value > SMITH_F32_MAX - lambda_light.value) {
-        let lambda = smith_flush_subnormal(lambda_view.value + lambda_light.value);
-        if lambda == 0.0 {
-            visible_fraction = 0.0;
-        } else {
-            visible_fraction = 1.0 / (1.0 + 2.0 / lambda);
-        }
+        visible_fraction = smith_visible_fraction_of_finite(smith_flush_subnormal(lambda_view.value + lambda_light.value));
     }
     return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
 }
@@ -519,11 +523,7 @@ fn smith_corrected_visible_mean_attribute(correlated_attribute: vec2<f32>, lambd
     let corrected = smith_corrected_lambda_of_valid_table(lambda, correction);
     var visible_fraction = 1.0;
     if corrected.kind == SMITH_FINITE {
-        if corrected.value == 0.0 {
-            visible_fraction = 0.0;
-        } else {
-            visible_fraction = 1.0 / (1.0 + 2.0 / corrected.value);
-        }
+        visible_fraction = smith_visible_fraction_of_finite(corrected.value);
     }
     return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
 }
@@ -599,11 +599,7 @@ fn smith_correlated_visible_mean_attribute_of_valid_model(correlated_attribute: 
     }
     var visible_fraction = 1.0;
     if lambda.kind == SMITH_FINITE {
-        if lambda.value == 0.0 {
-            visible_fraction = 0.0;
-        } else {
-            visible_fraction = 1.0 / (1.0 + 2.0 / lambda.value);
-        }
+        visible_fraction = smith_visible_fraction_of_finite(lambda.value);
     }
     return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
 }

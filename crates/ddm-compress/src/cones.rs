@@ -390,13 +390,7 @@ mod tests {
 
     #[test]
     fn direction_ranges_hold_their_boxes_and_relations_are_right() {
-        let mut state = 0x853c_49e6_748f_ea9b_u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = crate::test_random::uniform(0x853c_49e6_748f_ea9b_u64);
         let cone_sets = [
             DirectionCones::full(4, 2).unwrap(),
             DirectionCones::downward(8, 1).unwrap(),

@@ -174,19 +174,11 @@ pub(crate) fn box_support(min: Vec3, max: Vec3, w: Vec3) -> f32 {
 mod tests {
     use super::*;
     use crate::cones::{DirectionCones, azimuth_elevation};
-
-    fn generator(mut state: u64) -> impl FnMut() -> f32 {
-        move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        }
-    }
+    use crate::test_random::uniform;
 
     #[test]
     fn projections_lie_in_the_cone_and_are_nearest() {
-        let mut next = generator(0x51_7cc1_b727_220a);
+        let mut next = uniform(0x51_7cc1_b727_220a);
         for cones in [
             DirectionCones::downward(8, 1).unwrap(),
             DirectionCones::downward(2, 1).unwrap(),

@@ -346,13 +346,7 @@ mod tests {
 
     /// Small random triangles scattered in the grid (a xorshift generator, fixed seed).
     fn random_scene(seed: u64, count: usize, dims: UVec3) -> Vec<Triangle> {
-        let mut state = seed;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = crate::test_random::uniform(seed);
         let size = dims.as_vec3();
         (0..count)
             .map(|_| {

@@ -305,13 +305,7 @@ mod tests {
         let below = Triangle([Vec3::new(-1.0, -1.0, -2.0), Vec3::new(3.0, -1.0, -2.0), Vec3::new(-1.0, 3.0, -2.0)]);
         let d = separation_lower_bound(&below, &unit);
         assert!(d <= 2.0 && d > 2.0 - 1e-5, "{d}");
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = crate::test_random::uniform(0x2545_f491_4f6c_dd1d_u64);
         let (mut ratio_sum, mut ratio_count) = (0.0, 0);
         for _ in 0..300 {
             let mut vertex = || Vec3::new(next(), next(), next()) * 6.0 - 2.5;

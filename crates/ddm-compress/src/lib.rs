@@ -61,6 +61,8 @@ pub mod geometry;
 pub mod gpu;
 mod search;
 pub mod serialize;
+#[cfg(test)]
+mod test_random;
 
 pub use bvh::TriangleBvh;
 pub use compress::{CompressedMap, SURFACE_FLAG};

@@ -580,15 +580,7 @@ fn ray_triangle(origin: Vec3, direction: Vec3, triangle: &Triangle) -> Option<f3
 mod tests {
     use super::*;
     use crate::cones::DirectionCones;
-
-    fn generator(mut state: u64) -> impl FnMut() -> f32 {
-        move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        }
-    }
+    use crate::test_random::uniform;
 
     /// The smallest `|m − v|` in `cone` over a grid of triangle and box points (an upper
     /// estimate of the true directional distance), or infinity.
@@ -615,7 +607,7 @@ mod tests {
 
     #[test]
     fn cone_bounds_are_below_sampled_distances_and_witnesses_above_them() {
-        let mut next = generator(0x2545_f491_4f6c_dd1d);
+        let mut next = uniform(0x2545_f491_4f6c_dd1d);
         let cone_sets = [
             DirectionCones::downward(8, 1).unwrap(),
             DirectionCones::downward(2, 1).unwrap(),

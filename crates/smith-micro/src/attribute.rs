@@ -65,14 +65,16 @@ pub fn visible_mean_attribute(
     let infinite =
         is_infinite_bits(lambda_view) || is_infinite_bits(lambda_light) || lambda_view > f32::MAX - lambda_light;
     let lambda = flush_subnormal(lambda_view + lambda_light);
-    let visible_fraction = if infinite {
-        1.0
-    } else if lambda == 0.0 {
-        0.0
-    } else {
-        1.0 / (1.0 + 2.0 / lambda)
-    };
+    let visible_fraction = if infinite { 1.0 } else { visible_fraction_of_finite(lambda) };
     Some(attribute.mean + attribute.height_correlation * visible_fraction)
+}
+
+/// Eq. 17's visible fraction `Λ/(Λ + 2)`, written `1/(1 + 2/Λ)`, for a finite, flushed
+/// `Λ ≥ 0`: 0 for `Λ = 0`, and a normal `Λ ≥ 1.2·10⁻³⁸` keeps `2/Λ` finite (callers give
+/// 1 for `Λ = +∞`). Shared by eq. 17 and the corrected models. WGSL twin:
+/// `smith_visible_fraction_of_finite`.
+pub(crate) fn visible_fraction_of_finite(lambda: f32) -> f32 {
+    if lambda == 0.0 { 0.0 } else { 1.0 / (1.0 + 2.0 / lambda) }
 }
 
 /// Eq. 17 for a view and a light direction in the mean-normal frame (z along the mean

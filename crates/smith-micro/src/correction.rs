@@ -31,7 +31,7 @@
 use glam::Vec4;
 use gpu_layout::gpu_struct;
 
-use crate::attribute::HeightCorrelatedAttribute;
+use crate::attribute::{HeightCorrelatedAttribute, visible_fraction_of_finite};
 use crate::erf::{flush_subnormal, is_infinite_bits, is_nan_bits};
 
 /// Number of knots of a [`LambdaCorrection`], at `u = i/7`, `i = 0 … 7`.
@@ -142,13 +142,7 @@ pub fn corrected_visible_mean_attribute(
     let lambda = if infinite { f32::INFINITY } else { flush_subnormal(lambda_view + lambda_light) };
     let corrected = corrected_lambda(lambda, correction)?;
     // As eq. 17: 0 gives 0, ∞ gives 1, a normal Λ' keeps 2/Λ' finite.
-    let visible_fraction = if is_infinite_bits(corrected) {
-        1.0
-    } else if corrected == 0.0 {
-        0.0
-    } else {
-        1.0 / (1.0 + 2.0 / corrected)
-    };
+    let visible_fraction = if is_infinite_bits(corrected) { 1.0 } else { visible_fraction_of_finite(corrected) };
     Some(attribute.mean + attribute.height_correlation * visible_fraction)
 }
 

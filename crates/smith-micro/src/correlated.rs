@@ -111,7 +111,7 @@
 use glam::{Vec3, Vec4};
 use gpu_layout::gpu_struct;
 
-use crate::attribute::HeightCorrelatedAttribute;
+use crate::attribute::{HeightCorrelatedAttribute, visible_fraction_of_finite};
 use crate::correction::{LambdaCorrection, corrected_lambda};
 use crate::erf::{flush_subnormal, is_infinite_bits, is_nan_bits};
 use crate::masking::{SlopeDeviation, smith_lambda_direction};
@@ -247,13 +247,7 @@ pub fn correlated_visible_mean_attribute(
     }
     let lambda = correlated_lambda(lambda_view, lambda_light, cos_azimuth_difference, correction)?;
     // As eq. 17: 0 gives 0, ∞ gives 1, a normal Λ' keeps 2/Λ' finite.
-    let visible_fraction = if is_infinite_bits(lambda) {
-        1.0
-    } else if lambda == 0.0 {
-        0.0
-    } else {
-        1.0 / (1.0 + 2.0 / lambda)
-    };
+    let visible_fraction = if is_infinite_bits(lambda) { 1.0 } else { visible_fraction_of_finite(lambda) };
     Some(attribute.mean + attribute.height_correlation * visible_fraction)
 }
 

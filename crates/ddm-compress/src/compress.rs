@@ -25,7 +25,14 @@ pub struct CompressedMap {
     pub(crate) block: u32,
     pub(crate) grid: Vec<u32>,
     pub(crate) atlas: Vec<f32>,
+    /// `grid_dims(dims, block)`, kept so that [`CompressedMap::access`] does not recompute it.
+    grid_dims: UVec3,
+    /// `log2(block)` for a power-of-two block, [`NOT_POWER_OF_TWO`] otherwise.
+    block_shift: u32,
 }
+
+/// `CompressedMap::block_shift` of a block side that is not a power of two.
+const NOT_POWER_OF_TWO: u32 = u32::MAX;
 
 /// The lookup-grid size for `dims` voxels in blocks of `block`.
 pub fn grid_dims(dims: UVec3, block: u32) -> UVec3 {
@@ -81,7 +88,15 @@ impl CompressedMap {
                 }
             }
         }
-        Some(Self { dims, block, grid, atlas })
+        Some(Self::from_checked_parts(dims, block, grid, atlas))
+    }
+
+    /// The map from parts that [`CompressedMap::compress`] or the decoder have checked
+    /// (`block` in `1..=64`, `grid` of `grid_dims(dims, block)` entries whose atlas
+    /// indices lie in `atlas`).
+    pub(crate) fn from_checked_parts(dims: UVec3, block: u32, grid: Vec<u32>, atlas: Vec<f32>) -> Self {
+        let block_shift = if block.is_power_of_two() { block.trailing_zeros() } else { NOT_POWER_OF_TWO };
+        Self { dims, block, grid, atlas, grid_dims: grid_dims(dims, block), block_shift }
     }
 
     /// The map's size in voxels.
@@ -108,13 +123,15 @@ impl CompressedMap {
     ///
     /// Power-of-two blocks (the usual 2, 4, 8) take shifts and masks instead of the six
     /// integer divisions of [`grid_index`] and [`atlas_index`]; the indices are the same.
+    /// The lookup grid's size and the shift are computed once, when the map is made.
+    #[inline]
     pub fn access(&self, voxel: UVec3) -> Option<f32> {
         if !voxel.cmplt(self.dims).all() {
             return None;
         }
-        if self.block.is_power_of_two() {
-            let shift = self.block.trailing_zeros();
-            let g = (self.dims + UVec3::splat(self.block - 1)) >> shift;
+        let shift = self.block_shift;
+        if shift != NOT_POWER_OF_TWO {
+            let g = self.grid_dims;
             let b = voxel >> shift;
             let entry = *self.grid.get((b.x + g.x * (b.y + g.y * b.z)) as usize)?;
             if entry & SURFACE_FLAG == 0 {

@@ -151,7 +151,7 @@ impl CompressedMap {
         if let Some(index) = atlas.iter().position(|v| !(v.is_finite() && *v >= 0.0)) {
             return Err(DecodeError::BadAtlasValue { index });
         }
-        Ok(Self { dims, block, grid, atlas })
+        Ok(Self::from_checked_parts(dims, block, grid, atlas))
     }
 }
 

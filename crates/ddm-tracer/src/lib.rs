@@ -49,7 +49,7 @@ pub mod tangent_space;
 pub mod trace;
 
 pub use ground_truth::{MeshHit, MeshRaycaster};
-pub use maps::{CompressedMaps, ConeSelector, DistanceSource};
+pub use maps::{CompressedMaps, ConeDistances, ConeSelector, DistanceSource, RawConeMap};
 pub use patches::{PatchSettings, PatchSurface, VoxelPatches};
 pub use relief::{HeightMap, relief_trace};
 pub use trace::{Method, Stepping, TraceHit, TraceOutcome, TraceSettings, trace};

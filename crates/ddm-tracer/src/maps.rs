@@ -73,17 +73,61 @@ impl ConeSelector {
 }
 
 /// A source of conservative distances per cone and voxel.
+///
+/// A ray reads a single cone's map ([`DistanceSource::cone_map`], resolved once per ray);
+/// [`DistanceSource::distance`] is the same read for a single voxel.
 pub trait DistanceSource {
+    /// One cone's distances.
+    type ConeMap<'a>: ConeDistances
+    where
+        Self: 'a;
     /// Grid size in voxels.
     fn dims(&self) -> UVec3;
     /// How rays choose their map.
     fn selector(&self) -> ConeSelector;
+    /// The map of cone `cone`, `None` for an index outside the maps.
+    fn cone_map(&self, cone: u32) -> Option<Self::ConeMap<'_>>;
     /// The stored distance of `voxel` (inside the grid) in map `cone`; 0 (always safe) for
     /// indices outside the maps.
-    fn distance(&self, cone: u32, voxel: UVec3) -> f32;
+    fn distance(&self, cone: u32, voxel: UVec3) -> f32 {
+        self.cone_map(cone).map_or(0.0, |map| map.distance(voxel))
+    }
+}
+
+/// The conservative distances of one cone's map.
+pub trait ConeDistances {
+    /// The stored distance of `voxel`; 0 (always safe) outside the grid.
+    fn distance(&self, voxel: UVec3) -> f32;
+}
+
+/// One cone's map of a [`DistanceMaps`]: its values, `x + dims.x (y + dims.y z)`.
+#[derive(Clone, Copy, Debug)]
+pub struct RawConeMap<'a> {
+    dims: UVec3,
+    values: &'a [f32],
+}
+
+impl ConeDistances for RawConeMap<'_> {
+    #[inline]
+    fn distance(&self, voxel: UVec3) -> f32 {
+        if !voxel.cmplt(self.dims).all() {
+            return 0.0;
+        }
+        let index = (voxel.x + self.dims.x * (voxel.y + self.dims.y * voxel.z)) as usize;
+        self.values.get(index).copied().unwrap_or(0.0)
+    }
+}
+
+impl ConeDistances for &CompressedMap {
+    #[inline]
+    fn distance(&self, voxel: UVec3) -> f32 {
+        self.access(voxel).unwrap_or(0.0)
+    }
 }
 
 impl DistanceSource for DistanceMaps {
+    type ConeMap<'a> = RawConeMap<'a>;
+
     fn dims(&self) -> UVec3 {
         self.dims
     }
@@ -92,12 +136,9 @@ impl DistanceSource for DistanceMaps {
         ConeSelector::new(self.cones)
     }
 
-    fn distance(&self, cone: u32, voxel: UVec3) -> f32 {
-        if !voxel.cmplt(self.dims).all() {
-            return 0.0;
-        }
-        let index = (voxel.x + self.dims.x * (voxel.y + self.dims.y * voxel.z)) as usize;
-        self.values.get(cone as usize).and_then(|map| map.get(index)).copied().unwrap_or(0.0)
+    #[inline]
+    fn cone_map(&self, cone: u32) -> Option<RawConeMap<'_>> {
+        self.values.get(cone as usize).map(|values| RawConeMap { dims: self.dims, values })
     }
 }
 
@@ -133,6 +174,8 @@ impl CompressedMaps {
 }
 
 impl DistanceSource for CompressedMaps {
+    type ConeMap<'a> = &'a CompressedMap;
+
     fn dims(&self) -> UVec3 {
         self.dims
     }
@@ -141,8 +184,9 @@ impl DistanceSource for CompressedMaps {
         ConeSelector::new(self.cones)
     }
 
-    fn distance(&self, cone: u32, voxel: UVec3) -> f32 {
-        self.maps.get(cone as usize).and_then(|m| m.access(voxel)).unwrap_or(0.0)
+    #[inline]
+    fn cone_map(&self, cone: u32) -> Option<&CompressedMap> {
+        self.maps.get(cone as usize)
     }
 }
 

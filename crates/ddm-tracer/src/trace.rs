@@ -30,7 +30,7 @@ use glam::{IVec3, UVec3, Vec3};
 use quadric_fit::{GpuQuadric, first_hit, normal};
 
 use crate::gpu::TracePatch;
-use crate::maps::DistanceSource;
+use crate::maps::{ConeDistances, DistanceSource};
 use crate::patches::{VoxelPatches, inside_polygon};
 
 /// How far ahead along the ray (voxels) the voxel of the current point is looked up.
@@ -197,8 +197,8 @@ pub fn quadric_of(patch: &TracePatch) -> GpuQuadric {
 }
 
 /// Traces the ray `origin + t direction` (Algorithm 3.1). Rays that do not point down
-/// (`direction.z ≥ 0`), directions outside the maps' cones, and non-finite input miss with
-/// zero steps. `patches` is needed by [`Method::Quadric`] (without it no voxel has a
+/// (`direction.z ≥ 0`), directions outside the maps' cones (or whose cone has no map in
+/// `source`), and non-finite input miss with zero steps. `patches` is needed by [`Method::Quadric`] (without it no voxel has a
 /// patch and every ray misses).
 pub fn trace<S: DistanceSource>(
     source: &S,
@@ -217,6 +217,7 @@ pub fn trace<S: DistanceSource>(
         return TraceOutcome::miss(0, 0);
     }
     let Some(cone) = source.selector().select(d) else { return TraceOutcome::miss(0, 0) };
+    let Some(map) = source.cone_map(cone) else { return TraceOutcome::miss(0, cone) };
     let size = dims.as_vec3();
     let t_enter = slab_entry(origin, d, size.z);
     let start = origin + d * t_enter;
@@ -237,7 +238,7 @@ pub fn trace<S: DistanceSource>(
         let wrapped =
             UVec3::new(v.x.rem_euclid(dims.x as i32) as u32, v.y.rem_euclid(dims.y as i32) as u32, v.z as u32);
         steps += 1;
-        let value = source.distance(cone, wrapped);
+        let value = map.distance(wrapped);
         if value > 0.0 {
             let inside = match settings.stepping {
                 Stepping::Distance => 0.0,

@@ -1,0 +1,102 @@
+//! Interleaved A/B timing of tracing on raw against compressed DDMs (issue 4's "time
+//! within 5 %"): `cargo run --release -p benches --example ddm_compression_overhead [ROUNDS]`.
+//!
+//! Criterion times one benchmark after the other, so a drift of the machine's speed
+//! between them (seen at ±15 % on a shared VM) shows up as a difference. Here each round
+//! times one pass of the 4096 rays of `benches/ddm_tracer.rs` (maze 16 × 16 × 8, DDM 4×1)
+//! on the raw maps and one on the compressed maps (blocks of 4), in alternating order, and
+//! the median of the per-round ratios compressed / raw is printed per patch kind.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
+use ddm_tracer::{
+    CompressedMaps, DistanceSource, Method, PatchSettings, PatchSurface, Stepping, TraceSettings, VoxelPatches, trace,
+};
+use glam::{UVec3, Vec3};
+use mesostructure::Mesostructure;
+
+/// The rays of `benches/ddm_tracer.rs`: 4096 downward rays, elevations −15° to −85°.
+fn rays(dims: UVec3) -> Vec<(Vec3, Vec3)> {
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    (0..4096)
+        .map(|_| {
+            let origin = Vec3::new(next() * dims.x as f32, next() * dims.y as f32, dims.z as f32 + 1.0);
+            let (azimuth, elevation) = (next() * std::f32::consts::TAU, -(15.0 + 70.0 * next()).to_radians());
+            (origin, Vec3::new(elevation.cos() * azimuth.cos(), elevation.cos() * azimuth.sin(), elevation.sin()))
+        })
+        .collect()
+}
+
+/// Seconds for one pass of `rays` (best of 3 repetitions, to skip interruptions).
+fn pass<S: DistanceSource>(source: &S, patches: &VoxelPatches, rays: &[(Vec3, Vec3)], settings: TraceSettings) -> f64 {
+    (0..3)
+        .map(|_| {
+            let start = Instant::now();
+            let hits =
+                rays.iter().filter(|&&(o, d)| trace(source, Some(patches), black_box(o), d, settings).hit.is_some());
+            black_box(hits.count());
+            start.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn main() -> Result<(), String> {
+    let rounds: usize = match std::env::args().nth(1) {
+        Some(text) => text.parse().map_err(|e| format!("usage: ddm_compression_overhead [ROUNDS]: {e}"))?,
+        None => 31,
+    };
+    let dims = UVec3::new(16, 16, 8);
+    let triangles = Mesostructure::Maze(1).triangles(dims);
+    let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+    let ddm = compute_distance_maps(dims, &triangles, DirectionCones::downward(4, 1), settings)
+        .ok_or("the maze is a valid scene")?;
+    let compressed = CompressedMaps::compress(&ddm, 4).ok_or("the maps compress")?;
+    let rays = rays(dims);
+    for (name, surface, stepping) in [
+        ("C0 quadric", PatchSurface::C0, Stepping::Distance),
+        ("adaptive 1e-3", PatchSurface::Adaptive { max_error: 1e-3 }, Stepping::Distance),
+        ("adaptive 1e-3, voxel exit", PatchSurface::Adaptive { max_error: 1e-3 }, Stepping::VoxelExit),
+    ] {
+        let patches =
+            VoxelPatches::build(dims, &triangles, &ddm.surface, PatchSettings { surface, ..Default::default() })
+                .ok_or("patches build")?;
+        let trace_settings = TraceSettings { method: Method::Quadric, max_steps: 512, stepping };
+        let mut ratios = Vec::with_capacity(rounds);
+        let (mut raw_total, mut compressed_total) = (0.0, 0.0);
+        for round in 0..rounds {
+            let (raw, packed) = if round % 2 == 0 {
+                let raw = pass(&ddm, &patches, &rays, trace_settings);
+                (raw, pass(&compressed, &patches, &rays, trace_settings))
+            } else {
+                let packed = pass(&compressed, &patches, &rays, trace_settings);
+                (pass(&ddm, &patches, &rays, trace_settings), packed)
+            };
+            ratios.push(packed / raw);
+            raw_total += raw;
+            compressed_total += packed;
+        }
+        let steps =
+            |source: &dyn Fn(Vec3, Vec3) -> u32| rays.iter().map(|&(o, d)| f64::from(source(o, d))).sum::<f64>();
+        let raw_steps = steps(&|o, d| trace(&ddm, Some(&patches), o, d, trace_settings).steps);
+        let compressed_steps = steps(&|o, d| trace(&compressed, Some(&patches), o, d, trace_settings).steps);
+        ratios.sort_by(f64::total_cmp);
+        let median = ratios[rounds / 2];
+        let (low, high) = (ratios[rounds / 4], ratios[3 * rounds / 4]);
+        println!(
+            "{name:28} raw {:7.0} k rays/s, compressed {:7.0} k rays/s; time ratio compressed/raw: median {median:.3} (quartiles {low:.3}–{high:.3}), {rounds} rounds; mean steps raw {:.2}, compressed {:.2}",
+            rays.len() as f64 * rounds as f64 / raw_total / 1e3,
+            rays.len() as f64 * rounds as f64 / compressed_total / 1e3,
+            raw_steps / rays.len() as f64,
+            compressed_steps / rays.len() as f64,
+        );
+    }
+    Ok(())
+}

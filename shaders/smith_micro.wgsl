@@ -510,20 +510,30 @@ fn smith_corrected_lambda_of_valid_table(lambda: SmithValue, correction: LambdaC
 // Rust: correction::corrected_visible_mean_attribute (eq. 17 with Λ' = c(u) Λ on the sum
 // Λ = Λ(v) + Λ(l)).
 fn smith_corrected_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, correction: LambdaCorrection) -> SmithValue {
-    let valid_view = lambda_view.kind == SMITH_POSITIVE_INFINITY || (lambda_view.kind == SMITH_FINITE && lambda_view.value >= 0.0);
-    let valid_light = lambda_light.kind == SMITH_POSITIVE_INFINITY || (lambda_light.kind == SMITH_FINITE && lambda_light.value >= 0.0);
-    if !(valid_view && valid_light && smith_attribute_is_valid(correlated_attribute) && smith_correction_is_valid(correction)) {
+    if !smith_correction_is_valid(correction) {
         return smith_none();
     }
-    var lambda = smith_positive_infinity();
+    return smith_corrected_visible_mean_attribute_of_valid_table(correlated_attribute, lambda_view, lambda_light, correction);
+}
+
+// Rust: correction::corrected_visible_mean_attribute, for a table that
+// smith_correction_is_valid accepts (a renderer checks a material's table once): eq. 17's
+// code with the table lookup on the finite sum, which is all it adds.
+fn smith_corrected_visible_mean_attribute_of_valid_table(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, correction: LambdaCorrection) -> SmithValue {
+    let valid_view = lambda_view.kind == SMITH_POSITIVE_INFINITY || (lambda_view.kind == SMITH_FINITE && lambda_view.value >= 0.0);
+    let valid_light = lambda_light.kind == SMITH_POSITIVE_INFINITY || (lambda_light.kind == SMITH_FINITE && lambda_light.value >= 0.0);
+    if !(valid_view && valid_light && smith_attribute_is_valid(correlated_attribute)) {
+        return smith_none();
+    }
+    var visible_fraction = 1.0;
     let any_infinite = lambda_view.kind == SMITH_POSITIVE_INFINITY || lambda_light.kind == SMITH_POSITIVE_INFINITY;
     if !any_infinite && !(lambda_view.value > SMITH_F32_MAX - lambda_light.value) {
-        lambda = smith_finite(smith_flush_subnormal(lambda_view.value + lambda_light.value));
-    }
-    let corrected = smith_corrected_lambda_of_valid_table(lambda, correction);
-    var visible_fraction = 1.0;
-    if corrected.kind == SMITH_FINITE {
-        visible_fraction = smith_visible_fraction_of_finite(corrected.value);
+        let lambda = smith_flush_subnormal(lambda_view.value + lambda_light.value);
+        // Above SMITH_MAX_CORRECTED_LAMBDA the corrected Λ is +∞: the fraction stays 1.
+        if !(lambda > SMITH_MAX_CORRECTED_LAMBDA) {
+            let u = lambda / (1.0 + lambda);
+            visible_fraction = smith_visible_fraction_of_finite(smith_flush_subnormal(smith_correction_factor(correction, u) * lambda));
+        }
     }
     return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
 }
@@ -588,18 +598,25 @@ fn smith_correlated_visible_mean_attribute(correlated_attribute: vec2<f32>, lamb
 }
 
 // Rust: correlated::correlated_visible_mean_attribute, for a model that
-// smith_visibility_correction_is_valid accepts (see smith_correlated_lambda_of_valid_model).
+// smith_visibility_correction_is_valid accepts (see smith_correlated_lambda_of_valid_model):
+// eq. 17's code with the two table lookups, ρ and the combination on finite Λs. A Λ that is
+// not flushed first gives the same bits: a subnormal Λ makes c Λ subnormal, flushed to 0.
 fn smith_correlated_visible_mean_attribute_of_valid_model(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
-    if !smith_attribute_is_valid(correlated_attribute) {
-        return smith_none();
-    }
-    let lambda = smith_correlated_lambda_of_valid_model(lambda_view, lambda_light, cos_difference, model);
-    if lambda.kind == SMITH_NONE {
+    let valid_view = lambda_view.kind == SMITH_POSITIVE_INFINITY || (lambda_view.kind == SMITH_FINITE && lambda_view.value >= 0.0);
+    let valid_light = lambda_light.kind == SMITH_POSITIVE_INFINITY || (lambda_light.kind == SMITH_FINITE && lambda_light.value >= 0.0);
+    if !(valid_view && valid_light && smith_attribute_is_valid(correlated_attribute)) {
         return smith_none();
     }
     var visible_fraction = 1.0;
-    if lambda.kind == SMITH_FINITE {
-        visible_fraction = smith_visible_fraction_of_finite(lambda.value);
+    let any_infinite = lambda_view.kind == SMITH_POSITIVE_INFINITY || lambda_light.kind == SMITH_POSITIVE_INFINITY;
+    // Above SMITH_MAX_CORRECTED_LAMBDA a corrected Λ is +∞, and so is Λ': the fraction stays 1.
+    if !any_infinite && !(max(lambda_view.value, lambda_light.value) > SMITH_MAX_CORRECTED_LAMBDA) {
+        let view = lambda_view.value;
+        let light = lambda_light.value;
+        let a = smith_flush_subnormal(smith_correction_factor(LambdaCorrection(model.view_low, model.view_high), view / (1.0 + view)) * view);
+        let b = smith_flush_subnormal(smith_correction_factor(LambdaCorrection(model.light_low, model.light_high), light / (1.0 + light)) * light);
+        let rho = smith_view_light_correlation(model, cos_difference);
+        visible_fraction = smith_visible_fraction_of_finite(smith_flush_subnormal((a + b) - rho * min(a, b)));
     }
     return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
 }

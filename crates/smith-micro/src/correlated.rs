@@ -91,13 +91,15 @@
 //!
 //! Cost in WGSL over eq. 17, counted on naga's IR (`wgsl_gen::operation_count`, test
 //! `smith_micro_cost` in `shader-registry`; arithmetic per component, indexed loads and
-//! branches, callees inlined): eq. 17 61 operations, the corrected model 191 per call
-//! (130 more), of which 53 validate the model (16 knots, 3 coefficients, a per-material
+//! branches, callees inlined): eq. 17 61 operations, the corrected model 167 per call
+//! (106 more), of which 53 validate the model (16 knots, 3 coefficients, a per-material
 //! constant); `smith_correlated_visible_mean_attribute_of_valid_model`, for a model
-//! checked once (as [`VisibilityCorrection::new`] does), costs 138: 77 more than eq. 17
-//! (two table lookups with their `Λ/(1 + Λ)` divisions, `ρ`, `min`, the combination, the
-//! special cases of both Λs). The caller supplies `cos Δφ` (102 operations from two
-//! directions; [`correlated_visible_mean_attribute_for_directions`] computes it).
+//! checked once (as [`VisibilityCorrection::new`] does), costs 114: 53 more than eq. 17
+//! (two table lookups with their `Λ/(1 + Λ)` divisions, about 16 each; `ρ` from `cos Δφ`
+//! with its special cases; `min`, the combination and three flushes of subnormals). The
+//! view-only correction on the sum ([`crate::corrected_visible_mean_attribute`], one
+//! table) costs 22 more than eq. 17. The caller supplies `cos Δφ` (102 operations from
+//! two directions; [`correlated_visible_mean_attribute_for_directions`] computes it).
 //!
 //! | input | result |
 //! |---|---|

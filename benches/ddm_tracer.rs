@@ -14,26 +14,8 @@ use ddm_tracer::{
     CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceSettings,
     VoxelPatches, relief_trace, trace,
 };
-use glam::{UVec3, Vec2, Vec3};
+use glam::{UVec3, Vec2};
 use mesostructure::Mesostructure;
-
-/// 4096 downward rays from above the tile (fixed xorshift seed), elevations −15° to −85°.
-fn rays(dims: UVec3) -> Vec<(Vec3, Vec3)> {
-    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 40) as f32 / (1u64 << 24) as f32
-    };
-    (0..4096)
-        .map(|_| {
-            let origin = Vec3::new(next() * dims.x as f32, next() * dims.y as f32, dims.z as f32 + 1.0);
-            let (azimuth, elevation) = (next() * std::f32::consts::TAU, -(15.0 + 70.0 * next()).to_radians());
-            (origin, Vec3::new(elevation.cos() * azimuth.cos(), elevation.cos() * azimuth.sin(), elevation.sin()))
-        })
-        .collect()
-}
 
 fn tracer(c: &mut Criterion) {
     let dims = UVec3::new(16, 16, 8);
@@ -50,7 +32,7 @@ fn tracer(c: &mut Criterion) {
             .expect("patches");
     let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));
     let height_map = HeightMap::from_mesh(&mesh, dims, 2);
-    let rays = rays(dims);
+    let rays = benches::tracer_rays(dims);
     let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 512, stepping: Stepping::Distance };
     let quadric = TraceSettings { method: Method::Quadric, max_steps: 512, stepping: Stepping::Distance };
 

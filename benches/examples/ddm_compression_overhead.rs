@@ -17,24 +17,6 @@ use ddm_tracer::{
 use glam::{UVec3, Vec3};
 use mesostructure::Mesostructure;
 
-/// The rays of `benches/ddm_tracer.rs`: 4096 downward rays, elevations −15° to −85°.
-fn rays(dims: UVec3) -> Vec<(Vec3, Vec3)> {
-    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 40) as f32 / (1u64 << 24) as f32
-    };
-    (0..4096)
-        .map(|_| {
-            let origin = Vec3::new(next() * dims.x as f32, next() * dims.y as f32, dims.z as f32 + 1.0);
-            let (azimuth, elevation) = (next() * std::f32::consts::TAU, -(15.0 + 70.0 * next()).to_radians());
-            (origin, Vec3::new(elevation.cos() * azimuth.cos(), elevation.cos() * azimuth.sin(), elevation.sin()))
-        })
-        .collect()
-}
-
 /// Seconds for one pass of `rays` (best of 3 repetitions, to skip interruptions).
 fn pass<S: DistanceSource>(source: &S, patches: &VoxelPatches, rays: &[(Vec3, Vec3)], settings: TraceSettings) -> f64 {
     (0..3)
@@ -59,7 +41,7 @@ fn main() -> Result<(), String> {
     let ddm = compute_distance_maps(dims, &triangles, DirectionCones::downward(4, 1), settings)
         .ok_or("the maze is a valid scene")?;
     let compressed = CompressedMaps::compress(&ddm, 4).ok_or("the maps compress")?;
-    let rays = rays(dims);
+    let rays = benches::tracer_rays(dims);
     for (name, surface, stepping) in [
         ("C0 quadric", PatchSurface::C0, Stepping::Distance),
         ("adaptive 1e-3", PatchSurface::Adaptive { max_error: 1e-3 }, Stepping::Distance),

@@ -43,6 +43,7 @@ fn main() -> Result<(), String> {
     let compressed = CompressedMaps::compress(&ddm, 4).ok_or("the maps compress")?;
     let rays = benches::tracer_rays(dims);
     for (name, surface, stepping) in [
+        ("sphere tracing (no patches)", PatchSurface::C0, Stepping::Distance),
         ("C0 quadric", PatchSurface::C0, Stepping::Distance),
         ("adaptive 1e-3", PatchSurface::Adaptive { max_error: 1e-3 }, Stepping::Distance),
         ("adaptive 1e-3, voxel exit", PatchSurface::Adaptive { max_error: 1e-3 }, Stepping::VoxelExit),
@@ -50,7 +51,8 @@ fn main() -> Result<(), String> {
         let patches =
             VoxelPatches::build(dims, &triangles, &ddm.surface, PatchSettings { surface, ..Default::default() })
                 .ok_or("patches build")?;
-        let trace_settings = TraceSettings { method: Method::Quadric, max_steps: 512, stepping };
+        let method = if name.starts_with("sphere") { Method::SphereTracing } else { Method::Quadric };
+        let trace_settings = TraceSettings { method, max_steps: 512, stepping };
         let mut ratios = Vec::with_capacity(rounds);
         let (mut raw_total, mut compressed_total) = (0.0, 0.0);
         for round in 0..rounds {

@@ -68,11 +68,16 @@ fn trace_voxel_entry(local: vec3<f32>, direction: vec3<f32>) -> f32 {
 
 // Rust: ddm_tracer::trace::voxel_exit.
 fn trace_voxel_exit(local: vec3<f32>, direction: vec3<f32>) -> f32 {
+    return trace_cell_exit(local, direction, vec3<f32>(1.0));
+}
+
+// Rust: ddm_tracer::trace::cell_exit.
+fn trace_cell_exit(local: vec3<f32>, direction: vec3<f32>, size: vec3<f32>) -> f32 {
     var exit = 3.40282347e38;
     for (var axis = 0u; axis < 3u; axis++) {
         let r = direction[axis];
         if r != 0.0 {
-            let wall = select(0.0, 1.0, r > 0.0);
+            let wall = select(0.0, size[axis], r > 0.0);
             exit = min(exit, (wall - local[axis]) / r);
         }
     }
@@ -121,18 +126,30 @@ fn trace_inside_polygon(piece: TracePatch, p: vec3<f32>) -> bool {
     return true;
 }
 
-// Rust: <CompressedMaps as DistanceSource>::distance (CompressedMap::access, Algorithm A.2).
-fn trace_map_distance(cone: u32, voxel: vec3<u32>) -> f32 {
+// A stored distance and the cell of voxels `origin ≤ v < origin + size` it holds for
+// (Rust: ddm_compress::CellDistance).
+struct TraceCell {
+    origin: vec3<u32>,
+    size: vec3<u32>,
+    distance: f32,
+}
+
+// Rust: CompressedMap::access_cell, through <CompressedMaps as DistanceSource> (the
+// distance is CompressedMap::access's: Algorithm A.2; with the cell: the voxel in a surface
+// block, the block clipped to the map elsewhere; 0 and the voxel outside the map).
+fn trace_map_cell(cone: u32, voxel: vec3<u32>) -> TraceCell {
     let entry_map = trace_cone_maps[cone];
     let map = CompressedMapUniforms(entry_map.dims_block, entry_map.grid_atlas_base);
     if !ddm_voxel_in_map(voxel, map) {
-        return 0.0;
+        return TraceCell(voxel, vec3<u32>(1u), 0.0);
     }
     let entry = trace_grid[entry_map.grid_base.x + ddm_grid_index(voxel, map)];
     if ddm_entry_is_surface(entry) {
-        return trace_atlas[map.grid_atlas_base.w + ddm_atlas_index(entry, voxel, map.dims_block.w)];
+        return TraceCell(voxel, vec3<u32>(1u), trace_atlas[map.grid_atlas_base.w + ddm_atlas_index(entry, voxel, map.dims_block.w)]);
     }
-    return ddm_entry_distance(entry);
+    let block = map.dims_block.w;
+    let origin = voxel / block * block;
+    return TraceCell(origin, min(vec3<u32>(block), map.dims_block.xyz - origin), ddm_entry_distance(entry));
 }
 
 // Rust: ddm_tracer::trace::patch_hit. Returns vec3(t, piece index, 1) for a hit and
@@ -281,11 +298,14 @@ fn trace_ray(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>) -> Trace
         let v = vec3<i32>(i32(floor(probe.x)), i32(floor(probe.y)), min(i32(floor(probe.z)), idims.z - 1));
         let wrapped = vec3<u32>(u32(((v.x % idims.x) + idims.x) % idims.x), u32(((v.y % idims.y) + idims.y) % idims.y), u32(v.z));
         steps += 1u;
-        let value = trace_map_distance(cone, wrapped);
+        let cell = trace_map_cell(cone, wrapped);
+        let value = cell.distance;
         if value > 0.0 {
             var inside = 0.0;
             if u.stepping.x == TRACE_STEPPING_VOXEL_EXIT {
-                inside = trace_voxel_exit(p - vec3<f32>(v), d);
+                // To the exit wall of the cell (the voxel, or a block without surface).
+                let corner = vec3<f32>(v) - vec3<f32>(wrapped - cell.origin);
+                inside = trace_cell_exit(p - corner, d, vec3<f32>(cell.size));
             }
             t += min(inside + value, step_cap);
             continue;

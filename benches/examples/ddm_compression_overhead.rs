@@ -1,9 +1,10 @@
 //! Interleaved A/B timing of tracing on raw against compressed DDMs (issue 4's "time
-//! within 5 %"): `cargo run --release -p benches --example ddm_compression_overhead [ROUNDS]`.
+//! within 5 %"): `cargo run --release -p benches --example ddm_compression_overhead
+//! [ROUNDS [MESOSTRUCTURE [WxHxD]]]` (default 31 rounds, the maze, 16 × 16 × 8).
 //!
 //! Criterion times one benchmark after the other, so a drift of the machine's speed
 //! between them (seen at ±15 % on a shared VM) shows up as a difference. Here each round
-//! times one pass of the 4096 rays of `benches/ddm_tracer.rs` (maze 16 × 16 × 8, DDM 4×1)
+//! times one pass of the 4096 rays of `benches/ddm_tracer.rs` (DDM 4×1)
 //! on the raw maps and one on the compressed maps (blocks of 4), in alternating order, and
 //! the median of the per-round ratios compressed / raw is printed per patch kind.
 
@@ -31,12 +32,29 @@ fn pass<S: DistanceSource>(source: &S, patches: &VoxelPatches, rays: &[(Vec3, Ve
 }
 
 fn main() -> Result<(), String> {
-    let rounds: usize = match std::env::args().nth(1) {
-        Some(text) => text.parse().map_err(|e| format!("usage: ddm_compression_overhead [ROUNDS]: {e}"))?,
+    let usage = "usage: ddm_compression_overhead [ROUNDS [MESOSTRUCTURE [WxHxD]]]";
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let rounds: usize = match args.first() {
+        Some(text) => text.parse().map_err(|e| format!("{usage}: {e}"))?,
         None => 31,
     };
-    let dims = UVec3::new(16, 16, 8);
-    let triangles = Mesostructure::Maze(1).triangles(dims);
+    let structure = match args.get(1) {
+        Some(name) => *Mesostructure::ALL
+            .iter()
+            .find(|m| m.name() == name)
+            .ok_or_else(|| format!("{usage}: no mesostructure {name}"))?,
+        None => Mesostructure::Maze(1),
+    };
+    let dims = match args.get(2) {
+        Some(text) => {
+            let size: Vec<u32> =
+                text.split('x').map(str::parse).collect::<Result<_, _>>().map_err(|e| format!("{usage}: {e}"))?;
+            let [x, y, z] = size[..] else { return Err(usage.into()) };
+            UVec3::new(x, y, z)
+        }
+        None => UVec3::new(16, 16, 8),
+    };
+    let triangles = structure.triangles(dims);
     let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
     let ddm = compute_distance_maps(dims, &triangles, DirectionCones::downward(4, 1), settings)
         .ok_or("the maze is a valid scene")?;

@@ -34,6 +34,18 @@ pub struct CompressedMap {
 /// `CompressedMap::block_shift` of a block side that is not a power of two.
 const NOT_POWER_OF_TWO: u32 = u32::MAX;
 
+/// A distance read with [`CompressedMap::access_cell`]: the stored distance and the box
+/// of voxels `origin ≤ v < origin + size` from every point of which it holds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CellDistance {
+    /// The stored (conservative) distance.
+    pub distance: f32,
+    /// The cell's first voxel.
+    pub origin: UVec3,
+    /// The cell's size in voxels (1 for a single voxel).
+    pub size: UVec3,
+}
+
 /// The lookup-grid size for `dims` voxels in blocks of `block`.
 pub fn grid_dims(dims: UVec3, block: u32) -> UVec3 {
     (dims + UVec3::splat(block - 1)) / block
@@ -126,26 +138,63 @@ impl CompressedMap {
     /// The lookup grid's size and the shift are computed once, when the map is made.
     #[inline]
     pub fn access(&self, voxel: UVec3) -> Option<f32> {
-        if !voxel.cmplt(self.dims).all() {
-            return None;
-        }
-        let shift = self.block_shift;
-        if shift != NOT_POWER_OF_TWO {
-            let g = self.grid_dims;
-            let b = voxel >> shift;
-            let entry = *self.grid.get((b.x + g.x * (b.y + g.y * b.z)) as usize)?;
-            if entry & SURFACE_FLAG == 0 {
-                return Some(f32::from_bits(entry));
-            }
-            let local = voxel & UVec3::splat(self.block - 1);
-            let index = ((((entry & !SURFACE_FLAG) << shift | local.z) << shift | local.y) << shift) | local.x;
-            return self.atlas.get(index as usize).copied();
-        }
-        let entry = *self.grid.get(grid_index(voxel, self.dims, self.block) as usize)?;
+        let entry = self.entry_of(voxel)?;
         if entry & SURFACE_FLAG == 0 {
             return Some(f32::from_bits(entry));
         }
-        self.atlas.get(atlas_index(entry, voxel, self.block) as usize).copied()
+        self.atlas_value(entry, voxel)
+    }
+
+    /// The lookup-grid entry of `voxel`'s block, `None` outside the map.
+    #[inline]
+    fn entry_of(&self, voxel: UVec3) -> Option<u32> {
+        if !voxel.cmplt(self.dims).all() {
+            return None;
+        }
+        let index = if self.block_shift != NOT_POWER_OF_TWO {
+            let (g, b) = (self.grid_dims, voxel >> self.block_shift);
+            b.x + g.x * (b.y + g.y * b.z)
+        } else {
+            grid_index(voxel, self.dims, self.block)
+        };
+        self.grid.get(index as usize).copied()
+    }
+
+    /// The atlas value of `voxel` in the surface block of lookup entry `entry`.
+    #[inline]
+    fn atlas_value(&self, entry: u32, voxel: UVec3) -> Option<f32> {
+        let shift = self.block_shift;
+        let index = if shift != NOT_POWER_OF_TWO {
+            let local = voxel & UVec3::splat(self.block - 1);
+            ((((entry & !SURFACE_FLAG) << shift | local.z) << shift | local.y) << shift) | local.x
+        } else {
+            atlas_index(entry, voxel, self.block)
+        };
+        self.atlas.get(index as usize).copied()
+    }
+
+    /// The stored distance of `voxel` with the cell of voxels it holds for, or `None`
+    /// outside the map: in a surface block the voxel itself, with its exact value; in any
+    /// other block the whole block (clipped to the map), whose minimum bounds the distance
+    /// from every point of every voxel in it. A tracer that steps to the cell's exit wall
+    /// before using the distance (`ddm_tracer::Stepping::VoxelExit`) then crosses a block
+    /// without surface in one step. The distance is [`CompressedMap::access`]'s.
+    ///
+    /// WGSL twin: `trace_map_cell` in `ddm_tracer.wgsl`.
+    #[inline]
+    pub fn access_cell(&self, voxel: UVec3) -> Option<CellDistance> {
+        let entry = self.entry_of(voxel)?;
+        if entry & SURFACE_FLAG != 0 {
+            let distance = self.atlas_value(entry, voxel)?;
+            return Some(CellDistance { distance, origin: voxel, size: UVec3::ONE });
+        }
+        let origin = if self.block_shift != NOT_POWER_OF_TWO {
+            (voxel >> self.block_shift) << self.block_shift
+        } else {
+            voxel / self.block * self.block
+        };
+        let size = UVec3::splat(self.block).min(self.dims - origin);
+        Some(CellDistance { distance: f32::from_bits(entry), origin, size })
     }
 
     /// Bytes of the uncompressed map (4 per voxel) over bytes of lookup grid plus atlas.
@@ -172,6 +221,48 @@ pub fn atlas_index(entry: u32, voxel: UVec3, block: u32) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_cell_is_its_voxel_in_a_surface_block_and_the_clipped_block_elsewhere() {
+        let dims = UVec3::new(9, 7, 5);
+        let n = (dims.x * dims.y * dims.z) as usize;
+        let values: Vec<f32> = (0..n).map(|i| 1.0 + (i % 11) as f32).collect();
+        let index = |v: UVec3| (v.x + dims.x * (v.y + dims.y * v.z)) as usize;
+        // Surface only in the voxel (1, 1, 1).
+        let surface: Vec<bool> = (0..n).map(|i| i == index(UVec3::ONE)).collect();
+        for block in [1, 2, 3, 4] {
+            let map = CompressedMap::compress(&values, &surface, dims, block).unwrap();
+            for z in 0..dims.z {
+                for y in 0..dims.y {
+                    for x in 0..dims.x {
+                        let v = UVec3::new(x, y, z);
+                        let cell = map.access_cell(v).unwrap();
+                        assert_eq!(Some(cell.distance), map.access(v), "block {block} {v}");
+                        assert!(v.cmpge(cell.origin).all() && v.cmplt(cell.origin + cell.size).all());
+                        assert!((cell.origin + cell.size).cmple(dims).all(), "block {block} {v}: {cell:?}");
+                        if cell.size == UVec3::ONE {
+                            continue;
+                        }
+                        // The value bounds every voxel of the cell, and the cell holds no surface.
+                        for cz in cell.origin.z..cell.origin.z + cell.size.z {
+                            for cy in cell.origin.y..cell.origin.y + cell.size.y {
+                                for cx in cell.origin.x..cell.origin.x + cell.size.x {
+                                    let w = UVec3::new(cx, cy, cz);
+                                    assert!(cell.distance <= values[index(w)] && !surface[index(w)]);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            // Voxels of the surface block are their own cells; with blocks of 1 all are.
+            assert_eq!(map.access_cell(UVec3::ONE).unwrap().size, UVec3::ONE);
+            assert_eq!(map.access_cell(dims), None);
+            if block == 1 {
+                assert_eq!(map.access_cell(UVec3::new(3, 2, 1)).unwrap().size, UVec3::ONE);
+            }
+        }
+    }
 
     #[test]
     fn the_power_of_two_path_reads_the_same_entries_as_the_generic_indices() {

@@ -65,7 +65,7 @@ pub mod serialize;
 mod test_random;
 
 pub use bvh::TriangleBvh;
-pub use compress::{CompressedMap, SURFACE_FLAG};
+pub use compress::{CellDistance, CompressedMap, SURFACE_FLAG};
 pub use cones::{Cone, ConeRelation, DirectionCones, DirectionRange};
 pub use ddm::{DistanceMapSettings, DistanceMaps, compute_distance_maps, reference_distance_maps, sampled_distance};
 pub use geometry::{Aabb, Triangle};

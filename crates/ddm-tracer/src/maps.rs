@@ -5,7 +5,7 @@
 use alloc::vec::Vec;
 use core::f32::consts::{FRAC_PI_2, TAU};
 
-use ddm_compress::{CompressedMap, DirectionCones, DistanceMaps};
+use ddm_compress::{CellDistance, CompressedMap, DirectionCones, DistanceMaps};
 use glam::{UVec3, Vec3};
 
 /// The direction cones as the tracer (and its WGSL twin) selects them: `azimuths ×
@@ -98,6 +98,12 @@ pub trait DistanceSource {
 pub trait ConeDistances {
     /// The stored distance of `voxel`; 0 (always safe) outside the grid.
     fn distance(&self, voxel: UVec3) -> f32;
+
+    /// The stored distance of `voxel` with the cell of voxels from every point of which
+    /// it holds (see [`CompressedMap::access_cell`]); by default the voxel alone.
+    fn cell_distance(&self, voxel: UVec3) -> CellDistance {
+        CellDistance { distance: self.distance(voxel), origin: voxel, size: UVec3::ONE }
+    }
 }
 
 /// One cone's map of a [`DistanceMaps`]: its values, `x + dims.x (y + dims.y z)`.
@@ -122,6 +128,12 @@ impl ConeDistances for &CompressedMap {
     #[inline]
     fn distance(&self, voxel: UVec3) -> f32 {
         self.access(voxel).unwrap_or(0.0)
+    }
+
+    /// A block without surface is one cell: the block's minimum holds for all its voxels.
+    #[inline]
+    fn cell_distance(&self, voxel: UVec3) -> CellDistance {
+        self.access_cell(voxel).unwrap_or(CellDistance { distance: 0.0, origin: voxel, size: UVec3::ONE })
     }
 }
 

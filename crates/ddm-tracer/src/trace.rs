@@ -26,6 +26,7 @@
 //! ray (Algorithm 3.3's `ε`), without moving the point: every step is then taken from a
 //! point inside or on the wall of the voxel whose value is used, which keeps it safe.
 
+use ddm_compress::CellDistance;
 use glam::{IVec3, UVec3, Vec3};
 use quadric_fit::{GpuQuadric, first_hit, normal};
 
@@ -66,6 +67,11 @@ pub enum Stepping {
     /// inside the voxel holds no surface (a surface point there would be at distance 0
     /// from a point of the voxel) and the step from the exit point, still in the voxel, is
     /// safe: conservative like [`Stepping::Distance`], with fewer map reads.
+    ///
+    /// On compressed maps the same holds for a whole block without surface, whose stored
+    /// minimum bounds the distance from every point of the block
+    /// ([`ddm_compress::CompressedMap::access_cell`]): the step goes to the block's exit
+    /// wall, then `d` further. Compression then saves steps instead of costing them.
     VoxelExit,
 }
 
@@ -153,11 +159,19 @@ pub fn voxel_entry(local: Vec3, direction: Vec3) -> f32 {
 /// The ray parameter, from the point `local` relative to a unit voxel's lowest corner,
 /// where the ray leaves the voxel (Algorithm 3.3, lines 2–4), never negative.
 pub fn voxel_exit(local: Vec3, direction: Vec3) -> f32 {
+    cell_exit(local, direction, Vec3::ONE)
+}
+
+/// The `t ≥ 0` at which the ray `local + t direction` leaves the box `[0, size]` (a cell
+/// of voxels, `local` relative to its first corner), for a point inside or on it.
+///
+/// WGSL twin: `trace_cell_exit`.
+pub fn cell_exit(local: Vec3, direction: Vec3, size: Vec3) -> f32 {
     let mut exit = f32::MAX;
     for axis in 0..3 {
         let r = direction[axis];
         if r != 0.0 {
-            let wall = if r > 0.0 { 1.0 } else { 0.0 };
+            let wall = if r > 0.0 { size[axis] } else { 0.0 };
             exit = exit.min((wall - local[axis]) / r);
         }
     }
@@ -238,11 +252,21 @@ pub fn trace<S: DistanceSource>(
         let wrapped =
             UVec3::new(v.x.rem_euclid(dims.x as i32) as u32, v.y.rem_euclid(dims.y as i32) as u32, v.z as u32);
         steps += 1;
-        let value = map.distance(wrapped);
+        let cell = match settings.stepping {
+            Stepping::Distance => CellDistance { distance: map.distance(wrapped), origin: wrapped, size: UVec3::ONE },
+            Stepping::VoxelExit => map.cell_distance(wrapped),
+        };
+        let value = cell.distance;
         if value > 0.0 {
             let inside = match settings.stepping {
                 Stepping::Distance => 0.0,
-                Stepping::VoxelExit => voxel_exit(p - v.as_vec3(), d),
+                // A single voxel (the same value as the general case, computed cheaper).
+                Stepping::VoxelExit if cell.size == UVec3::ONE => voxel_exit(p - v.as_vec3(), d),
+                Stepping::VoxelExit => {
+                    // The cell's first corner where the ray is (x and y unwrapped).
+                    let corner = v.as_vec3() - (wrapped - cell.origin).as_vec3();
+                    cell_exit(p - corner, d, cell.size.as_vec3())
+                }
             };
             t += (inside + value).min(step_cap);
             continue;

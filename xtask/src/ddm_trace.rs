@@ -594,7 +594,7 @@ fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), Str
     render_png(path, (900, 620), |root| {
         let mut chart = ChartBuilder::on(root)
             .caption(
-                "Hit error vs CPU time per ray (maze: circle, bricks: square, beads: triangle, ball: cross)",
+                "Hit error vs CPU time per ray (maze: disc, bricks: square, beads: triangle, ball: cross, chain mail: ring)",
                 ("sans-serif", 20),
             )
             .margin(16)
@@ -607,7 +607,7 @@ fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), Str
             .x_labels(12)
             .y_labels(12)
             .x_label_formatter(&|x| format!("{x:.2}"))
-            .y_label_formatter(&|y| format!("{y:.3}"))
+            .y_label_formatter(&|y| if *y >= 0.01 { format!("{y:.2}") } else { format!("{y:.0e}") })
             .x_desc("CPU time per ray (µs, one thread)")
             .y_desc("mean hit error (voxels) where both hit")
             .label_style(("sans-serif", 16))
@@ -624,7 +624,8 @@ fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), Str
                         Rectangle::new([(at.0 * 0.97, at.1 * 0.9), (at.0 * 1.03, at.1 * 1.1)], style).into_dyn()
                     }
                     "beads" => TriangleMarker::new(at, 7, style).into_dyn(),
-                    _ => Cross::new(at, 6, color.stroke_width(3)).into_dyn(),
+                    "ball" => Cross::new(at, 6, color.stroke_width(3)).into_dyn(),
+                    _ => Circle::new(at, 6, color.stroke_width(2)).into_dyn(),
                 }
             });
             chart

@@ -41,10 +41,14 @@ fn draw_chart(path: &Path, stats: &[(CoverageErrorStats, f32)]) -> Result<(), St
             .margin(20)
             .x_label_area_size(50)
             .y_label_area_size(70)
-            .build_cartesian_2d((24.0_f64..160.0).log_scale(), (0.001_f64..0.2).log_scale())
+            .build_cartesian_2d(
+                (24.0_f64..160.0).log_scale().with_key_points(vec![32.0, 64.0, 128.0]),
+                (0.001_f64..0.2).log_scale(),
+            )
             .map_err(e)?;
         chart
             .configure_mesh()
+            .x_label_formatter(&|n| format!("{n:.0}"))
             .x_desc("N (Poisson-disk samples per mask, log scale)")
             .y_desc("coverage error (fraction of the pixel, log scale)")
             .label_style(("sans-serif", 18))

@@ -2,7 +2,8 @@
 //! 16 × 16 × 8 maze tile: sphere tracing with the plain distance map and the DDM 4×1, DDM
 //! 4×1 + quadric patches on raw and compressed maps, DDM 4×1 with exact triangle patches
 //! and with adaptive patches (fitted quadric or triangles per voxel, budget 1e-3 voxel), both
-//! also with voxel-exit stepping, relief
+//! also with voxel-exit stepping (adaptive also on compressed maps, where a block without
+//! surface is one cell), relief
 //! mapping, and the exact mesh ground truth. Throughput is in rays (one camera ray per
 //! element).
 
@@ -83,6 +84,13 @@ fn tracer(c: &mut Criterion) {
         b.iter(|| {
             rays.iter()
                 .filter(|&&(o, d)| trace(&ddm, Some(&adaptive), black_box(o), d, exit(quadric)).hit.is_some())
+                .count()
+        });
+    });
+    group.bench_function("adaptive_1e-3/ddm_4x1_voxel_exit_compressed_block4", |b| {
+        b.iter(|| {
+            rays.iter()
+                .filter(|&&(o, d)| trace(&compressed, Some(&adaptive), black_box(o), d, exit(quadric)).hit.is_some())
                 .count()
         });
     });

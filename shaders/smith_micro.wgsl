@@ -433,11 +433,14 @@ fn smith_visible_fraction_of_finite(lambda: f32) -> f32 {
     return 1.0 / (1.0 + 2.0 / lambda);
 }
 
+// Rust: attribute::is_valid_lambda (a Λ of eq. 6: +∞ or a finite value ≥ 0).
+fn smith_lambda_is_valid(lambda: SmithValue) -> bool {
+    return lambda.kind == SMITH_POSITIVE_INFINITY || (lambda.kind == SMITH_FINITE && lambda.value >= 0.0);
+}
+
 // Rust: correlated_attribute::visible_mean_attribute (eq. 17). `correlated_attribute` = (ā, a_s).
 fn smith_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue) -> SmithValue {
-    let valid_view = lambda_view.kind == SMITH_POSITIVE_INFINITY || (lambda_view.kind == SMITH_FINITE && lambda_view.value >= 0.0);
-    let valid_light = lambda_light.kind == SMITH_POSITIVE_INFINITY || (lambda_light.kind == SMITH_FINITE && lambda_light.value >= 0.0);
-    if !(valid_view && valid_light && smith_attribute_is_valid(correlated_attribute)) {
+    if !(smith_lambda_is_valid(lambda_view) && smith_lambda_is_valid(lambda_light) && smith_attribute_is_valid(correlated_attribute)) {
         return smith_none();
     }
     var visible_fraction = 1.0;
@@ -495,8 +498,7 @@ fn smith_corrected_lambda(lambda: SmithValue, correction: LambdaCorrection) -> S
 // Rust: correction::corrected_lambda, for a table that smith_correction_is_valid accepts
 // (the callers check it once).
 fn smith_corrected_lambda_of_valid_table(lambda: SmithValue, correction: LambdaCorrection) -> SmithValue {
-    let valid = lambda.kind == SMITH_POSITIVE_INFINITY || (lambda.kind == SMITH_FINITE && lambda.value >= 0.0);
-    if !valid {
+    if !smith_lambda_is_valid(lambda) {
         return smith_none();
     }
     if lambda.kind == SMITH_POSITIVE_INFINITY || lambda.value > SMITH_MAX_CORRECTED_LAMBDA {
@@ -520,9 +522,7 @@ fn smith_corrected_visible_mean_attribute(correlated_attribute: vec2<f32>, lambd
 // smith_correction_is_valid accepts (a renderer checks a material's table once): eq. 17's
 // code with the table lookup on the finite sum, which is all it adds.
 fn smith_corrected_visible_mean_attribute_of_valid_table(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, correction: LambdaCorrection) -> SmithValue {
-    let valid_view = lambda_view.kind == SMITH_POSITIVE_INFINITY || (lambda_view.kind == SMITH_FINITE && lambda_view.value >= 0.0);
-    let valid_light = lambda_light.kind == SMITH_POSITIVE_INFINITY || (lambda_light.kind == SMITH_FINITE && lambda_light.value >= 0.0);
-    if !(valid_view && valid_light && smith_attribute_is_valid(correlated_attribute)) {
+    if !(smith_lambda_is_valid(lambda_view) && smith_lambda_is_valid(lambda_light) && smith_attribute_is_valid(correlated_attribute)) {
         return smith_none();
     }
     var visible_fraction = 1.0;
@@ -602,9 +602,7 @@ fn smith_correlated_visible_mean_attribute(correlated_attribute: vec2<f32>, lamb
 // eq. 17's code with the two table lookups, ρ and the combination on finite Λs. A Λ that is
 // not flushed first gives the same bits: a subnormal Λ makes c Λ subnormal, flushed to 0.
 fn smith_correlated_visible_mean_attribute_of_valid_model(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
-    let valid_view = lambda_view.kind == SMITH_POSITIVE_INFINITY || (lambda_view.kind == SMITH_FINITE && lambda_view.value >= 0.0);
-    let valid_light = lambda_light.kind == SMITH_POSITIVE_INFINITY || (lambda_light.kind == SMITH_FINITE && lambda_light.value >= 0.0);
-    if !(valid_view && valid_light && smith_attribute_is_valid(correlated_attribute)) {
+    if !(smith_lambda_is_valid(lambda_view) && smith_lambda_is_valid(lambda_light) && smith_attribute_is_valid(correlated_attribute)) {
         return smith_none();
     }
     var visible_fraction = 1.0;

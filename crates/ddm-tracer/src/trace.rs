@@ -26,7 +26,6 @@
 //! ray (Algorithm 3.3's `ε`), without moving the point: every step is then taken from a
 //! point inside or on the wall of the voxel whose value is used, which keeps it safe.
 
-use ddm_compress::CellDistance;
 use glam::{IVec3, UVec3, Vec3};
 use quadric_fit::{GpuQuadric, first_hit, normal};
 
@@ -212,8 +211,8 @@ pub fn quadric_of(patch: &TracePatch) -> GpuQuadric {
 
 /// Traces the ray `origin + t direction` (Algorithm 3.1). Rays that do not point down
 /// (`direction.z ≥ 0`), directions outside the maps' cones (or whose cone has no map in
-/// `source`), and non-finite input miss with zero steps. `patches` is needed by [`Method::Quadric`] (without it no voxel has a
-/// patch and every ray misses).
+/// `source`), and non-finite input miss with zero steps. `patches` is needed by
+/// [`Method::Quadric`] (without it no voxel has a patch and every ray misses).
 pub fn trace<S: DistanceSource>(
     source: &S,
     patches: Option<&VoxelPatches>,
@@ -252,17 +251,18 @@ pub fn trace<S: DistanceSource>(
         let wrapped =
             UVec3::new(v.x.rem_euclid(dims.x as i32) as u32, v.y.rem_euclid(dims.y as i32) as u32, v.z as u32);
         steps += 1;
+        // Voxel-exit stepping reads the cell the value holds for (see `Stepping::VoxelExit`).
         let cell = match settings.stepping {
-            Stepping::Distance => CellDistance { distance: map.distance(wrapped), origin: wrapped, size: UVec3::ONE },
-            Stepping::VoxelExit => map.cell_distance(wrapped),
+            Stepping::Distance => None,
+            Stepping::VoxelExit => Some(map.cell_distance(wrapped)),
         };
-        let value = cell.distance;
+        let value = cell.map_or_else(|| map.distance(wrapped), |cell| cell.distance);
         if value > 0.0 {
-            let inside = match settings.stepping {
-                Stepping::Distance => 0.0,
+            let inside = match cell {
+                None => 0.0,
                 // A single voxel (the same value as the general case, computed cheaper).
-                Stepping::VoxelExit if cell.size == UVec3::ONE => voxel_exit(p - v.as_vec3(), d),
-                Stepping::VoxelExit => {
+                Some(cell) if cell.size == UVec3::ONE => voxel_exit(p - v.as_vec3(), d),
+                Some(cell) => {
                     // The cell's first corner where the ray is (x and y unwrapped).
                     let corner = v.as_vec3() - (wrapped - cell.origin).as_vec3();
                     cell_exit(p - corner, d, cell.size.as_vec3())

@@ -56,8 +56,7 @@ pub fn visible_mean_attribute(
     lambda_view: f32,
     lambda_light: f32,
 ) -> Option<f32> {
-    let valid = |lambda: f32| !is_nan_bits(lambda) && lambda >= 0.0;
-    if !(valid(lambda_view) && valid(lambda_light) && attribute.is_valid()) {
+    if !(is_valid_lambda(lambda_view) && is_valid_lambda(lambda_light) && attribute.is_valid()) {
         return None;
     }
     // Λ = +∞ (or a sum beyond f32) gives 1; Λ = 0 gives 0; a normal Λ ≥ 1.2·10⁻³⁸ keeps
@@ -67,6 +66,12 @@ pub fn visible_mean_attribute(
     let lambda = flush_subnormal(lambda_view + lambda_light);
     let visible_fraction = if infinite { 1.0 } else { visible_fraction_of_finite(lambda) };
     Some(attribute.mean + attribute.height_correlation * visible_fraction)
+}
+
+/// Whether `lambda` is a Smith Λ (eq. 6): `+∞` or a value `≥ 0` (false for NaN). WGSL
+/// twin: `smith_lambda_is_valid`.
+pub(crate) fn is_valid_lambda(lambda: f32) -> bool {
+    !is_nan_bits(lambda) && lambda >= 0.0
 }
 
 /// Eq. 17's visible fraction `Λ/(Λ + 2)`, written `1/(1 + 2/Λ)`, for a finite, flushed

@@ -36,7 +36,7 @@
 use glam::Vec4;
 use gpu_layout::gpu_struct;
 
-use crate::attribute::{HeightCorrelatedAttribute, visible_fraction_of_finite};
+use crate::attribute::{HeightCorrelatedAttribute, is_valid_lambda, visible_fraction_of_finite};
 use crate::erf::{flush_subnormal, is_infinite_bits, is_nan_bits};
 
 /// Number of knots of a [`LambdaCorrection`], at `u = i/7`, `i = 0 … 7`.
@@ -116,7 +116,7 @@ impl Default for LambdaCorrection {
 ///
 /// WGSL twin: `smith_corrected_lambda`.
 pub fn corrected_lambda(lambda: f32, correction: &LambdaCorrection) -> Option<f32> {
-    if is_nan_bits(lambda) || lambda < 0.0 || !correction.is_valid() {
+    if !is_valid_lambda(lambda) || !correction.is_valid() {
         return None;
     }
     if is_infinite_bits(lambda) || lambda > MAX_CORRECTED_LAMBDA {
@@ -138,8 +138,8 @@ pub fn corrected_visible_mean_attribute(
     lambda_light: f32,
     correction: &LambdaCorrection,
 ) -> Option<f32> {
-    let valid = |lambda: f32| !is_nan_bits(lambda) && lambda >= 0.0;
-    if !(valid(lambda_view) && valid(lambda_light) && attribute.is_valid() && correction.is_valid()) {
+    if !(is_valid_lambda(lambda_view) && is_valid_lambda(lambda_light) && attribute.is_valid() && correction.is_valid())
+    {
         return None;
     }
     let infinite =

@@ -57,6 +57,14 @@ fn tracer(c: &mut Criterion) {
                 .count()
         });
     });
+    let blocks = TraceSettings { stepping: Stepping::BlockCells, ..quadric };
+    group.bench_function("quadric/ddm_4x1_block_cells_compressed_block4", |b| {
+        b.iter(|| {
+            rays.iter()
+                .filter(|&&(o, d)| trace(&compressed, Some(&patches), black_box(o), d, blocks).hit.is_some())
+                .count()
+        });
+    });
     group.bench_function("triangles/ddm_4x1", |b| {
         b.iter(|| {
             rays.iter().filter(|&&(o, d)| trace(&ddm, Some(&exact), black_box(o), d, quadric).hit.is_some()).count()

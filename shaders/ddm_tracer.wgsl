@@ -302,7 +302,8 @@ fn trace_ray(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>) -> Trace
         let value = cell.distance;
         if value > 0.0 {
             var inside = 0.0;
-            if u.stepping.x == TRACE_STEPPING_VOXEL_EXIT {
+            let block = any(cell.size != vec3<u32>(1u));
+            if u.stepping.x == TRACE_STEPPING_VOXEL_EXIT || (u.stepping.x == TRACE_STEPPING_BLOCK_CELLS && block) {
                 // To the exit wall of the cell (the voxel, or a block without surface).
                 let corner = vec3<f32>(v) - vec3<f32>(wrapped - cell.origin);
                 inside = trace_cell_exit(p - corner, d, vec3<f32>(cell.size));

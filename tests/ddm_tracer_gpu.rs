@@ -162,6 +162,18 @@ fn gpu_tracer_equals_the_cpu_reference() {
                 TraceSettings { stepping: Stepping::VoxelExit, ..sphere },
             ),
             (
+                "DDM 4x1, block cells",
+                CompressedMaps::compress(&ddm, 4).unwrap(),
+                None,
+                TraceSettings { stepping: Stepping::BlockCells, ..sphere },
+            ),
+            (
+                "DDM 4x1 + quadric, block cells",
+                CompressedMaps::compress(&ddm, 4).unwrap(),
+                Some(&patches),
+                TraceSettings { stepping: Stepping::BlockCells, ..quadric },
+            ),
+            (
                 "DDM 4x1 + adaptive 1e-3, voxel-exit stepping",
                 CompressedMaps::compress(&ddm, 4).unwrap(),
                 Some(&adaptive),

@@ -62,9 +62,12 @@ fn main() -> Result<(), String> {
     let rays = benches::tracer_rays(dims);
     for (name, surface, stepping) in [
         ("sphere tracing (no patches)", PatchSurface::C0, Stepping::Distance),
+        ("sphere tracing, block cells", PatchSurface::C0, Stepping::BlockCells),
         ("sphere tracing, voxel exit", PatchSurface::C0, Stepping::VoxelExit),
         ("C0 quadric", PatchSurface::C0, Stepping::Distance),
+        ("C0 quadric, block cells", PatchSurface::C0, Stepping::BlockCells),
         ("adaptive 1e-3", PatchSurface::Adaptive { max_error: 1e-3 }, Stepping::Distance),
+        ("adaptive 1e-3, block cells", PatchSurface::Adaptive { max_error: 1e-3 }, Stepping::BlockCells),
         ("adaptive 1e-3, voxel exit", PatchSurface::Adaptive { max_error: 1e-3 }, Stepping::VoxelExit),
     ] {
         let patches =

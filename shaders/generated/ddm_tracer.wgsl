@@ -17,6 +17,8 @@ const TRACE_STEPPING_DISTANCE: u32 = 0u;
 
 const TRACE_STEPPING_VOXEL_EXIT: u32 = 1u;
 
+const TRACE_STEPPING_BLOCK_CELLS: u32 = 2u;
+
 // Rust size 128 bytes.
 struct TracePatch {
     abcd: vec4<f32>, // offset 0

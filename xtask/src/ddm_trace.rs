@@ -30,6 +30,9 @@
 //! - `ddm_trace_compression.csv` (Table 3): each DDM method on raw and compressed maps
 //!   (blocks of 4): hit/miss differences, largest hit-point difference, steps, time ratio
 //!   compressed / raw (CPU: median of 15 interleaved pairs of passes; GPU: timestamps);
+//!   for the rows that step by the stored distance, the same again with the compressed
+//!   maps traced with block cells (`ddm_tracer::Stepping::BlockCells`: a block without
+//!   surface crossed in one step, beyond the paper; on raw maps the paper's rule);
 //! - `ddm_trace_patches.csv`: per patch construction, the voxels kept as quadrics and as
 //!   triangles, the patch count and the bytes the tracer reads;
 //! - `ddm_adaptive_budget.csv`: the adaptive patches at error budgets from 0.3 to 1e-3
@@ -117,6 +120,24 @@ fn timed(rays: &[(Vec3, Vec3)], f: impl Fn(Vec3, Vec3) -> TraceOutcome) -> Run {
 
 /// Rounds of [`interleaved_time_ratio`].
 const RATIO_ROUNDS: usize = 15;
+
+/// `(hit/miss differences, hit points more than 1e-5 voxel apart, the largest hit-point
+/// difference)` between two tracings of the same rays.
+fn hit_differences(a: &[TraceOutcome], b: &[TraceOutcome]) -> (usize, usize, f32) {
+    let (mut differ, mut moved, mut worst) = (0, 0, 0.0_f32);
+    for (a, b) in a.iter().zip(b) {
+        match (a.hit, b.hit) {
+            (Some(a), Some(b)) => {
+                let distance = (a.point - b.point).length();
+                worst = worst.max(distance);
+                moved += usize::from(distance > 1e-5);
+            }
+            (None, None) => {}
+            _ => differ += 1,
+        }
+    }
+    (differ, moved, worst)
+}
 
 /// The median over [`RATIO_ROUNDS`] rounds of the time of one pass of `rays` with
 /// `packed` over one with `raw`, the two passes of a round in alternating order: a drift
@@ -303,7 +324,7 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
         "mesostructure,method,mean_steps,max_steps,exhausted,truth_hits,both_hit,holes,false_hits,gross_over_0.5_voxel,mean_error_voxel,max_error_voxel,within_1e-3_of_both_pct,within_1e-3_of_truth_pct,cpu_rays_per_s,gpu_ms,gpu_timing,gpu_differs_from_cpu\n",
     );
     let mut compression_csv = String::from(
-        "mesostructure,method,block,efficiency,raw_mean_steps,compressed_mean_steps,hit_miss_differ,points_differ_over_1e-5_voxel,max_point_difference_voxel,cpu_time_ratio,gpu_time_ratio\n",
+        "mesostructure,method,block,efficiency,raw_mean_steps,compressed_mean_steps,hit_miss_differ,points_differ_over_1e-5_voxel,max_point_difference_voxel,cpu_time_ratio,gpu_time_ratio,block_cells_mean_steps,block_cells_hit_miss_differ,block_cells_points_differ_over_1e-5_voxel,block_cells_max_point_difference_voxel,block_cells_cpu_time_ratio\n",
     );
     let mut patches_csv =
         String::from("mesostructure,patches,quadric_voxels,triangle_voxels,voxels_without_patch,patch_count,bytes\n");
@@ -436,22 +457,28 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
                 |o, d| trace(&compressed, patch_set, o, d, trace_settings),
             );
             let packed_gpu = gpu_run(&gpu, &compressed, patch_set, trace_settings, &view.rays, &packed)?;
-            let (mut differ, mut moved, mut worst) = (0, 0, 0.0_f32);
-            for (a, b) in run.outcomes.iter().zip(&packed) {
-                match (a.hit, b.hit) {
-                    (Some(a), Some(b)) => {
-                        let distance = (a.point - b.point).length();
-                        worst = worst.max(distance);
-                        moved += usize::from(distance > 1e-5);
-                    }
-                    (None, None) => {}
-                    _ => differ += 1,
-                }
-            }
+            let (differ, moved, worst) = hit_differences(&run.outcomes, &packed);
             let mean = |o: &[TraceOutcome]| o.iter().map(|o| f64::from(o.steps)).sum::<f64>() / o.len() as f64;
+            // The paper's rule on raw maps against block cells on compressed maps (the
+            // same rule on raw maps: `Stepping::BlockCells`); voxel-exit rows cross blocks
+            // as cells already.
+            let block_cells = if trace_settings.stepping == Stepping::Distance {
+                let blocks = TraceSettings { stepping: Stepping::BlockCells, ..trace_settings };
+                let packed: Vec<TraceOutcome> =
+                    view.rays.iter().map(|&(o, d)| trace(&compressed, patch_set, o, d, blocks)).collect();
+                let ratio = interleaved_time_ratio(
+                    &view.rays,
+                    |o, d| trace(raw, patch_set, o, d, trace_settings),
+                    |o, d| trace(&compressed, patch_set, o, d, blocks),
+                );
+                let (differ, moved, worst) = hit_differences(&run.outcomes, &packed);
+                format!("{:.3},{differ},{moved},{worst:e},{ratio:.3}", mean(&packed))
+            } else {
+                String::from(",,,,")
+            };
             writeln!(
                 compression_csv,
-                "{},{name},{COMPRESSION_BLOCK},{:.3},{:.3},{:.3},{differ},{moved},{worst:e},{:.3},{:.3}",
+                "{},{name},{COMPRESSION_BLOCK},{:.3},{:.3},{:.3},{differ},{moved},{worst:e},{:.3},{:.3},{block_cells}",
                 structure.name(),
                 compressed.compression_efficiency(),
                 mean(&run.outcomes),

@@ -21,6 +21,8 @@ pub const METHOD_RELIEF: u32 = 2;
 pub const STEPPING_DISTANCE: u32 = 0;
 /// `TraceUniforms::stepping.x` for [`crate::Stepping::VoxelExit`].
 pub const STEPPING_VOXEL_EXIT: u32 = 1;
+/// `TraceUniforms::stepping.x` for [`crate::Stepping::BlockCells`].
+pub const STEPPING_BLOCK_CELLS: u32 = 2;
 /// `TracePatch::ij_corners.w` of a *bounded* patch: its hits count only inside its
 /// polygon even when it is alone in its voxel (the exact triangles of
 /// [`crate::exact_patches`]). Other patches store 0 there.
@@ -62,7 +64,7 @@ gpu_struct! {
         pub elevation_band: Vec4,
         /// Relief mapping: `(linear_steps, binary_steps, texels_per_voxel, 0)`.
         pub relief: UVec4,
-        /// `(stepping, 0, 0, 0)`: [`STEPPING_DISTANCE`] or [`STEPPING_VOXEL_EXIT`].
+        /// `(stepping, 0, 0, 0)`: [`STEPPING_DISTANCE`], [`STEPPING_VOXEL_EXIT`] or [`STEPPING_BLOCK_CELLS`].
         pub stepping: UVec4,
     }
 }
@@ -111,6 +113,7 @@ pub const WGSL_CONSTANTS: &[GpuConst] = &[
     gpu_const!(BOUNDED_PATCH: f32 as "TRACE_BOUNDED_PATCH"),
     gpu_const!(STEPPING_DISTANCE: u32 as "TRACE_STEPPING_DISTANCE"),
     gpu_const!(STEPPING_VOXEL_EXIT: u32 as "TRACE_STEPPING_VOXEL_EXIT"),
+    gpu_const!(STEPPING_BLOCK_CELLS: u32 as "TRACE_STEPPING_BLOCK_CELLS"),
 ];
 
 impl TraceRay {

@@ -449,13 +449,19 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
             let gpu_result = gpu_run(&gpu, &raw_gpu, patch_set, trace_settings, &view.rays, &run.outcomes)?;
             // Table 3: the same method on compressed maps.
             let compressed = CompressedMaps::compress(raw, COMPRESSION_BLOCK).ok_or("cannot compress")?;
-            let packed: Vec<TraceOutcome> =
-                view.rays.iter().map(|&(o, d)| trace(&compressed, patch_set, o, d, trace_settings)).collect();
-            let cpu_time_ratio = interleaved_time_ratio(
-                &view.rays,
-                |o, d| trace(raw, patch_set, o, d, trace_settings),
-                |o, d| trace(&compressed, patch_set, o, d, trace_settings),
-            );
+            // The compressed maps traced with `settings`: outcomes, and the time ratio to
+            // the raw maps traced as in Tables 1/2.
+            let on_compressed = |settings: TraceSettings| {
+                let outcomes: Vec<TraceOutcome> =
+                    view.rays.iter().map(|&(o, d)| trace(&compressed, patch_set, o, d, settings)).collect();
+                let ratio = interleaved_time_ratio(
+                    &view.rays,
+                    |o, d| trace(raw, patch_set, o, d, trace_settings),
+                    |o, d| trace(&compressed, patch_set, o, d, settings),
+                );
+                (outcomes, ratio)
+            };
+            let (packed, cpu_time_ratio) = on_compressed(trace_settings);
             let packed_gpu = gpu_run(&gpu, &compressed, patch_set, trace_settings, &view.rays, &packed)?;
             let (differ, moved, worst) = hit_differences(&run.outcomes, &packed);
             let mean = |o: &[TraceOutcome]| o.iter().map(|o| f64::from(o.steps)).sum::<f64>() / o.len() as f64;
@@ -463,14 +469,7 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
             // same rule on raw maps: `Stepping::BlockCells`); voxel-exit rows cross blocks
             // as cells already.
             let block_cells = if trace_settings.stepping == Stepping::Distance {
-                let blocks = TraceSettings { stepping: Stepping::BlockCells, ..trace_settings };
-                let packed: Vec<TraceOutcome> =
-                    view.rays.iter().map(|&(o, d)| trace(&compressed, patch_set, o, d, blocks)).collect();
-                let ratio = interleaved_time_ratio(
-                    &view.rays,
-                    |o, d| trace(raw, patch_set, o, d, trace_settings),
-                    |o, d| trace(&compressed, patch_set, o, d, blocks),
-                );
+                let (packed, ratio) = on_compressed(TraceSettings { stepping: Stepping::BlockCells, ..trace_settings });
                 let (differ, moved, worst) = hit_differences(&run.outcomes, &packed);
                 format!("{:.3},{differ},{moved},{worst:e},{ratio:.3}", mean(&packed))
             } else {

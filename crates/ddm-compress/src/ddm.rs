@@ -3,8 +3,12 @@
 //! `DDM(V, cone) = min { |m − v| : m ∈ M, v ∈ V, m − v ∈ cone }`: a ray leaving any point of
 //! voxel `V` in a direction of the cone can advance that far without missing the
 //! mesostructure `M`. The values computed here are lower bounds of it (conservative, as
-//! the paper requires), within about twice the `tolerance` of the exact value; voxels that
-//! `M` crosses store exactly 0 for every cone.
+//! the paper requires), within about twice the `tolerance` of the exact value for the
+//! cones that are convex (the plain map, and every band of elevations from a pole to the
+//! horizon, such as the DDM `m × 1`); a band short of the pole or the horizon (the DDM
+//! `m × n`, `n ≥ 2`) is bounded through a convex cone that holds it, so its values are
+//! lower bounds that can be looser (see `convex_cone` in the source). Voxels that `M`
+//! crosses store exactly 0 for every cone.
 
 use alloc::vec::Vec;
 
@@ -52,7 +56,7 @@ impl Default for DistanceMapSettings {
 /// one per cone of `cones`, or the plain distance map for `None`.
 ///
 /// Every value is a lower bound of the true (directional) distance, within about
-/// `2 tolerance` of it; voxels that a triangle crosses store 0. All cones of a voxel are
+/// `2 tolerance` of it for convex cones (see the module documentation); voxels that a triangle crosses store 0. All cones of a voxel are
 /// searched together over a triangle hierarchy, refining box–triangle pairs only where a
 /// cone's value depends on them (see the `search` module's documentation in the source);
 /// with the `std` feature the rows of the grid are shared among the available threads.
@@ -379,11 +383,19 @@ mod tests {
         // the two searches may finalise different pairs: both stay below the true value
         // (below a sampled upper estimate of it) and within `2 tolerance` of each other.
         let dims = UVec3::new(7, 6, 5);
-        let mut largest_difference = 0.0_f32;
+        let mut largest_difference = [0.0_f32; 2];
         for seed in [0x9e37_79b9_7f4a_7c15_u64, 0x1234_5678_9abc_def1] {
             let triangles = random_scene(seed, 40, dims);
             let settings = DistanceMapSettings { tolerance: 0.1, periodic_xy: false };
-            for cones in [None, DirectionCones::downward(4, 1), DirectionCones::full(3, 2)] {
+            // `downward(4, 2)` and `downward(8, 3)` have bands short of the pole and the
+            // horizon, whose convex cones are cut (see `convex_cone`).
+            for (group, cones) in [
+                (0, None),
+                (0, DirectionCones::downward(4, 1)),
+                (0, DirectionCones::full(3, 2)),
+                (1, DirectionCones::downward(4, 2)),
+                (1, DirectionCones::downward(8, 3)),
+            ] {
                 let fast = compute_distance_maps(dims, &triangles, cones, settings).unwrap();
                 let reference = reference_distance_maps(dims, &triangles, cones, settings).unwrap();
                 assert_eq!(fast.surface, reference.surface);
@@ -408,15 +420,18 @@ mod tests {
                                     hierarchy <= sampled + 1e-4 && every <= sampled + 1e-4,
                                     "voxel {index} cone {c}"
                                 );
-                                largest_difference = largest_difference.max((hierarchy - every).abs());
+                                largest_difference[group] = largest_difference[group].max((hierarchy - every).abs());
                             }
                         }
                     }
                 }
             }
         }
-        // Measured: 0.061 voxel (the guarantee is 2 tolerance = 0.2; the hierarchy's search
-        // is also seeded with the previous voxel's witnesses, the other is not).
-        assert!(largest_difference <= 0.075, "{largest_difference}");
+        // Measured: 0.061 voxel for the convex cones (the guarantee is 2 tolerance = 0.2;
+        // the hierarchy's search is also seeded with the previous voxel's witnesses, the
+        // other is not), 0.099 for the cut ones, whose pairs are more often finalised by
+        // size (their bounds cannot reach the witnesses' lengths).
+        assert!(largest_difference[0] <= 0.075, "{largest_difference:?}");
+        assert!(largest_difference[1] <= 0.11, "{largest_difference:?}");
     }
 }

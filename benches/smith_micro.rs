@@ -73,6 +73,19 @@ fn smith(c: &mut Criterion) {
                 .sum::<f32>()
         });
     });
+    let cubic = smith_micro::CubicLambdaCorrection::fit_to_table(&correction)
+        .unwrap_or(smith_micro::CubicLambdaCorrection::IDENTITY);
+    group.bench_function("cubic_corrected_visible_mean_attribute", |b| {
+        b.iter(|| {
+            lambdas
+                .iter()
+                .map(|&(v, l)| {
+                    smith_micro::cubic_corrected_visible_mean_attribute(attribute, black_box(v), black_box(l), &cubic)
+                        .unwrap_or(0.0)
+                })
+                .sum::<f32>()
+        });
+    });
     group.finish();
 }
 

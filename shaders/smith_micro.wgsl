@@ -538,6 +538,34 @@ fn smith_corrected_visible_mean_attribute_of_valid_table(correlated_attribute: v
     return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
 }
 
+// The correction of Λ as a cubic (Rust: cubic_correction, CubicLambdaCorrection declared
+// in shaders/generated/smith_micro.wgsl): Λ' = c(u) Λ, c(u) = c0 + u (c1 + u (c2 + u c3)).
+
+// Rust: cubic_correction::CubicLambdaCorrection::factor.
+fn smith_cubic_correction_factor(correction: CubicLambdaCorrection, u: f32) -> f32 {
+    let c = correction.coefficients;
+    return c.x + u * (c.y + u * (c.z + u * c.w));
+}
+
+// Rust: cubic_correction::cubic_corrected_visible_mean_attribute, for a correction that
+// CubicLambdaCorrection::is_valid accepted (checked once per material, on the CPU).
+fn smith_corrected_visible_mean_attribute_of_valid_cubic(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, correction: CubicLambdaCorrection) -> SmithValue {
+    if !(smith_lambda_is_valid(lambda_view) && smith_lambda_is_valid(lambda_light) && smith_attribute_is_valid(correlated_attribute)) {
+        return smith_none();
+    }
+    var visible_fraction = 1.0;
+    let any_infinite = lambda_view.kind == SMITH_POSITIVE_INFINITY || lambda_light.kind == SMITH_POSITIVE_INFINITY;
+    if !any_infinite && !(lambda_view.value > SMITH_F32_MAX - lambda_light.value) {
+        let lambda = smith_flush_subnormal(lambda_view.value + lambda_light.value);
+        // Above SMITH_MAX_CORRECTED_LAMBDA the corrected Λ is +∞: the fraction stays 1.
+        if !(lambda > SMITH_MAX_CORRECTED_LAMBDA) {
+            let u = lambda / (1.0 + lambda);
+            visible_fraction = smith_visible_fraction_of_finite(smith_flush_subnormal(smith_cubic_correction_factor(correction, u) * lambda));
+        }
+    }
+    return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
+}
+
 // The corrected visibility model with a light-view correlation term (Rust:
 // correlated::VisibilityCorrection, declared in shaders/generated/smith_micro.wgsl):
 // Λ' = A + B − ρ(cos Δφ) min(A, B), A = c_v Λ(v), B = c_l Λ(l).

@@ -19,9 +19,11 @@ use glam::{Vec3, Vec4};
 use integration_tests::{gpu, random_unit_directions, special_directions};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
+use smith_micro::CubicLambdaCorrection;
 use smith_micro::gpu::{
-    CorrectionCase, CorrectionResults, CorrelatedCase, CorrelatedResults, NONE_BITS, SmithCase, SmithResults,
-    reference_correction_results, reference_correlated_results, reference_results,
+    CorrectionCase, CorrectionResults, CorrelatedCase, CorrelatedResults, CubicCase, CubicResults, NONE_BITS,
+    SmithCase, SmithResults, reference_correction_results, reference_correlated_results, reference_cubic_results,
+    reference_results,
 };
 use smith_micro::{SlopeDeviation, nu_of_direction};
 
@@ -281,6 +283,54 @@ fn every_function_matches_the_cpu_reference() {
     );
 }
 
+/// Compares four encoded results per case, CPU (`reference`) against GPU: `None` and
+/// non-finite results must have the same bits, finite ones differ by at most their
+/// tolerance (relative, or absolute where `absolute` says so). Prints the worst
+/// difference and difference / tolerance per result and fails with examples.
+fn check_four_results<C>(
+    label: &str,
+    names: [&str; 4],
+    cases: &[C],
+    gpu_bits: &[[u32; 4]],
+    reference: impl Fn(&C) -> [u32; 4],
+    tolerances: impl Fn(&C, &[f32; 4]) -> [f64; 4],
+    absolute: [bool; 4],
+) {
+    let mut worst = [(0.0_f64, 0.0_f64); 4];
+    let mut failures = Vec::new();
+    for (index, (case, gpu_bits)) in cases.iter().zip(gpu_bits).enumerate() {
+        let cpu_bits = reference(case);
+        let tolerance = tolerances(case, &cpu_bits.map(f32::from_bits));
+        for (function, (&c, &g)) in cpu_bits.iter().zip(gpu_bits).enumerate() {
+            let (cpu, gpu) = (f32::from_bits(c), f32::from_bits(g));
+            let special = |bits: u32, value: f32| bits == NONE_BITS || !value.is_finite();
+            if special(c, cpu) || special(g, gpu) {
+                if c != g {
+                    failures.push((names[function], index, cpu, gpu, f64::INFINITY));
+                }
+                continue;
+            }
+            let difference =
+                if absolute[function] { f64::from((cpu - gpu).abs()) } else { relative_difference(cpu, gpu) };
+            let ratio = difference / tolerance[function];
+            if ratio > 1.0 {
+                failures.push((names[function], index, cpu, gpu, difference));
+            }
+            worst[function] = (worst[function].0.max(difference), worst[function].1.max(ratio));
+        }
+    }
+    println!("{} {label} cases", cases.len());
+    for (name, (difference, ratio)) in names.iter().zip(worst) {
+        println!("{name:>30}: max difference {difference:.3e}, max difference / tolerance {ratio:.3}");
+    }
+    assert!(
+        failures.is_empty(),
+        "{} results differ in kind or beyond their tolerance, e.g. {:?}",
+        failures.len(),
+        &failures[..failures.len().min(10)]
+    );
+}
+
 /// Knot values that stress the correction: the accepted range's ends and just outside,
 /// NaN, ±∞, zero, negative and subnormal.
 const SPECIAL_KNOTS: [f32; 12] =
@@ -366,38 +416,15 @@ fn corrected_functions_match_the_cpu_reference() {
     assert!(cases.len() >= 100_000);
     let gpu_results: Vec<CorrectionResults> =
         gpu().compute_map(&source, "smith_corrected_values", &[0_u8; 16], &cases).unwrap();
-    let mut worst = [(0.0_f64, 0.0_f64); 4];
-    let mut failures = Vec::new();
-    for (index, (case, gpu_result)) in cases.iter().zip(&gpu_results).enumerate() {
-        let cpu_bits = reference_correction_results(case).values.to_array();
-        let gpu_bits = gpu_result.values.to_array();
-        let tolerance = correction_tolerances(case, &cpu_bits.map(f32::from_bits));
-        for (function, (&c, &g)) in cpu_bits.iter().zip(&gpu_bits).enumerate() {
-            let (cpu, gpu) = (f32::from_bits(c), f32::from_bits(g));
-            let special = |bits: u32, value: f32| bits == NONE_BITS || !value.is_finite();
-            if special(c, cpu) || special(g, gpu) {
-                if c != g {
-                    failures.push((CORRECTION_NAMES[function], index, cpu, gpu, f64::INFINITY));
-                }
-                continue;
-            }
-            let difference = relative_difference(cpu, gpu);
-            let ratio = difference / tolerance[function];
-            if ratio > 1.0 {
-                failures.push((CORRECTION_NAMES[function], index, cpu, gpu, difference));
-            }
-            worst[function] = (worst[function].0.max(difference), worst[function].1.max(ratio));
-        }
-    }
-    println!("{} correction cases", cases.len());
-    for (name, (difference, ratio)) in CORRECTION_NAMES.iter().zip(worst) {
-        println!("{name:>28}: max relative difference {difference:.3e}, max difference / tolerance {ratio:.3}");
-    }
-    assert!(
-        failures.is_empty(),
-        "{} results differ in kind or beyond their tolerance, e.g. {:?}",
-        failures.len(),
-        &failures[..failures.len().min(10)]
+    let gpu_bits: Vec<[u32; 4]> = gpu_results.iter().map(|r| r.values.to_array()).collect();
+    check_four_results(
+        "correction",
+        CORRECTION_NAMES,
+        &cases,
+        &gpu_bits,
+        |case| reference_correction_results(case).values.to_array(),
+        correction_tolerances,
+        [false; 4],
     );
 }
 
@@ -554,38 +581,115 @@ fn correlated_functions_match_the_cpu_reference() {
     assert!(cases.len() >= 100_000);
     let gpu_results: Vec<CorrelatedResults> =
         gpu().compute_map(&source, "smith_correlated_values", &[0_u8; 16], &cases).unwrap();
-    let mut worst = [(0.0_f64, 0.0_f64); 4];
-    let mut failures = Vec::new();
-    for (index, (case, gpu_result)) in cases.iter().zip(&gpu_results).enumerate() {
-        let cpu_bits = reference_correlated_results(case).values.to_array();
-        let gpu_bits = gpu_result.values.to_array();
-        let tolerance = correlated_tolerances(case, &cpu_bits.map(f32::from_bits));
-        for (function, (&c, &g)) in cpu_bits.iter().zip(&gpu_bits).enumerate() {
-            let (cpu, gpu) = (f32::from_bits(c), f32::from_bits(g));
-            let special = |bits: u32, value: f32| bits == NONE_BITS || !value.is_finite();
-            if special(c, cpu) || special(g, gpu) {
-                if c != g {
-                    failures.push((CORRELATED_NAMES[function], index, cpu, gpu, f64::INFINITY));
-                }
-                continue;
+    let gpu_bits: Vec<[u32; 4]> = gpu_results.iter().map(|r| r.values.to_array()).collect();
+    // cos Δφ absolutely, the others relatively.
+    check_four_results(
+        "correlated",
+        CORRELATED_NAMES,
+        &cases,
+        &gpu_bits,
+        |case| reference_correlated_results(case).values.to_array(),
+        correlated_tolerances,
+        [false, false, true, false],
+    );
+}
+
+/// Valid cubic corrections (the WGSL twin takes one checked once per material): random
+/// coefficients kept when [`CubicLambdaCorrection::is_valid`] accepts them, the identity,
+/// and cubics fitted to random tables; Λs and attributes as in `correction_cases`, with
+/// every input set to each special scalar in turn.
+fn cubic_cases() -> Vec<CubicCase> {
+    let mut rng = SmallRng::seed_from_u64(31);
+    let random_lambda = |rng: &mut SmallRng| {
+        if rng.random_bool(0.05) { 0.0 } else { log_uniform(rng, 1e-6, 1e6) }
+    };
+    let coefficients = |rng: &mut SmallRng| loop {
+        if rng.random_bool(0.05) {
+            return CubicLambdaCorrection::IDENTITY.coefficients;
+        }
+        if rng.random_bool(0.3) {
+            let knots: [f32; 8] = std::array::from_fn(|_| log_uniform(rng, 0.25, 4.0));
+            let table = smith_micro::LambdaCorrection::from_knots(knots).expect("knots in range");
+            if let Some(cubic) = CubicLambdaCorrection::fit_to_table(&table) {
+                return cubic.coefficients;
             }
-            // cos Δφ absolutely, the others relatively.
-            let difference = if function == 2 { f64::from((cpu - gpu).abs()) } else { relative_difference(cpu, gpu) };
-            let ratio = difference / tolerance[function];
-            if ratio > 1.0 {
-                failures.push((CORRELATED_NAMES[function], index, cpu, gpu, difference));
+            continue;
+        }
+        let candidate: [f32; 4] =
+            std::array::from_fn(|i| if i == 0 { rng.random_range(0.25..4.0) } else { rng.random_range(-6.0..6.0) });
+        if let Some(cubic) = CubicLambdaCorrection::from_coefficients(candidate) {
+            return cubic.coefficients;
+        }
+    };
+    let case = |rng: &mut SmallRng| CubicCase {
+        coefficients: coefficients(rng),
+        inputs: Vec4::new(
+            rng.random_range(-2.0..2.0),
+            rng.random_range(-2.0..2.0),
+            random_lambda(rng),
+            random_lambda(rng),
+        ),
+    };
+    let mut cases = Vec::new();
+    for &special in &SPECIAL_SCALARS {
+        for input in 0..4 {
+            for _ in 0..8 {
+                let mut c = case(&mut rng);
+                c.inputs[input] = special;
+                cases.push(c);
             }
-            worst[function] = (worst[function].0.max(difference), worst[function].1.max(ratio));
         }
     }
-    println!("{} correlated cases", cases.len());
-    for (name, (difference, ratio)) in CORRELATED_NAMES.iter().zip(worst) {
-        println!("{name:>30}: max difference {difference:.3e}, max difference / tolerance {ratio:.3}");
+    while cases.len() < 110_000 {
+        cases.push(case(&mut rng));
     }
-    assert!(
-        failures.is_empty(),
-        "{} results differ in kind or beyond their tolerance, e.g. {:?}",
-        failures.len(),
-        &failures[..failures.len().min(10)]
+    cases
+}
+
+/// Relative tolerances of the 4 cubic results of one case. `u = Λ/(1+Λ)` is a division
+/// (2.5 ulp in Vulkan): `c` moves by at most `|c′| 3ε` with `|c′| ≤ |c₁| + 2|c₂| + 3|c₃|`;
+/// Horner's three multiply–adds (rounded or FMA-contracted) add at most
+/// `8 ε (|c₀| + |c₁| + |c₂| + |c₃|)`; relative to `c ≥ 0.25`. The attributes inherit it
+/// through `Λ'` as in `correction_tolerances`.
+fn cubic_tolerances(case: &CubicCase, cpu: &[f32; 4]) -> [f64; 4] {
+    let [c0, c1, c2, c3] = case.coefficients.to_array().map(|c| f64::from(c).abs());
+    let epsilon = f64::from(f32::EPSILON);
+    let lambda_tolerance = |lambda: f32| {
+        let factor =
+            f64::from(CubicLambdaCorrection { coefficients: case.coefficients }.factor(lambda / (1.0 + lambda)));
+        BASE.max(
+            4.0 * epsilon
+                + (3.0 * (c1 + 2.0 * c2 + 3.0 * c3) + 8.0 * (c0 + c1 + c2 + c3)) * epsilon / factor.abs().max(0.25),
+        )
+    };
+    let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array();
+    let sum = lambda_tolerance(lambda_view + lambda_light);
+    let view = lambda_tolerance(lambda_view);
+    let relative_to = |absolute: f64, value: f32| absolute / f64::from(value.abs()).max(1e-30);
+    let sum_rounding = 1e-6 * (f64::from(mean).abs() + f64::from(correlation).abs());
+    let attribute =
+        |lambda: f64, value: f32| BASE.max(relative_to(f64::from(correlation).abs() * lambda + sum_rounding, value));
+    [view, attribute(sum, cpu[1]), attribute(sum, cpu[2]), attribute(view, cpu[3])]
+}
+
+#[test]
+fn cubic_correction_matches_the_cpu_reference() {
+    const CUBIC_NAMES: [&str; 4] = ["cubic factor", "abar cubic (v, l)", "abar cubic (l, v)", "abar cubic (v, 0)"];
+    let module = shader_registry::module("smith_micro").expect("module is registered");
+    let source =
+        module.with_kernel("smith_micro_cubic_differential").expect("kernel is registered").source().to_owned();
+    let cases = cubic_cases();
+    assert!(cases.len() >= 100_000);
+    let gpu_results: Vec<CubicResults> =
+        gpu().compute_map(&source, "smith_cubic_corrected_values", &[0_u8; 16], &cases).unwrap();
+    let gpu_bits: Vec<[u32; 4]> = gpu_results.iter().map(|r| r.values.to_array()).collect();
+    check_four_results(
+        "cubic",
+        CUBIC_NAMES,
+        &cases,
+        &gpu_bits,
+        |case| reference_cubic_results(case).values.to_array(),
+        cubic_tolerances,
+        [false; 4],
     );
 }

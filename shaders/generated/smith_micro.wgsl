@@ -120,3 +120,19 @@ struct CorrelatedCase {
 struct CorrelatedResults {
     values: vec4<u32>, // offset 0
 }
+
+// Rust size 16 bytes.
+struct CubicLambdaCorrection {
+    coefficients: vec4<f32>, // offset 0
+}
+
+// Rust size 32 bytes.
+struct CubicCase {
+    coefficients: vec4<f32>, // offset 0
+    inputs: vec4<f32>, // offset 16
+}
+
+// Rust size 16 bytes.
+struct CubicResults {
+    values: vec4<u32>, // offset 0
+}

@@ -14,7 +14,9 @@
 //! [`crate::fit_lambda_correction`] on another realization of the surface.
 
 use glam::{DVec3, Vec3};
-use smith_micro::{HeightCorrelatedAttribute, LambdaCorrection, SlopeDeviation, VisibilityCorrection};
+use smith_micro::{
+    CubicLambdaCorrection, HeightCorrelatedAttribute, LambdaCorrection, SlopeDeviation, VisibilityCorrection,
+};
 
 use crate::experiment::VisibleAverage;
 use crate::heightfield::HeightField;
@@ -69,6 +71,20 @@ impl AngleComparison {
     /// The error of the correction applied per direction, as a fraction of the range.
     pub fn corrected_per_direction_error(&self) -> f64 {
         (self.corrected_per_direction - self.truth).abs() / 2.0
+    }
+
+    /// Eq. 17 with this row's `Λ(v) + Λ(l)` corrected by the cubic `correction`
+    /// (`smith_micro::cubic_corrected_visible_mean_attribute`, the attribute `s` with its
+    /// mean as in the other models); `None` for an invalid correction.
+    pub fn cubic_corrected(&self, correction: &CubicLambdaCorrection) -> Option<f64> {
+        let stored = HeightCorrelatedAttribute { mean: self.mip as f32, height_correlation: 1.0 };
+        smith_micro::cubic_corrected_visible_mean_attribute(stored, self.lambda as f32, 0.0, correction).map(f64::from)
+    }
+
+    /// The cubic correction's error as a fraction of the range (1, the largest possible,
+    /// for an invalid correction).
+    pub fn cubic_error(&self, correction: &CubicLambdaCorrection) -> f64 {
+        self.cubic_corrected(correction).map_or(1.0, |value| (value - self.truth).abs() / 2.0)
     }
 }
 

@@ -42,6 +42,8 @@ pub use experiment::{AttributeEstimate, VisibleAverage};
 pub use generate::{Spectrum, generate_cellular, generate_gaussian, generate_ridged};
 pub use heightfield::{HeightField, HeightFieldError};
 pub use raycast::{first_hit, is_lit};
+/// Re-exported: the cubic form of the correction (`CubicLambdaCorrection::fit_to_table`).
+pub use smith_micro::CubicLambdaCorrection;
 /// The corrected visibility model's per-material factor on Λ, as fitted here.
 pub use smith_micro::LambdaCorrection;
 /// The corrected visibility model with the light–view correlation term, as fitted here.

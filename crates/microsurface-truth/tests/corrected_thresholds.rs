@@ -23,8 +23,8 @@
 
 use microsurface_truth::comparison::{AngleComparison, Sweep, compare_models, max_error};
 use microsurface_truth::{
-    HeightField, LambdaCorrection, Spectrum, fit_visibility_correction, generate_cellular, generate_gaussian,
-    generate_ridged,
+    CubicLambdaCorrection, HeightField, LambdaCorrection, Spectrum, fit_visibility_correction, generate_cellular,
+    generate_gaussian, generate_ridged,
 };
 
 const ANGLES: [f64; 18] =
@@ -41,8 +41,9 @@ const AZIMUTH_RAYS: usize = 20_000;
 /// The largest errors up to 85° on the view-only and the view-and-light sweeps of
 /// `evaluation`, with the model fitted on `fitting`:
 /// `[eq17 view, corrected view, eq17 light, corrected light, eq17 and corrected with the
-/// light at the view's azimuth, eq17 and corrected with the light opposite]`.
-fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f64; 8] {
+/// light at the view's azimuth, eq17 and corrected with the light opposite, cubic view]`,
+/// the cubic being the one through the view table (`CubicLambdaCorrection::fit_to_table`).
+fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f64; 9] {
     let model = fit_visibility_correction(fitting, FIT_RAYS, 41).expect("the surfaces are not flat");
     let t = 60_f64.to_radians();
     let light = glam::DVec3::new(0.0, t.sin(), t.cos());
@@ -59,6 +60,7 @@ fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f6
     let (same, opposite) = (azimuth_sweep(1.0, 97), azimuth_sweep(-1.0, 96));
     let max = |rows: &[AngleComparison], error: fn(&AngleComparison) -> f64| max_error(rows, 0.0, 85.0, error);
     let standard_error = |rows: &[AngleComparison]| max(rows, |r| r.truth_standard_error / 2.0);
+    let cubic = CubicLambdaCorrection::fit_to_table(&model.view()).expect("the cubic stays in range");
     let errors = [
         max(&view, AngleComparison::eq17_error),
         max(&view, AngleComparison::correlated_error),
@@ -68,11 +70,13 @@ fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f6
         max(&same, AngleComparison::correlated_error),
         max(&opposite, AngleComparison::eq17_error),
         max(&opposite, AngleComparison::correlated_error),
+        max_error(&view, 0.0, 85.0, |row| row.cubic_error(&cubic)),
     ];
     println!(
         "{name}: view {:?}, light {:?}, rho {:?}\n  max error 0-85°: view eq. 17 {:.3}%, corrected {:.3}%; \
          light eq. 17 {:.3}%, corrected {:.3}% (standard error per angle ≤ {:.3}%, {:.3}%); \
-         light at 0°: eq. 17 {:.3}%, corrected {:.3}%; at 180°: eq. 17 {:.3}%, corrected {:.3}%",
+         light at 0°: eq. 17 {:.3}%, corrected {:.3}%; at 180°: eq. 17 {:.3}%, corrected {:.3}%; \
+         view, cubic {:?}: {:.3}%",
         model.view().knots(),
         model.light().knots(),
         model.correlation_coefficients(),
@@ -86,13 +90,17 @@ fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f6
         100.0 * errors[5],
         100.0 * errors[6],
         100.0 * errors[7],
+        cubic.coefficients.to_array(),
+        100.0 * errors[8],
     );
     errors
 }
 
-/// Asserts the corrected model's errors against `limits` (view, light) and that it is
-/// not worse than eq. 17 on any of the four sweeps.
-fn check(name: &str, errors: [f64; 8], limits: [f64; 2]) {
+/// Asserts the corrected model's errors against `limits` (view, light, cubic view) and
+/// that it is not worse than eq. 17 on any of the four sweeps, nor the cubic on the view.
+fn check(name: &str, errors: [f64; 9], limits: [f64; 3]) {
+    assert!(errors[8] <= limits[2], "{name}: cubic view error {} > {}", errors[8], limits[2]);
+    assert!(errors[8] < errors[0], "{name}: the cubic is worse than eq. 17 (view): {errors:?}");
     assert!(errors[1] <= limits[0], "{name}: corrected view error {} > {}", errors[1], limits[0]);
     assert!(errors[3] <= limits[1], "{name}: corrected light error {} > {}", errors[3], limits[1]);
     assert!(errors[1] < errors[0], "{name}: the corrected model is worse than eq. 17 (view): {errors:?}");
@@ -126,7 +134,7 @@ fn corrected_model_on_non_gaussian_surfaces() {
     check("ridged", measure("ridged", std::slice::from_ref(&ridged), &ridged), LIMITS[4]);
 }
 
-/// Limits on the corrected model's max error 0–85° (view only, view and light) for the
+/// Limits on the corrected model's max error 0–85° (view only, view and light, cubic) for the
 /// Gaussian-correlation, fBm, band-pass, cellular and ridged surfaces, just above the
 /// measured values (fractions of the attribute range; eq. 17 → corrected, measured):
 /// Gaussian ℓ = 12: view 2.400 % → 0.409 %, light 2.662 % → 0.689 %; fBm: view 0.480 % →
@@ -136,6 +144,13 @@ fn corrected_model_on_non_gaussian_surfaces() {
 /// `[−2, 2]`; the cellular light sweep was 0.508 % with `[−2, 1]`, which made the
 /// cellular texture worse than eq. 17 at `Δφ = 180°` on `cargo xtask fig9`). The ≤ 0.5 %
 /// goal is met on every view-only sweep and on the fBm view-and-light sweep; the other
-/// view-and-light sweeps miss it at this size (0.59–0.85 %).
-const LIMITS: [[f64; 2]; 5] =
-    [[0.0045, 0.0072], [0.0043, 0.0038], [0.0026, 0.0069], [0.0038, 0.0062], [0.0031, 0.0089]];
+/// view-and-light sweeps miss it at this size (0.59–0.85 %). Third: the least-squares
+/// cubic through the fitted view table, view only (measured 0.343, 0.304, 0.228, 0.337,
+/// 0.370 %).
+const LIMITS: [[f64; 3]; 5] = [
+    [0.0045, 0.0072, 0.0037],
+    [0.0043, 0.0038, 0.0033],
+    [0.0026, 0.0069, 0.0026],
+    [0.0038, 0.0062, 0.0037],
+    [0.0031, 0.0089, 0.0040],
+];

@@ -109,6 +109,7 @@ static MODULES: &[ShaderModule] = &[
             wgsl_file!("shaders/kernels/smith_micro_differential.wgsl"),
             wgsl_file!("shaders/kernels/smith_micro_corrected_differential.wgsl"),
             wgsl_file!("shaders/kernels/smith_micro_correlated_differential.wgsl"),
+            wgsl_file!("shaders/kernels/smith_micro_cubic_differential.wgsl"),
         ],
         structs: || {
             vec![
@@ -120,6 +121,9 @@ static MODULES: &[ShaderModule] = &[
                 StructDecl::of::<smith_micro::VisibilityCorrection>(),
                 StructDecl::of::<smith_micro::gpu::CorrelatedCase>(),
                 StructDecl::of::<smith_micro::gpu::CorrelatedResults>(),
+                StructDecl::of::<smith_micro::CubicLambdaCorrection>(),
+                StructDecl::of::<smith_micro::gpu::CubicCase>(),
+                StructDecl::of::<smith_micro::gpu::CubicResults>(),
             ]
         },
         constants: smith_micro::gpu::WGSL_CONSTANTS,

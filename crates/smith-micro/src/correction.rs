@@ -14,7 +14,8 @@
 //! On the GPU the correction costs 22 operations more than eq. 17 for a table checked
 //! once per material (`smith_corrected_visible_mean_attribute_of_valid_table`: the
 //! `Λ/(1 + Λ)` division, the lookup, one product and a flush; counted on naga's IR by
-//! the test `smith_micro_cost` in `shader-registry`, eq. 17 being 61).
+//! the test `smith_micro_cost` in `shader-registry`, eq. 17 being 61). Its cubic form,
+//! [`crate::cubic_correction`], costs 16 and is as accurate on the ray-traced sweeps.
 //!
 //! The correction applies to the **sum** `Λ = Λ(v) + Λ(l)`
 //! ([`corrected_visible_mean_attribute`]): eq. 17 only sees the sum, and a factor fitted

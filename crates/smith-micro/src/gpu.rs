@@ -25,6 +25,7 @@ use crate::correlated::{
     MAX_CORRELATION, MAX_CORRELATION_COEFFICIENT, MIN_CORRELATION, VisibilityCorrection, correlated_lambda,
     correlated_visible_mean_attribute, correlated_visible_mean_attribute_for_directions, cos_azimuth_difference,
 };
+use crate::cubic_correction::{CubicLambdaCorrection, cubic_corrected_visible_mean_attribute};
 use crate::erf::{ERF_SERIES_LIMIT, ERFC_COEFFICIENTS, ERFC_ZERO_FROM, erf, erfc, erfcx};
 use crate::height::{
     LOG_ONE_MINUS_SERIES_LIMIT, MAX_HEIGHT_DEVIATION, STANDARDIZED_HEIGHT_LIMIT, attribute_at_height, height_cdf,
@@ -153,6 +154,48 @@ pub fn reference_correction_results(case: &CorrectionCase) -> CorrectionResults 
     ]
     .map(encode);
     CorrectionResults { values: UVec4::from_array(values) }
+}
+
+gpu_struct! {
+    /// The inputs of one case of the differential kernel `smith_cubic_corrected_values`.
+    pub struct CubicCase {
+        /// [`CubicLambdaCorrection::coefficients`] (a valid correction: the WGSL twin
+        /// takes one checked once per material).
+        pub coefficients: Vec4,
+        /// `(ā, a_s, Λ(v), Λ(l))`.
+        pub inputs: Vec4,
+    }
+}
+
+gpu_struct! {
+    /// The encoded results of one [`CubicCase`], in the order of
+    /// [`reference_cubic_results`].
+    pub struct CubicResults {
+        /// Four results.
+        pub values: UVec4,
+    }
+}
+
+/// The CPU reference of the kernel `smith_cubic_corrected_values`: 4 encoded results,
+/// `c(u)` at `u = Λ(v)/(1 + Λ(v))` (`None` unless `Λ(v)` is finite, non-negative and at
+/// most [`MAX_CORRECTED_LAMBDA`]), and `ā(v, l)` corrected on the sum
+/// ([`cubic_corrected_visible_mean_attribute`]) for `(Λ(v), Λ(l))`, `(Λ(l), Λ(v))` and
+/// `(Λ(v), 0)`.
+pub fn reference_cubic_results(case: &CubicCase) -> CubicResults {
+    let correction = CubicLambdaCorrection { coefficients: case.coefficients };
+    let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array();
+    let attribute = HeightCorrelatedAttribute { mean, height_correlation: correlation };
+    let factor = (0.0..=MAX_CORRECTED_LAMBDA)
+        .contains(&lambda_view)
+        .then(|| correction.factor(lambda_view / (1.0 + lambda_view)));
+    let values = [
+        factor,
+        cubic_corrected_visible_mean_attribute(attribute, lambda_view, lambda_light, &correction),
+        cubic_corrected_visible_mean_attribute(attribute, lambda_light, lambda_view, &correction),
+        cubic_corrected_visible_mean_attribute(attribute, lambda_view, 0.0, &correction),
+    ]
+    .map(encode);
+    CubicResults { values: UVec4::from_array(values) }
 }
 
 gpu_struct! {

@@ -495,6 +495,18 @@ fn smith_corrected_lambda(lambda: SmithValue, correction: LambdaCorrection) -> S
     return smith_corrected_lambda_of_valid_table(lambda, correction);
 }
 
+// The flushed sum Λ(v) + Λ(l) that the corrections of the sum scale, or -1 where the
+// corrected Λ is +∞ and the visible fraction 1: a Λ is +∞, the sum overflows, or it
+// exceeds SMITH_MAX_CORRECTED_LAMBDA (Rust: correction::visible_mean_attribute_of_corrected_sum).
+fn smith_sum_to_correct(lambda_view: SmithValue, lambda_light: SmithValue) -> f32 {
+    let any_infinite = lambda_view.kind == SMITH_POSITIVE_INFINITY || lambda_light.kind == SMITH_POSITIVE_INFINITY;
+    if any_infinite || lambda_view.value > SMITH_F32_MAX - lambda_light.value {
+        return -1.0;
+    }
+    let lambda = smith_flush_subnormal(lambda_view.value + lambda_light.value);
+    return select(lambda, -1.0, lambda > SMITH_MAX_CORRECTED_LAMBDA);
+}
+
 // Rust: correction::corrected_lambda, for a table that smith_correction_is_valid accepts
 // (the callers check it once).
 fn smith_corrected_lambda_of_valid_table(lambda: SmithValue, correction: LambdaCorrection) -> SmithValue {
@@ -526,14 +538,10 @@ fn smith_corrected_visible_mean_attribute_of_valid_table(correlated_attribute: v
         return smith_none();
     }
     var visible_fraction = 1.0;
-    let any_infinite = lambda_view.kind == SMITH_POSITIVE_INFINITY || lambda_light.kind == SMITH_POSITIVE_INFINITY;
-    if !any_infinite && !(lambda_view.value > SMITH_F32_MAX - lambda_light.value) {
-        let lambda = smith_flush_subnormal(lambda_view.value + lambda_light.value);
-        // Above SMITH_MAX_CORRECTED_LAMBDA the corrected Λ is +∞: the fraction stays 1.
-        if !(lambda > SMITH_MAX_CORRECTED_LAMBDA) {
-            let u = lambda / (1.0 + lambda);
-            visible_fraction = smith_visible_fraction_of_finite(smith_flush_subnormal(smith_correction_factor(correction, u) * lambda));
-        }
+    let lambda = smith_sum_to_correct(lambda_view, lambda_light);
+    if lambda >= 0.0 {
+        let u = lambda / (1.0 + lambda);
+        visible_fraction = smith_visible_fraction_of_finite(smith_flush_subnormal(smith_correction_factor(correction, u) * lambda));
     }
     return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
 }
@@ -554,14 +562,10 @@ fn smith_corrected_visible_mean_attribute_of_valid_cubic(correlated_attribute: v
         return smith_none();
     }
     var visible_fraction = 1.0;
-    let any_infinite = lambda_view.kind == SMITH_POSITIVE_INFINITY || lambda_light.kind == SMITH_POSITIVE_INFINITY;
-    if !any_infinite && !(lambda_view.value > SMITH_F32_MAX - lambda_light.value) {
-        let lambda = smith_flush_subnormal(lambda_view.value + lambda_light.value);
-        // Above SMITH_MAX_CORRECTED_LAMBDA the corrected Λ is +∞: the fraction stays 1.
-        if !(lambda > SMITH_MAX_CORRECTED_LAMBDA) {
-            let u = lambda / (1.0 + lambda);
-            visible_fraction = smith_visible_fraction_of_finite(smith_flush_subnormal(smith_cubic_correction_factor(correction, u) * lambda));
-        }
+    let lambda = smith_sum_to_correct(lambda_view, lambda_light);
+    if lambda >= 0.0 {
+        let u = lambda / (1.0 + lambda);
+        visible_fraction = smith_visible_fraction_of_finite(smith_flush_subnormal(smith_cubic_correction_factor(correction, u) * lambda));
     }
     return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
 }

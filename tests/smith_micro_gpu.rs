@@ -283,6 +283,28 @@ fn every_function_matches_the_cpu_reference() {
     );
 }
 
+/// The results of `entry` of the `smith_micro` test kernel `kernel` over `cases`, as the
+/// encoded bits of each case's four results.
+fn run_kernel<C: bytemuck::Pod, R: bytemuck::Pod>(
+    kernel: &str,
+    entry: &str,
+    cases: &[C],
+    bits: impl Fn(&R) -> [u32; 4],
+) -> Vec<[u32; 4]> {
+    let module = shader_registry::module("smith_micro").expect("module is registered");
+    let source = module.with_kernel(kernel).expect("kernel is registered").source().to_owned();
+    let results: Vec<R> = gpu().compute_map(&source, entry, &[0_u8; 16], cases).unwrap();
+    results.iter().map(bits).collect()
+}
+
+/// The relative tolerance of `ā + a_s x`, `x` carrying the relative error `lambda` (as
+/// `Λ'/(Λ' + 2)` inherits its Λ's), with the rounding of the sum: the cancellation of
+/// `ā + a_s x` turns the absolute errors into a relative one of the result `value`.
+fn attribute_tolerance(mean: f32, correlation: f32, lambda: f64, value: f32) -> f64 {
+    let sum_rounding = 1e-6 * (f64::from(mean).abs() + f64::from(correlation).abs());
+    BASE.max((f64::from(correlation).abs() * lambda + sum_rounding) / f64::from(value.abs()).max(1e-30))
+}
+
 /// Compares four encoded results per case, CPU (`reference`) against GPU: `None` and
 /// non-finite results must have the same bits, finite ones differ by at most their
 /// tolerance (relative, or absolute where `absolute` says so). Prints the worst
@@ -296,6 +318,7 @@ fn check_four_results<C>(
     tolerances: impl Fn(&C, &[f32; 4]) -> [f64; 4],
     absolute: [bool; 4],
 ) {
+    assert!(cases.len() >= 100_000 && gpu_bits.len() == cases.len());
     let mut worst = [(0.0_f64, 0.0_f64); 4];
     let mut failures = Vec::new();
     for (index, (case, gpu_bits)) in cases.iter().zip(gpu_bits).enumerate() {
@@ -398,10 +421,7 @@ fn correction_tolerances(case: &CorrectionCase, cpu: &[f32; 4]) -> [f64; 4] {
     let view = lambda_tolerance(lambda_view);
     let light = lambda_tolerance(lambda_light);
     let sum = lambda_tolerance(lambda_view + lambda_light);
-    let relative_to = |absolute: f64, value: f32| absolute / f64::from(value.abs()).max(1e-30);
-    let sum_rounding = 1e-6 * (f64::from(mean).abs() + f64::from(correlation).abs());
-    let attribute =
-        |lambda: f64, value: f32| BASE.max(relative_to(f64::from(correlation).abs() * lambda + sum_rounding, value));
+    let attribute = |lambda: f64, value: f32| attribute_tolerance(mean, correlation, lambda, value);
     [view, light, attribute(sum, cpu[2]), attribute(view.max(light), cpu[3])]
 }
 
@@ -409,14 +429,11 @@ fn correction_tolerances(case: &CorrectionCase, cpu: &[f32; 4]) -> [f64; 4] {
 fn corrected_functions_match_the_cpu_reference() {
     const CORRECTION_NAMES: [&str; 4] =
         ["corrected lambda(view)", "corrected lambda(light)", "abar corrected sum", "abar corrected per direction"];
-    let module = shader_registry::module("smith_micro").expect("module is registered");
-    let source =
-        module.with_kernel("smith_micro_corrected_differential").expect("kernel is registered").source().to_owned();
     let cases = correction_cases();
-    assert!(cases.len() >= 100_000);
-    let gpu_results: Vec<CorrectionResults> =
-        gpu().compute_map(&source, "smith_corrected_values", &[0_u8; 16], &cases).unwrap();
-    let gpu_bits: Vec<[u32; 4]> = gpu_results.iter().map(|r| r.values.to_array()).collect();
+    let gpu_bits =
+        run_kernel("smith_micro_corrected_differential", "smith_corrected_values", &cases, |r: &CorrectionResults| {
+            r.values.to_array()
+        });
     check_four_results(
         "correction",
         CORRECTION_NAMES,
@@ -574,14 +591,13 @@ fn correlated_tolerances(case: &CorrelatedCase, cpu: &[f32; 4]) -> [f64; 4] {
 fn correlated_functions_match_the_cpu_reference() {
     const CORRELATED_NAMES: [&str; 4] =
         ["correlated lambda", "abar correlated", "cos azimuth difference", "abar correlated (directions)"];
-    let module = shader_registry::module("smith_micro").expect("module is registered");
-    let source =
-        module.with_kernel("smith_micro_correlated_differential").expect("kernel is registered").source().to_owned();
     let cases = correlated_cases();
-    assert!(cases.len() >= 100_000);
-    let gpu_results: Vec<CorrelatedResults> =
-        gpu().compute_map(&source, "smith_correlated_values", &[0_u8; 16], &cases).unwrap();
-    let gpu_bits: Vec<[u32; 4]> = gpu_results.iter().map(|r| r.values.to_array()).collect();
+    let gpu_bits = run_kernel(
+        "smith_micro_correlated_differential",
+        "smith_correlated_values",
+        &cases,
+        |r: &CorrelatedResults| r.values.to_array(),
+    );
     // cos Δφ absolutely, the others relatively.
     check_four_results(
         "correlated",
@@ -665,24 +681,18 @@ fn cubic_tolerances(case: &CubicCase, cpu: &[f32; 4]) -> [f64; 4] {
     let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array();
     let sum = lambda_tolerance(lambda_view + lambda_light);
     let view = lambda_tolerance(lambda_view);
-    let relative_to = |absolute: f64, value: f32| absolute / f64::from(value.abs()).max(1e-30);
-    let sum_rounding = 1e-6 * (f64::from(mean).abs() + f64::from(correlation).abs());
-    let attribute =
-        |lambda: f64, value: f32| BASE.max(relative_to(f64::from(correlation).abs() * lambda + sum_rounding, value));
+    let attribute = |lambda: f64, value: f32| attribute_tolerance(mean, correlation, lambda, value);
     [view, attribute(sum, cpu[1]), attribute(sum, cpu[2]), attribute(view, cpu[3])]
 }
 
 #[test]
 fn cubic_correction_matches_the_cpu_reference() {
     const CUBIC_NAMES: [&str; 4] = ["cubic factor", "abar cubic (v, l)", "abar cubic (l, v)", "abar cubic (v, 0)"];
-    let module = shader_registry::module("smith_micro").expect("module is registered");
-    let source =
-        module.with_kernel("smith_micro_cubic_differential").expect("kernel is registered").source().to_owned();
     let cases = cubic_cases();
-    assert!(cases.len() >= 100_000);
-    let gpu_results: Vec<CubicResults> =
-        gpu().compute_map(&source, "smith_cubic_corrected_values", &[0_u8; 16], &cases).unwrap();
-    let gpu_bits: Vec<[u32; 4]> = gpu_results.iter().map(|r| r.values.to_array()).collect();
+    let gpu_bits =
+        run_kernel("smith_micro_cubic_differential", "smith_cubic_corrected_values", &cases, |r: &CubicResults| {
+            r.values.to_array()
+        });
     check_four_results(
         "cubic",
         CUBIC_NAMES,

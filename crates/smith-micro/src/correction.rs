@@ -139,25 +139,47 @@ pub fn corrected_visible_mean_attribute(
     lambda_light: f32,
     correction: &LambdaCorrection,
 ) -> Option<f32> {
-    if !(is_valid_lambda(lambda_view) && is_valid_lambda(lambda_light) && attribute.is_valid() && correction.is_valid())
-    {
+    if !correction.is_valid() {
+        return None;
+    }
+    visible_mean_attribute_of_corrected_sum(attribute, lambda_view, lambda_light, |u| correction.factor(u))
+}
+
+/// `ā + a_s Λ'/(Λ' + 2)` for the sum `Λ = Λ(v) + Λ(l)` corrected to `Λ' = c(u) Λ`,
+/// `u = Λ/(1 + Λ)`, `c` given by `factor` (checked by the caller), with the special
+/// inputs of the module's table: shared by the table and its cubic form
+/// ([`crate::cubic_correction`]).
+pub(crate) fn visible_mean_attribute_of_corrected_sum(
+    attribute: HeightCorrelatedAttribute,
+    lambda_view: f32,
+    lambda_light: f32,
+    factor: impl Fn(f32) -> f32,
+) -> Option<f32> {
+    if !(is_valid_lambda(lambda_view) && is_valid_lambda(lambda_light) && attribute.is_valid()) {
         return None;
     }
     let infinite =
         is_infinite_bits(lambda_view) || is_infinite_bits(lambda_light) || lambda_view > f32::MAX - lambda_light;
-    let lambda = if infinite { f32::INFINITY } else { flush_subnormal(lambda_view + lambda_light) };
-    let corrected = corrected_lambda(lambda, correction)?;
-    // As eq. 17: 0 gives 0, ∞ gives 1, a normal Λ' keeps 2/Λ' finite.
-    let visible_fraction = if is_infinite_bits(corrected) { 1.0 } else { visible_fraction_of_finite(corrected) };
+    // As eq. 17: 0 gives 0, ∞ gives 1, a normal Λ' keeps 2/Λ' finite; above
+    // MAX_CORRECTED_LAMBDA the corrected Λ is +∞.
+    let mut visible_fraction = 1.0;
+    if !infinite {
+        let lambda = flush_subnormal(lambda_view + lambda_light);
+        if lambda <= MAX_CORRECTED_LAMBDA {
+            let u = lambda / (1.0 + lambda);
+            visible_fraction = visible_fraction_of_finite(flush_subnormal(factor(u) * lambda));
+        }
+    }
     Some(attribute.mean + attribute.height_correlation * visible_fraction)
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::attribute::visible_mean_attribute;
 
-    const SPECIAL: [f32; 16] = [
+    /// Λs that stress the corrections: zero, subnormal, the bounds, ∞, negative, NaN.
+    pub(crate) const SPECIAL: [f32; 16] = [
         0.0,
         -0.0,
         1e-40,
@@ -176,8 +198,9 @@ mod tests {
         f32::NAN,
     ];
 
-    #[test]
-    fn identity_is_eq17_bit_for_bit() {
+    /// Asserts that `corrected(attribute, Λ(v), Λ(l))` has the bits of eq. 17 over special
+    /// and ordinary inputs.
+    pub(crate) fn assert_eq17_bit_for_bit(corrected: impl Fn(HeightCorrelatedAttribute, f32, f32) -> Option<f32>) {
         let attributes = [
             HeightCorrelatedAttribute { mean: 0.4, height_correlation: 0.3 },
             HeightCorrelatedAttribute { mean: -1.5, height_correlation: -2.0 },
@@ -189,12 +212,18 @@ mod tests {
             for &view in &lambdas {
                 for &light in &SPECIAL {
                     let eq17 = visible_mean_attribute(attribute, view, light).map(f32::to_bits);
-                    let corrected =
-                        corrected_visible_mean_attribute(attribute, view, light, &LambdaCorrection::IDENTITY);
+                    let corrected = corrected(attribute, view, light);
                     assert_eq!(corrected.map(f32::to_bits), eq17, "Λ = {view} + {light}");
                 }
             }
         }
+    }
+
+    #[test]
+    fn identity_is_eq17_bit_for_bit() {
+        assert_eq17_bit_for_bit(|attribute, view, light| {
+            corrected_visible_mean_attribute(attribute, view, light, &LambdaCorrection::IDENTITY)
+        });
     }
 
     #[test]

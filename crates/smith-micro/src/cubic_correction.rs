@@ -19,7 +19,7 @@
 //! | input | [`cubic_corrected_visible_mean_attribute`] |
 //! |---|---|
 //! | `Λ = 0` (normal incidence, flat) | `ā` |
-//! | `Λ = +∞`, or above [`MAX_CORRECTED_LAMBDA`] | `ā + a_s` |
+//! | `Λ = +∞`, or above [`MAX_CORRECTED_LAMBDA`](crate::correction::MAX_CORRECTED_LAMBDA) | `ā + a_s` |
 //! | `Λ` subnormal, or `c Λ` subnormal | `ā` (flushed, as the GPU does) |
 //! | a Λ negative or NaN | `None` |
 //! | a coefficient NaN or ±∞, or `c(u)` outside `[MIN_CORRECTION_FACTOR, MAX_CORRECTION_FACTOR]` somewhere on `[0, 1]` | `None` |
@@ -29,11 +29,11 @@
 use glam::Vec4;
 use gpu_layout::gpu_struct;
 
-use crate::attribute::{HeightCorrelatedAttribute, is_valid_lambda, visible_fraction_of_finite};
+use crate::attribute::HeightCorrelatedAttribute;
 use crate::correction::{
-    CORRECTION_KNOTS, LambdaCorrection, MAX_CORRECTED_LAMBDA, MAX_CORRECTION_FACTOR, MIN_CORRECTION_FACTOR,
+    CORRECTION_KNOTS, LambdaCorrection, MAX_CORRECTION_FACTOR, MIN_CORRECTION_FACTOR,
+    visible_mean_attribute_of_corrected_sum,
 };
-use crate::erf::{flush_subnormal, is_infinite_bits};
 
 gpu_struct! {
     /// A per-material factor `c(u) = c₀ + u (c₁ + u (c₂ + u c₃))` on Smith's Λ (eq. 6),
@@ -165,72 +165,23 @@ pub fn cubic_corrected_visible_mean_attribute(
     lambda_light: f32,
     correction: &CubicLambdaCorrection,
 ) -> Option<f32> {
-    if !(is_valid_lambda(lambda_view) && is_valid_lambda(lambda_light) && attribute.is_valid() && correction.is_valid())
-    {
+    if !correction.is_valid() {
         return None;
     }
-    let infinite =
-        is_infinite_bits(lambda_view) || is_infinite_bits(lambda_light) || lambda_view > f32::MAX - lambda_light;
-    let mut visible_fraction = 1.0;
-    if !infinite {
-        let lambda = flush_subnormal(lambda_view + lambda_light);
-        // Above MAX_CORRECTED_LAMBDA the corrected Λ is +∞: the fraction stays 1.
-        if lambda <= MAX_CORRECTED_LAMBDA {
-            let u = lambda / (1.0 + lambda);
-            visible_fraction = visible_fraction_of_finite(flush_subnormal(correction.factor(u) * lambda));
-        }
-    }
-    Some(attribute.mean + attribute.height_correlation * visible_fraction)
+    visible_mean_attribute_of_corrected_sum(attribute, lambda_view, lambda_light, |u| correction.factor(u))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::attribute::visible_mean_attribute;
     use crate::correction::corrected_visible_mean_attribute;
-
-    const SPECIAL: [f32; 16] = [
-        0.0,
-        -0.0,
-        1e-40,
-        f32::MIN_POSITIVE,
-        1e-3,
-        0.2,
-        1.0,
-        5.0,
-        30.0,
-        1e19,
-        MAX_CORRECTED_LAMBDA,
-        3e30,
-        f32::MAX,
-        f32::INFINITY,
-        -1.0,
-        f32::NAN,
-    ];
+    use crate::correction::tests::{SPECIAL, assert_eq17_bit_for_bit};
 
     #[test]
     fn identity_is_eq17_bit_for_bit() {
-        let attributes = [
-            HeightCorrelatedAttribute { mean: 0.4, height_correlation: 0.3 },
-            HeightCorrelatedAttribute { mean: -1.5, height_correlation: -2.0 },
-            HeightCorrelatedAttribute { mean: f32::NAN, height_correlation: 0.0 },
-        ];
-        let mut lambdas = SPECIAL.to_vec();
-        lambdas.extend((0..400).map(|i| 1e-4 * 1.05_f32.powi(i)));
-        for attribute in attributes {
-            for &view in &lambdas {
-                for &light in &SPECIAL {
-                    let eq17 = visible_mean_attribute(attribute, view, light).map(f32::to_bits);
-                    let corrected = cubic_corrected_visible_mean_attribute(
-                        attribute,
-                        view,
-                        light,
-                        &CubicLambdaCorrection::IDENTITY,
-                    );
-                    assert_eq!(corrected.map(f32::to_bits), eq17, "Λ = {view} + {light}");
-                }
-            }
-        }
+        assert_eq17_bit_for_bit(|attribute, view, light| {
+            cubic_corrected_visible_mean_attribute(attribute, view, light, &CubicLambdaCorrection::IDENTITY)
+        });
     }
 
     #[test]

@@ -35,7 +35,7 @@
 //!
 //! # Modules
 //!
-//! - [`erf`]: `erf`, `erfc`, `erfcx` in one approximation (Numerical Recipes' Chebyshev
+//! - [`erf`](mod@erf): `erf`, `erfc`, `erfcx` in one approximation (Numerical Recipes' Chebyshev
 //!   fit), written so that a WGSL twin can evaluate the same formulas.
 //! - [`masking`]: Λ (eq. 6) from `ν`, from `(μ, σ)` and from a direction over
 //!   anisotropic slopes; Smith's mean visibility `1/(1+Λ)`.

@@ -1,6 +1,6 @@
 //! How well a table's masks estimate the covered area: `|coverage(mask) − exact area|`
 //! of half-plane ∩ footprint, the exact area from polygon clipping
-//! ([`exact_coverage`](crate::half_plane::exact_coverage)).
+//! ([`exact_coverage`]).
 
 use core::f64::consts::TAU;
 

@@ -1,5 +1,5 @@
 //! Binary coverage masks of `N = 32 × WORDS` samples and their set algebra (§5.3,
-//! Algorithm 1, lines 10–11), after Carpenter's A-buffer [Car84].
+//! Algorithm 1, lines 10–11), after Carpenter's A-buffer \[Car84\].
 //!
 //! Bit `k` of a mask (bit `k % 32` of word `k / 32`) is set when sample `k` of the
 //! [`SamplePattern`](crate::SamplePattern) is covered. The coverage of a mask is

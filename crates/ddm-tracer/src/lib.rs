@@ -24,7 +24,7 @@
 //! - [`patches`]: the per-voxel C⁰ quadric patches (§3.1) in tracer form.
 //! - [`exact_patches`]: exact triangle patches and the per-voxel choice between a fitted
 //!   quadric and them under an error budget (beyond the paper).
-//! - [`trace`]: Algorithm 3.1–3.3 and plain sphere tracing, with the paper's stepping,
+//! - [`trace`](mod@trace): Algorithm 3.1–3.3 and plain sphere tracing, with the paper's stepping,
 //!   or (beyond the paper) block cells on compressed maps or voxel-exit stepping.
 //! - [`relief`]: the relief mapping baseline on height fields.
 //! - [`ground_truth`]: exact ray–triangle intersection of the periodic mesh (BVH).

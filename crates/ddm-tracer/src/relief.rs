@@ -1,4 +1,4 @@
-//! Relief mapping (Policarpo et al., the paper's reference [20]): a linear search along
+//! Relief mapping (Policarpo et al., the paper's reference \[20\]): a linear search along
 //! the ray for the first sample below a height map, refined by binary search. The
 //! baseline of Table 2, for height-field mesostructures only.
 

@@ -20,8 +20,8 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use microsurface_truth::comparison::{AngleComparison, Sweep, compare, compare_models, max_error, max_errors};
 use microsurface_truth::{
-    CubicLambdaCorrection, HeightField, LambdaCorrection, Spectrum, SurfaceStatistics, VisibilityCorrection,
-    fit_visibility_correction, generate_cellular, generate_gaussian, generate_ridged,
+    CUBIC_DEVIATION_BUDGET, CubicLambdaCorrection, HeightField, LambdaCorrection, Spectrum, SurfaceStatistics,
+    VisibilityCorrection, fit_visibility_correction, generate_cellular, generate_gaussian, generate_ridged,
 };
 use plotters::prelude::*;
 
@@ -360,10 +360,13 @@ pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
                 rows,
             )?;
         }
+        let deviation = cubic.deviation_from(&model.view());
         println!(
-            "{:<22} cubic view table, view only: {}",
+            "{:<22} cubic view table: view only {}, {} from the table: {}",
             "",
-            percent(max_error(&view, 0.0, 85.0, |row| row.cubic_error(&cubic)))
+            percent(max_error(&view, 0.0, 85.0, |row| row.cubic_error(&cubic))),
+            percent(f64::from(deviation)),
+            if deviation <= CUBIC_DEVIATION_BUDGET { "kept" } else { "the table is kept" }
         );
         csv_rows.extend(view.into_iter().map(|r| (surface.name.clone(), "view", r, cubic)));
         for ((sweep, _), rows) in LIGHT_SWEEPS.iter().zip(lit) {

@@ -42,12 +42,12 @@ pub use experiment::{AttributeEstimate, VisibleAverage};
 pub use generate::{Spectrum, generate_cellular, generate_gaussian, generate_ridged};
 pub use heightfield::{HeightField, HeightFieldError};
 pub use raycast::{first_hit, is_lit};
-/// Re-exported: the cubic form of the correction (`CubicLambdaCorrection::fit_to_table`).
-pub use smith_micro::CubicLambdaCorrection;
 /// The corrected visibility model's per-material factor on Λ, as fitted here.
 pub use smith_micro::LambdaCorrection;
 /// The corrected visibility model with the light–view correlation term, as fitted here.
 pub use smith_micro::VisibilityCorrection;
+/// Re-exported: the cubic form of the correction and the deviation up to which it replaces the table.
+pub use smith_micro::{CUBIC_DEVIATION_BUDGET, CubicLambdaCorrection};
 pub use statistics::SurfaceStatistics;
 pub use visibility_fit::{
     CORRELATION_LIGHTS_DEG, CORRELATION_VIEW_ANGLES_DEG, PairSample, SHRINKAGE_STEPS, VisibilitySamples,

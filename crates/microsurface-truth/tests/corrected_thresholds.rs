@@ -23,8 +23,8 @@
 
 use microsurface_truth::comparison::{AngleComparison, Sweep, compare_models, max_error};
 use microsurface_truth::{
-    CubicLambdaCorrection, HeightField, LambdaCorrection, Spectrum, fit_visibility_correction, generate_cellular,
-    generate_gaussian, generate_ridged,
+    CUBIC_DEVIATION_BUDGET, CubicLambdaCorrection, HeightField, LambdaCorrection, Spectrum, fit_visibility_correction,
+    generate_cellular, generate_gaussian, generate_ridged,
 };
 
 const ANGLES: [f64; 18] =
@@ -41,9 +41,10 @@ const AZIMUTH_RAYS: usize = 20_000;
 /// The largest errors up to 85° on the view-only and the view-and-light sweeps of
 /// `evaluation`, with the model fitted on `fitting`:
 /// `[eq17 view, corrected view, eq17 light, corrected light, eq17 and corrected with the
-/// light at the view's azimuth, eq17 and corrected with the light opposite, cubic view]`,
-/// the cubic being the one through the view table (`CubicLambdaCorrection::fit_to_table`).
-fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f64; 9] {
+/// light at the view's azimuth, eq17 and corrected with the light opposite, cubic view,
+/// the cubic's deviation from the table]`, the cubic being the one through the view table
+/// (`CubicLambdaCorrection::fit_to_table`).
+fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f64; 10] {
     let model = fit_visibility_correction(fitting, FIT_RAYS, 41).expect("the surfaces are not flat");
     let t = 60_f64.to_radians();
     let light = glam::DVec3::new(0.0, t.sin(), t.cos());
@@ -71,12 +72,13 @@ fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f6
         max(&opposite, AngleComparison::eq17_error),
         max(&opposite, AngleComparison::correlated_error),
         max_error(&view, 0.0, 85.0, |row| row.cubic_error(&cubic)),
+        f64::from(cubic.deviation_from(&model.view())),
     ];
     println!(
         "{name}: view {:?}, light {:?}, rho {:?}\n  max error 0-85°: view eq. 17 {:.3}%, corrected {:.3}%; \
          light eq. 17 {:.3}%, corrected {:.3}% (standard error per angle ≤ {:.3}%, {:.3}%); \
          light at 0°: eq. 17 {:.3}%, corrected {:.3}%; at 180°: eq. 17 {:.3}%, corrected {:.3}%; \
-         view, cubic {:?}: {:.3}%",
+         view, cubic {:?}: {:.3}% (deviates {:.3}% from the table)",
         model.view().knots(),
         model.light().knots(),
         model.correlation_coefficients(),
@@ -92,13 +94,14 @@ fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f6
         100.0 * errors[7],
         cubic.coefficients.to_array(),
         100.0 * errors[8],
+        100.0 * errors[9],
     );
     errors
 }
 
 /// Asserts the corrected model's errors against `limits` (view, light, cubic view) and
 /// that it is not worse than eq. 17 on any of the four sweeps, nor the cubic on the view.
-fn check(name: &str, errors: [f64; 9], limits: [f64; 3]) {
+fn check(name: &str, errors: [f64; 10], limits: [f64; 3]) {
     assert!(errors[8] <= limits[2], "{name}: cubic view error {} > {}", errors[8], limits[2]);
     assert!(errors[8] < errors[0], "{name}: the cubic is worse than eq. 17 (view): {errors:?}");
     assert!(errors[1] <= limits[0], "{name}: corrected view error {} > {}", errors[1], limits[0]);
@@ -120,6 +123,9 @@ fn corrected_model_on_gaussian_surfaces() {
         let field = |seed| generate_gaussian(SIZE, spectrum, 0.5, seed).expect("valid generator settings");
         let errors = measure(name, &[field(101), field(102)], &field(202));
         check(name, errors, limits);
+        // The cubic replaces the table on Gaussian surfaces (measured deviations 0.159,
+        // 0.100, 0.222 %; the textures' 0.252 and 0.464 % keep their tables).
+        assert!(errors[9] <= f64::from(CUBIC_DEVIATION_BUDGET), "{name}: {errors:?}");
     }
 }
 

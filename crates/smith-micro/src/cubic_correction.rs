@@ -14,7 +14,13 @@
 //! band-pass 0.227 → 0.228 %, cellular 0.338 → 0.337 %, ridged 0.276 → 0.370 %
 //! (table → cubic; eq. 17: 2.400, 0.480, 3.286, 0.392, 3.052 %). A linear or quadratic
 //! `c(u)` through the same knots was measured too coarse (up to 0.69 % on the Gaussian
-//! surfaces, 2.2 % on the ridged texture).
+//! surfaces, 2.2 % on the ridged texture). A cubic cannot follow a table that jumps near
+//! grazing: the cellular texture's table at 1024² (`cargo xtask fig9`) ends 1.16 → 1.57 →
+//! 3.5, and its cubic's error is 1.94 % where the table's is 0.42 % and eq. 17's 1.46 %.
+//! [`CubicLambdaCorrection::fit_within`] therefore keeps the cubic only where it stays
+//! within [`CUBIC_DEVIATION_BUDGET`] of the table, the table elsewhere. At 1024²
+//! (`cargo xtask fig9`, 200 000 rays per angle) the cubic is kept on the three Gaussian
+//! surfaces, with view-only max errors 0.14, 0.18 and 0.15 % (tables 0.16, 0.17, 0.12 %).
 //!
 //! | input | [`cubic_corrected_visible_mean_attribute`] |
 //! |---|---|
@@ -34,6 +40,14 @@ use crate::correction::{
     CORRECTION_KNOTS, LambdaCorrection, MAX_CORRECTION_FACTOR, MIN_CORRECTION_FACTOR,
     visible_mean_attribute_of_corrected_sum,
 };
+
+/// The deviation from the table ([`CubicLambdaCorrection::deviation_from`]) up to which the
+/// cubic replaces it: 0.25 % of the attribute range, half of the 0.5 % error budget the
+/// corrected model is held to (the tables measure 0.12–0.42 % on the sweeps of
+/// `cargo xtask fig9`). The Gaussian surfaces' tables stay inside it (measured 0.04–0.05 %
+/// at 1024² by `cargo xtask fig9`, 0.10–0.22 % at 512² by the test `corrected_thresholds`);
+/// the textures' do not (cellular 2.24 %, ridged 0.63 % at 1024²).
+pub const CUBIC_DEVIATION_BUDGET: f32 = 0.0025;
 
 gpu_struct! {
     /// A per-material factor `c(u) = c₀ + u (c₁ + u (c₂ + u c₃))` on Smith's Λ (eq. 6),
@@ -78,6 +92,42 @@ impl CubicLambdaCorrection {
         }
         let solution = solve4(normal, rhs)?;
         Self::from_coefficients(solution.map(|c| c as f32))
+    }
+
+    /// The cubic through the knots of `table` ([`CubicLambdaCorrection::fit_to_table`])
+    /// when it stays within `budget` of the table ([`CubicLambdaCorrection::deviation_from`],
+    /// a fraction of the attribute range), else `None`: the cheaper correction where it
+    /// adds at most `budget` to the table's error, the table elsewhere.
+    pub fn fit_within(table: &LambdaCorrection, budget: f32) -> Option<Self> {
+        let cubic = Self::fit_to_table(table)?;
+        (cubic.deviation_from(table) <= budget).then_some(cubic)
+    }
+
+    /// The largest difference between the visible fraction `x(Λ') = Λ'/(Λ' + 2)` of eq. 17
+    /// corrected by this cubic and by `table`, halved: the difference of the two corrected
+    /// attributes as a fraction of the attribute range `[ā − a_s, ā + a_s]`, over
+    /// `Λ = u/(1 − u)` at 1024 steps of `u` in `[0, 1)` (at `u = 1` both give `x = 1`).
+    /// In f64; NaN for an invalid table or cubic.
+    pub fn deviation_from(&self, table: &LambdaCorrection) -> f32 {
+        if !(self.is_valid() && table.is_valid()) {
+            return f32::NAN;
+        }
+        let [c0, c1, c2, c3] = self.coefficients.to_array().map(f64::from);
+        let knots = table.knots().map(f64::from);
+        let segments = (CORRECTION_KNOTS - 1) as f64;
+        let fraction = |corrected: f64| corrected / (corrected + 2.0);
+        let mut largest = 0.0_f64;
+        for step in 0..1024 {
+            let u = f64::from(step) / 1024.0;
+            let lambda = u / (1.0 - u);
+            let t = u * segments;
+            // `t < 7`, so the segment index is at most 6.
+            let index = t as usize;
+            let by_table = knots[index] + (t - index as f64) * (knots[index + 1] - knots[index]);
+            let by_cubic = c0 + u * (c1 + u * (c2 + u * c3));
+            largest = largest.max((fraction(by_cubic * lambda) - fraction(by_table * lambda)).abs() / 2.0);
+        }
+        largest as f32
     }
 
     /// Whether every coefficient is finite and `c(u)` lies in
@@ -203,6 +253,24 @@ mod tests {
         // The identity table gives the identity cubic.
         let identity = CubicLambdaCorrection::fit_to_table(&LambdaCorrection::IDENTITY).unwrap();
         assert!((identity.coefficients - CubicLambdaCorrection::IDENTITY.coefficients).abs().max_element() < 1e-6);
+    }
+
+    #[test]
+    fn the_cubic_is_kept_only_within_its_budget() {
+        // A smooth table: its cubic deviates little. A table that jumps at grazing (as a
+        // cellular texture's fitted table does, 1.16 → 3.5 over the last knot) cannot be
+        // followed by a cubic.
+        let smooth = LambdaCorrection::from_knots([1.45, 1.33, 1.26, 1.22, 1.20, 1.13, 1.09, 0.93]).unwrap();
+        let jump = LambdaCorrection::from_knots([1.09, 1.25, 1.21, 1.15, 1.14, 1.16, 1.57, 3.5]).unwrap();
+        let smooth_deviation = CubicLambdaCorrection::fit_to_table(&smooth).unwrap().deviation_from(&smooth);
+        let jump_deviation = CubicLambdaCorrection::fit_to_table(&jump).unwrap().deviation_from(&jump);
+        // Measured 0.0021 and 0.022 (fractions of the attribute range).
+        assert!(smooth_deviation < 2.5e-3 && jump_deviation > 1e-2, "{smooth_deviation} {jump_deviation}");
+        assert!(CubicLambdaCorrection::fit_within(&smooth, 2.5e-3).is_some());
+        assert!(CubicLambdaCorrection::fit_within(&jump, 2.5e-3).is_none());
+        // The identity's cubic is exact.
+        let identity = LambdaCorrection::IDENTITY;
+        assert!(CubicLambdaCorrection::fit_to_table(&identity).unwrap().deviation_from(&identity) < 1e-7);
     }
 
     #[test]

@@ -86,6 +86,17 @@ fn smith(c: &mut Criterion) {
                 .sum::<f32>()
         });
     });
+    let checked = smith_micro::CheckedCubicCorrection::new(cubic);
+    group.bench_function("cubic_corrected_visible_mean_attribute_checked_once", |b| {
+        b.iter(|| {
+            lambdas
+                .iter()
+                .map(|&(v, l)| {
+                    checked.and_then(|c| c.visible_mean_attribute(attribute, black_box(v), black_box(l))).unwrap_or(0.0)
+                })
+                .sum::<f32>()
+        });
+    });
     group.finish();
 }
 

@@ -176,6 +176,35 @@ impl Default for CubicLambdaCorrection {
     }
 }
 
+/// A [`CubicLambdaCorrection`] that [`CubicLambdaCorrection::is_valid`] accepted, checked
+/// once (per material) so that each evaluation skips the check, as the WGSL twin does.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CheckedCubicCorrection(CubicLambdaCorrection);
+
+impl CheckedCubicCorrection {
+    /// The checked correction, or `None` when `correction` is invalid.
+    pub fn new(correction: CubicLambdaCorrection) -> Option<Self> {
+        correction.is_valid().then_some(Self(correction))
+    }
+
+    /// The correction.
+    pub fn correction(&self) -> CubicLambdaCorrection {
+        self.0
+    }
+
+    /// [`cubic_corrected_visible_mean_attribute`] without re-checking the correction.
+    ///
+    /// WGSL twin: `smith_corrected_visible_mean_attribute_of_valid_cubic`.
+    pub fn visible_mean_attribute(
+        &self,
+        attribute: HeightCorrelatedAttribute,
+        lambda_view: f32,
+        lambda_light: f32,
+    ) -> Option<f32> {
+        visible_mean_attribute_of_corrected_sum(attribute, lambda_view, lambda_light, |u| self.0.factor(u))
+    }
+}
+
 /// Solves the 4 × 4 system by Gaussian elimination with partial pivoting; `None` when it
 /// is (nearly) singular.
 fn solve4(mut matrix: [[f64; 4]; 4], mut rhs: [f64; 4]) -> Option<[f64; 4]> {
@@ -271,6 +300,23 @@ mod tests {
         // The identity's cubic is exact.
         let identity = LambdaCorrection::IDENTITY;
         assert!(CubicLambdaCorrection::fit_to_table(&identity).unwrap().deviation_from(&identity) < 1e-7);
+    }
+
+    #[test]
+    fn the_checked_correction_gives_the_same_bits() {
+        let cubic = CubicLambdaCorrection::from_coefficients([1.4, -0.9, 0.8, -0.5]).unwrap();
+        let checked = CheckedCubicCorrection::new(cubic).unwrap();
+        assert_eq!(checked.correction(), cubic);
+        let attribute = HeightCorrelatedAttribute { mean: 0.5, height_correlation: -0.2 };
+        for &view in &SPECIAL {
+            for &light in &SPECIAL {
+                let expected = cubic_corrected_visible_mean_attribute(attribute, view, light, &cubic);
+                let value = checked.visible_mean_attribute(attribute, view, light);
+                assert_eq!(value.map(f32::to_bits), expected.map(f32::to_bits), "Λ = {view} + {light}");
+            }
+        }
+        let invalid = CubicLambdaCorrection { coefficients: Vec4::new(1.0, -4.0, 4.0, 0.0) };
+        assert_eq!(CheckedCubicCorrection::new(invalid), None);
     }
 
     #[test]

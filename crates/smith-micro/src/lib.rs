@@ -85,7 +85,9 @@ pub use correlated::{
     VisibilityCorrection, correlated_lambda, correlated_visible_mean_attribute,
     correlated_visible_mean_attribute_for_directions, cos_azimuth_difference,
 };
-pub use cubic_correction::{CUBIC_DEVIATION_BUDGET, CubicLambdaCorrection, cubic_corrected_visible_mean_attribute};
+pub use cubic_correction::{
+    CUBIC_DEVIATION_BUDGET, CheckedCubicCorrection, CubicLambdaCorrection, cubic_corrected_visible_mean_attribute,
+};
 pub use erf::{erf, erfc, erfcx};
 pub use height::{attribute_at_height, height_cdf, height_visibility, log_height_cdf};
 pub use masking::{

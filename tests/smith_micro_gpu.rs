@@ -354,6 +354,19 @@ fn check_four_results<C>(
     );
 }
 
+/// Random `(ā, a_s, Λ(v), Λ(l))` for the correction kernels: attributes in `[−2, 2]`, Λs
+/// log-uniform in `[1e-6, 1e6]` or (5 %) zero.
+fn random_inputs(rng: &mut SmallRng) -> Vec4 {
+    let (mean, correlation) = (rng.random_range(-2.0..2.0), rng.random_range(-2.0..2.0));
+    let view = random_lambda(rng);
+    Vec4::new(mean, correlation, view, random_lambda(rng))
+}
+
+/// A Λ log-uniform in `[1e-6, 1e6]`, or (5 %) zero.
+fn random_lambda(rng: &mut SmallRng) -> f32 {
+    if rng.random_bool(0.05) { 0.0 } else { log_uniform(rng, 1e-6, 1e6) }
+}
+
 /// Knot values that stress the correction: the accepted range's ends and just outside,
 /// NaN, ±∞, zero, negative and subnormal.
 const SPECIAL_KNOTS: [f32; 12] =
@@ -361,21 +374,13 @@ const SPECIAL_KNOTS: [f32; 12] =
 
 fn correction_cases() -> Vec<CorrectionCase> {
     let mut rng = SmallRng::seed_from_u64(17);
-    let random_lambda = |rng: &mut SmallRng| {
-        if rng.random_bool(0.05) { 0.0 } else { log_uniform(rng, 1e-6, 1e6) }
-    };
     let case = |rng: &mut SmallRng| {
         let knots: [f32; 8] =
             if rng.random_bool(0.05) { [1.0; 8] } else { std::array::from_fn(|_| log_uniform(rng, 0.25, 4.0)) };
         CorrectionCase {
             knots_low: Vec4::from_slice(&knots[..4]),
             knots_high: Vec4::from_slice(&knots[4..]),
-            inputs: Vec4::new(
-                rng.random_range(-2.0..2.0),
-                rng.random_range(-2.0..2.0),
-                random_lambda(rng),
-                random_lambda(rng),
-            ),
+            inputs: random_inputs(rng),
         }
     };
     let mut cases = Vec::new();
@@ -453,9 +458,6 @@ fn correlated_cases() -> Vec<CorrelatedCase> {
     let directions = random_unit_directions(4_096, 29);
     let mut specials = special_directions();
     specials.extend([Vec3::new(1e-40, 0.0, 1.0), Vec3::new(3e38, -3e38, 1.0), Vec3::new(f32::NAN, 0.0, 1.0)]);
-    let random_lambda = |rng: &mut SmallRng| {
-        if rng.random_bool(0.05) { 0.0 } else { log_uniform(rng, 1e-6, 1e6) }
-    };
     let case = |rng: &mut SmallRng, view: Vec3, light: Vec3| {
         let table = |rng: &mut SmallRng| -> [f32; 8] {
             if rng.random_bool(0.05) { [1.0; 8] } else { std::array::from_fn(|_| log_uniform(rng, 0.25, 4.0)) }
@@ -616,9 +618,6 @@ fn correlated_functions_match_the_cpu_reference() {
 /// every input set to each special scalar in turn.
 fn cubic_cases() -> Vec<CubicCase> {
     let mut rng = SmallRng::seed_from_u64(31);
-    let random_lambda = |rng: &mut SmallRng| {
-        if rng.random_bool(0.05) { 0.0 } else { log_uniform(rng, 1e-6, 1e6) }
-    };
     let coefficients = |rng: &mut SmallRng| loop {
         if rng.random_bool(0.05) {
             return CubicLambdaCorrection::IDENTITY.coefficients;
@@ -637,15 +636,7 @@ fn cubic_cases() -> Vec<CubicCase> {
             return cubic.coefficients;
         }
     };
-    let case = |rng: &mut SmallRng| CubicCase {
-        coefficients: coefficients(rng),
-        inputs: Vec4::new(
-            rng.random_range(-2.0..2.0),
-            rng.random_range(-2.0..2.0),
-            random_lambda(rng),
-            random_lambda(rng),
-        ),
-    };
+    let case = |rng: &mut SmallRng| CubicCase { coefficients: coefficients(rng), inputs: random_inputs(rng) };
     let mut cases = Vec::new();
     for &special in &SPECIAL_SCALARS {
         for input in 0..4 {

@@ -329,6 +329,18 @@ mod tests {
     use crate::cones::{DirectionCones, azimuth_elevation};
     use crate::test_random::uniform;
 
+    /// The directions of `cone` on an `(n + 1)²` grid of azimuths and elevations, edges
+    /// included.
+    fn cone_directions(cone: &Cone, n: u32) -> impl Iterator<Item = Vec3> + '_ {
+        (0..=n).flat_map(move |i| {
+            (0..=n).map(move |j| {
+                let t = cone.azimuth_min + (cone.azimuth_max - cone.azimuth_min) * i as f32 / n as f32;
+                let f = cone.elevation_min + (cone.elevation_max - cone.elevation_min) * j as f32 / n as f32;
+                Vec3::new(libm::cosf(f) * libm::cosf(t), libm::cosf(f) * libm::sinf(t), libm::sinf(f))
+            })
+        })
+    }
+
     #[test]
     fn projections_lie_in_the_cone_and_are_nearest() {
         let mut next = uniform(0x51_7cc1_b727_220a);
@@ -348,18 +360,11 @@ mod tests {
                 for _ in 0..500 {
                     let w = Vec3::new(next(), next(), next()) * 2.0 - 1.0;
                     let p = convex.project(w);
-                    // Every direction of the cone is no nearer w than p (sampled).
-                    let mut nearest = f32::INFINITY;
-                    for i in 0..=16 {
-                        for j in 0..=16 {
-                            let t = cone.azimuth_min + (cone.azimuth_max - cone.azimuth_min) * i as f32 / 16.0;
-                            let f = cone.elevation_min + (cone.elevation_max - cone.elevation_min) * j as f32 / 16.0;
-                            let d =
-                                Vec3::new(libm::cosf(f) * libm::cosf(t), libm::cosf(f) * libm::sinf(t), libm::sinf(f));
-                            // The nearest point of the ray through d.
-                            nearest = nearest.min(w.distance(d * w.dot(d).max(0.0)));
-                        }
-                    }
+                    // Every direction of the cone is no nearer w than p (sampled; the nearest
+                    // point of the ray through each direction).
+                    let nearest = cone_directions(&cone, 16)
+                        .map(|d| w.distance(d * w.dot(d).max(0.0)))
+                        .fold(f32::INFINITY, f32::min);
                     assert!(w.distance(p) <= nearest + 1e-5, "cone {index}: {w} -> {p}, sampled {nearest}");
                 }
             }
@@ -384,14 +389,8 @@ mod tests {
                 assert_eq!(convex.cut_count, expected, "cone {cone:?}");
                 // Every direction of the cone is on the inner side (sampled, edges included).
                 for cut in &convex.cuts[..convex.cut_count] {
-                    for i in 0..=32 {
-                        for j in 0..=32 {
-                            let t = cone.azimuth_min + (cone.azimuth_max - cone.azimuth_min) * i as f32 / 32.0;
-                            let f = cone.elevation_min + (cone.elevation_max - cone.elevation_min) * j as f32 / 32.0;
-                            let d =
-                                Vec3::new(libm::cosf(f) * libm::cosf(t), libm::cosf(f) * libm::sinf(t), libm::sinf(f));
-                            assert!(cut.dot(d) <= 1e-6, "cone {cone:?}: {d} outside by {}", cut.dot(d));
-                        }
+                    for d in cone_directions(&cone, 32) {
+                        assert!(cut.dot(d) <= 1e-6, "cone {cone:?}: {d} outside by {}", cut.dot(d));
                     }
                 }
             }

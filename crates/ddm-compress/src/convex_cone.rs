@@ -71,13 +71,17 @@ pub(crate) struct ConvexCone {
     /// whole plane) for [`ConvexCone::contains_within`].
     exact: bool,
     inner_wedge: Option<(Vec2, Vec2)>,
-    /// Unit normals `n` of the half-spaces `n · x ≤ 0` that cut the product down (see the
-    /// module documentation): the chord plane of a band of elevations of one sign that
-    /// stops short of the pole, in a wedge narrower than `π`, then the tangent planes of
-    /// the band's inner elevation (nearer the horizon) when it is not the horizon.
-    cuts: [Vec3; MAX_CUTS],
-    /// How many of `cuts` are used.
-    cut_count: usize,
+    /// Outward normals `n` of the half-spaces `n · x ≤ 0` whose intersection is the cone
+    /// (the first `face_count`), computed once: the wedge's two walls, the `z` sign
+    /// constraint, then from `first_cut` on the cuts of the product (see the module
+    /// documentation): the chord plane of a band of elevations of one sign that stops
+    /// short of the pole, in a wedge narrower than `π`, then the tangent planes of the
+    /// band's inner elevation (nearer the horizon) when it is not the horizon.
+    faces: [Vec3; 3 + MAX_CUTS],
+    /// Where the cuts start in `faces`.
+    first_cut: usize,
+    /// How many of `faces` are used.
+    face_count: usize,
 }
 
 /// At most this many cutting half-spaces: a chord plane and three tangent planes.
@@ -146,21 +150,40 @@ impl ConvexCone {
             Vertical::Up if cone.elevation_min > 0.0 => Some((cone.elevation_min, -1.0)),
             _ => None,
         };
-        let mut cuts = [Vec3::ZERO; MAX_CUTS];
-        let mut cut_count = 0;
+        let mut faces = [Vec3::ZERO; 3 + MAX_CUTS];
+        let mut face_count = 0;
+        // The wedge's walls and the `z` sign constraint come first.
+        let first_cut = 2 * usize::from(wedge.is_some()) + usize::from(vertical != Vertical::Any);
+        let mut push = |normal: Vec3| {
+            faces[face_count] = normal;
+            face_count += 1;
+        };
+        if let Some((start, end)) = wedge {
+            // `start ⟂ xy ≥ 0` and `xy ⟂ end ≥ 0` as `n · x ≤ 0`.
+            push(Vec3::new(start.y, -start.x, 0.0));
+            push(Vec3::new(-end.y, end.x, 0.0));
+        }
+        match vertical {
+            Vertical::Down => push(Vec3::Z),
+            Vertical::Up => push(-Vec3::Z),
+            Vertical::Any => {}
+        }
         if let Some(normal) = chord {
-            cuts[cut_count] = normal;
-            cut_count += 1;
+            push(normal);
         }
         if let Some((elevation, sign)) = inner {
             let slope = libm::tanf(elevation);
             for azimuth in [cone.azimuth_min, azimuth, cone.azimuth_max] {
                 let h = ray(azimuth) * -slope;
-                cuts[cut_count] = (Vec3::new(h.x, h.y, 1.0) * sign).normalize();
-                cut_count += 1;
+                push((Vec3::new(h.x, h.y, 1.0) * sign).normalize());
             }
         }
-        Self { wedge, vertical, center, exact, inner_wedge, cuts, cut_count }
+        Self { wedge, vertical, center, exact, inner_wedge, faces, first_cut, face_count }
+    }
+
+    /// The cuts of the product cone (see `faces`).
+    fn cuts(&self) -> &[Vec3] {
+        &self.faces[self.first_cut..self.face_count]
     }
 
     /// Whether the unit direction `d` lies in the cone (closed: a direction along `z` is
@@ -193,11 +216,7 @@ impl ConvexCone {
     pub(crate) fn project(&self, w: Vec3) -> Vec3 {
         let product = self.project_onto_product(w);
         // The product's projection is the cut cone's when it lies in the cut cone.
-        if self.cuts[..self.cut_count].iter().all(|n| n.dot(product) <= 0.0) {
-            product
-        } else {
-            self.project_onto_cut(w)
-        }
+        if self.cuts().iter().all(|n| n.dot(product) <= 0.0) { product } else { self.project_onto_cut(w) }
     }
 
     /// The projection onto `wedge × z-interval`, without the chord plane.
@@ -229,24 +248,7 @@ impl ConvexCone {
     /// `w − Σ λᵢ nᵢ` of least length over `λ ≥ 0`, the `nᵢ` being the outward normals of
     /// the wedge's two walls, of the `z` sign constraint and of the cuts.
     fn project_onto_cut(&self, w: Vec3) -> Vec3 {
-        let mut normals = [Vec3::ZERO; 3 + MAX_CUTS];
-        let mut count = 0;
-        if let Some((start, end)) = self.wedge {
-            // `start ⟂ xy ≥ 0` and `xy ⟂ end ≥ 0` as `n · x ≤ 0`.
-            normals[0] = Vec3::new(start.y, -start.x, 0.0);
-            normals[1] = Vec3::new(-end.y, end.x, 0.0);
-            count = 2;
-        }
-        match self.vertical {
-            Vertical::Down => (normals[count], count) = (Vec3::Z, count + 1),
-            Vertical::Up => (normals[count], count) = (-Vec3::Z, count + 1),
-            Vertical::Any => {}
-        }
-        for &cut in &self.cuts[..self.cut_count] {
-            normals[count] = cut;
-            count += 1;
-        }
-        let normals = &normals[..count];
+        let (normals, count) = (&self.faces[..self.face_count], self.face_count);
         let mut best = w;
         let mut consider = |polar: Option<Vec3>| {
             if let Some(polar) = polar {
@@ -386,9 +388,9 @@ mod tests {
                 let chord = down && cone.elevation_min > -half_pi || up && cone.elevation_max < half_pi;
                 let inner = down && cone.elevation_max < 0.0 || up && cone.elevation_min > 0.0;
                 let expected = usize::from(chord) + 3 * usize::from(inner);
-                assert_eq!(convex.cut_count, expected, "cone {cone:?}");
+                assert_eq!(convex.cuts().len(), expected, "cone {cone:?}");
                 // Every direction of the cone is on the inner side (sampled, edges included).
-                for cut in &convex.cuts[..convex.cut_count] {
+                for cut in convex.cuts() {
                     for d in cone_directions(&cone, 32) {
                         assert!(cut.dot(d) <= 1e-6, "cone {cone:?}: {d} outside by {}", cut.dot(d));
                     }

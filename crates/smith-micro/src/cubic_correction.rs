@@ -106,25 +106,18 @@ impl CubicLambdaCorrection {
     /// The largest difference between the visible fraction `x(Λ') = Λ'/(Λ' + 2)` of eq. 17
     /// corrected by this cubic and by `table`, halved: the difference of the two corrected
     /// attributes as a fraction of the attribute range `[ā − a_s, ā + a_s]`, over
-    /// `Λ = u/(1 − u)` at 1024 steps of `u` in `[0, 1)` (at `u = 1` both give `x = 1`).
-    /// In f64; NaN for an invalid table or cubic.
+    /// `Λ = u/(1 − u)` at 1024 steps of `u` in `[0, 1)` (at `u = 1` both give `x = 1`), the
+    /// factors as the corrections evaluate them; NaN for an invalid table or cubic.
     pub fn deviation_from(&self, table: &LambdaCorrection) -> f32 {
         if !(self.is_valid() && table.is_valid()) {
             return f32::NAN;
         }
-        let [c0, c1, c2, c3] = self.coefficients.to_array().map(f64::from);
-        let knots = table.knots().map(f64::from);
-        let segments = (CORRECTION_KNOTS - 1) as f64;
         let fraction = |corrected: f64| corrected / (corrected + 2.0);
         let mut largest = 0.0_f64;
         for step in 0..1024 {
-            let u = f64::from(step) / 1024.0;
-            let lambda = u / (1.0 - u);
-            let t = u * segments;
-            // `t < 7`, so the segment index is at most 6.
-            let index = t as usize;
-            let by_table = knots[index] + (t - index as f64) * (knots[index + 1] - knots[index]);
-            let by_cubic = c0 + u * (c1 + u * (c2 + u * c3));
+            let u = step as f32 / 1024.0;
+            let lambda = f64::from(u / (1.0 - u));
+            let (by_cubic, by_table) = (f64::from(self.factor(u)), f64::from(table.factor(u)));
             largest = largest.max((fraction(by_cubic * lambda) - fraction(by_table * lambda)).abs() / 2.0);
         }
         largest as f32

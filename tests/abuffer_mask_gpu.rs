@@ -11,8 +11,7 @@ use rand::{Rng, SeedableRng};
 const RANDOM_QUERIES: usize = 100_000;
 
 fn kernel_source() -> String {
-    let module = shader_registry::module("abuffer_mask").expect("module is registered");
-    module.with_kernel("abuffer_mask_differential").expect("kernel is registered").source().to_owned()
+    shader_registry::test_kernel_source("abuffer_mask_differential").unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The kernel's uniforms: the table's, then the index of the first query.

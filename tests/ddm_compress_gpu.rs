@@ -1,15 +1,14 @@
 //! CPU = GPU differential test of `shaders/ddm_compress.wgsl` (the compressed distance
 //! map's access function) against `ddm-compress`: every voxel of several maps, bit for bit.
 
-use ddm_compress::gpu::CompressedMapUniforms;
+use ddm_compress::CompressedMapUniforms;
 use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, Triangle, compute_distance_maps};
 use glam::{UVec3, UVec4, Vec4};
 use integration_tests::gpu;
 use mesostructure::HeightField;
 
 fn kernel_source() -> String {
-    let module = shader_registry::module("ddm_compress").expect("module is registered");
-    module.with_kernel("ddm_compress_differential").expect("kernel is registered").source().to_owned()
+    shader_registry::test_kernel_source("ddm_compress_differential").unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// A wavy height-field floor over an `n × n` tile.

@@ -14,7 +14,7 @@
 
 use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
 use ddm_render::{Camera, plane_base_mesh, rasterize_gbuffer, render_pixels};
-use ddm_tracer::gpu::GpuScene;
+use ddm_tracer::GpuScene;
 use ddm_tracer::tangent_space::{
     BaseRenderParams, PIXEL_HIT, PIXEL_UNCOVERED, TangentFrame, in_shadow, tangent_space_ray,
 };

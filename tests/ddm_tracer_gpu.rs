@@ -10,20 +10,20 @@
 //! step more or less, and a hit point can move by a few ulps.
 
 use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
-use ddm_tracer::gpu::{GpuScene, TraceRay, TraceResult};
 use ddm_tracer::{
     CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceOutcome,
     TraceSettings, VoxelPatches, relief_trace, trace,
 };
+use ddm_tracer::{GpuScene, TraceResult};
 use glam::{UVec3, Vec2, Vec3};
 use integration_tests::gpu;
 use mesostructure::Mesostructure;
+use shader_registry::kernel_io::ddm_tracer::TraceRay;
 
 const DIMS: UVec3 = UVec3::new(12, 12, 6);
 
 fn kernel_source() -> String {
-    let module = shader_registry::module("ddm_tracer").expect("module is registered");
-    module.with_kernel("ddm_tracer_compute").expect("kernel is registered").source().to_owned()
+    shader_registry::test_kernel_source("ddm_tracer_compute").unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Random downward rays from above the slab, plus special ones: straight down, along

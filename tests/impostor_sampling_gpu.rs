@@ -14,11 +14,12 @@ use glam::{Quat, Vec2, Vec3, Vec4};
 use integration_tests::{SPECIAL_F32, gpu, random_unit_directions};
 use octahedral_map::sampling::{MIN_PLANE_COSINE, MISS_TEXTURE_COORDINATE};
 use octahedral_map::{
-    CompactViews, GrainRay, ImpostorRayQuery, ImpostorSample, ImpostorSampler, OctahedralViews, SamplingMode,
-    ViewFrame, ViewLayout, ViewSelection,
+    CompactViews, GrainRay, ImpostorSample, ImpostorSampler, OctahedralViews, SamplingMode, ViewFrame, ViewLayout,
+    ViewSelection,
 };
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
+use shader_registry::kernel_io::octahedral_map::ImpostorRayQuery;
 
 const SUBDIVISIONS: [u32; 4] = [1, 2, 8, 12];
 const OUTER_RADIUS: f32 = 1.3;
@@ -37,8 +38,7 @@ const WEIGHT_TOLERANCE_PER_EDGE: f32 = 4e-7;
 const DECISION_MARGIN: f32 = 2e-5;
 
 fn kernel_source() -> String {
-    let module = shader_registry::module("octahedral_map").expect("module is registered");
-    module.with_kernel("impostor_sampling_differential").expect("kernel is registered").source().to_owned()
+    shader_registry::test_kernel_source("impostor_sampling_differential").unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn query(origin: Vec3, direction: Vec3, centre: Vec3, scale: f32, rotation: Vec4) -> ImpostorRayQuery {

@@ -3,13 +3,13 @@
 
 use glam::{Vec3, Vec4};
 use integration_tests::{gpu, random_unit_directions, special_directions};
-use octahedral_map::{MAX_SUBDIVISIONS, OctahedralUniforms, OctahedralViews, ViewSample};
+use octahedral_map::{MAX_SUBDIVISIONS, OctahedralViews, ViewSample};
+use shader_registry::kernel_io::octahedral_map::OctahedralUniforms;
 
 const SUBDIVISIONS: [u32; 8] = [1, 2, 3, 8, 10, 12, 33, 256];
 
 fn kernel_source() -> String {
-    let module = shader_registry::module("octahedral_map").expect("module is registered");
-    module.with_kernel("octahedral_map_differential").expect("kernel is registered").source().to_owned()
+    shader_registry::test_kernel_source("octahedral_map_differential").unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn test_directions(n: u32) -> Vec<Vec3> {

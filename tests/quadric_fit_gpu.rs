@@ -4,14 +4,13 @@
 
 use glam::{DVec3, Vec3, Vec4};
 use integration_tests::{gpu, random_unit_directions};
-use quadric_fit::gpu::QuadricRayQuery;
 use quadric_fit::{GpuQuadric, Quadric, bilinear_quadric, first_hit, normal};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
+use shader_registry::kernel_io::quadric_fit::QuadricRayQuery;
 
 fn kernel_source() -> String {
-    let module = shader_registry::module("quadric_fit").expect("module is registered");
-    module.with_kernel("quadric_fit_differential").expect("kernel is registered").source().to_owned()
+    shader_registry::test_kernel_source("quadric_fit_differential").unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Quadrics of every kind: random, spheres, cylinders, cones, planes, near-planes and

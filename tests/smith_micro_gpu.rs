@@ -15,17 +15,136 @@
 //! tables and the light–view correlation `ρ(cos Δφ)`) has
 //! `correlated_functions_match_the_cpu_reference`, with `correlated_tolerances`.
 
-use glam::{Vec3, Vec4};
+use glam::{UVec4, Vec3, Vec4};
 use integration_tests::{gpu, random_unit_directions, special_directions};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
-use smith_micro::CubicLambdaCorrection;
-use smith_micro::gpu::{
-    CorrectionCase, CorrectionResults, CorrelatedCase, CorrelatedResults, CubicCase, CubicResults, NONE_BITS,
-    SmithCase, SmithResults, reference_correction_results, reference_correlated_results, reference_cubic_results,
-    reference_results,
+use shader_registry::kernel_io::smith_micro::{
+    CorrectionCase, CorrectionResults, CorrelatedCase, CorrelatedResults, CubicCase, CubicResults, SmithCase,
+    SmithResults,
 };
-use smith_micro::{SlopeDeviation, nu_of_direction};
+use smith_micro::correction::MAX_CORRECTED_LAMBDA;
+
+use smith_micro::{
+    CubicLambdaCorrection, FilteredSurface, HeightCorrelatedAttribute, LambdaCorrection, NONE_BITS, SlopeDeviation,
+    VisibilityCorrection, attribute_at_height, convolved_slope_deviation, corrected_lambda,
+    corrected_visible_mean_attribute, correlated_lambda, correlated_visible_mean_attribute,
+    correlated_visible_mean_attribute_for_directions, cos_azimuth_difference, cubic_corrected_visible_mean_attribute,
+    encode, erf, erfc, erfcx, gaussian_slope_ndf, height_cdf, height_visibility, log_height_cdf, mean_visibility,
+    nu_of_direction, shade, smith_lambda, smith_lambda_direction, smith_lambda_from_nu, visible_mean_attribute,
+    visible_mean_attribute_for_directions,
+};
+
+/// The CPU reference of the kernel `smith_values`: 16 encoded results,
+///
+/// `erf(x), erfc(x), erfcx(x), Λ(ν)`,
+/// `Λ(μ, σ), Λ(view), Λ(light), 1/(1+Λ)`,
+/// `g(h), ln g(h), g(h)^Λ, a(h)`,
+/// `ā(view, light), D(view) with the convolved slopes, eq. 13, ν(view)`.
+fn reference_results(case: &SmithCase) -> SmithResults {
+    let (view, light) = (case.view.truncate(), case.light.truncate());
+    let [mu, sigma, height, height_deviation] = case.scalars.to_array();
+    let [mean, correlation, radiance, lambda] = case.material.to_array();
+    let slopes = SlopeDeviation::new(case.slopes.x, case.slopes.y);
+    let brdf_slopes = SlopeDeviation::new(case.slopes.z, case.slopes.w);
+    let attribute = HeightCorrelatedAttribute { mean, height_correlation: correlation };
+    let x = case.light.w;
+    let lambda_of = |d: Vec3| slopes.and_then(|s| smith_lambda_direction(d, s));
+    let convolved = slopes.zip(brdf_slopes).map(|(s, b)| convolved_slope_deviation(s, b));
+    let surface =
+        slopes.zip(brdf_slopes).map(|(slopes, brdf_slopes)| FilteredSurface { slopes, brdf_slopes, attribute });
+    let values = [
+        erf(x),
+        erfc(x),
+        erfcx(x),
+        smith_lambda_from_nu(case.view.w),
+        smith_lambda(mu, sigma),
+        lambda_of(view),
+        lambda_of(light),
+        mean_visibility(lambda),
+        height_cdf(height, height_deviation),
+        log_height_cdf(height, height_deviation),
+        height_visibility(lambda, height, height_deviation),
+        attribute_at_height(attribute, height, height_deviation),
+        slopes.and_then(|s| visible_mean_attribute_for_directions(attribute, view, light, s)),
+        convolved.and_then(|c| gaussian_slope_ndf(view, c)),
+        surface.and_then(|s| shade(view, light, s, radiance)),
+        slopes.and_then(|s| nu_of_direction(view, s)),
+    ]
+    .map(encode);
+    let group = |i: usize| UVec4::from_slice(values.get(i..i + 4).unwrap_or(&[NONE_BITS; 4]));
+    SmithResults { values: [group(0), group(4), group(8), group(12)] }
+}
+
+/// The CPU reference of the kernel `smith_corrected_values`: 4 encoded results,
+/// `Λ'(v)`, `Λ'(l)`, `ā(v, l)` corrected on the sum
+/// ([`corrected_visible_mean_attribute`]) and corrected per direction
+/// (`visible_mean_attribute(a, Λ'(v), Λ'(l))`).
+fn reference_correction_results(case: &CorrectionCase) -> CorrectionResults {
+    let correction = LambdaCorrection { low: case.knots_low, high: case.knots_high };
+    let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array();
+    let attribute = HeightCorrelatedAttribute { mean, height_correlation: correlation };
+    let corrected_view = corrected_lambda(lambda_view, &correction);
+    let corrected_light = corrected_lambda(lambda_light, &correction);
+    let per_direction = corrected_view.zip(corrected_light).and_then(|(v, l)| visible_mean_attribute(attribute, v, l));
+    let values = [
+        corrected_view,
+        corrected_light,
+        corrected_visible_mean_attribute(attribute, lambda_view, lambda_light, &correction),
+        per_direction,
+    ]
+    .map(encode);
+    CorrectionResults { values: UVec4::from_array(values) }
+}
+
+/// The CPU reference of the kernel `smith_cubic_corrected_values`: 4 encoded results,
+/// `c(u)` at `u = Λ(v)/(1 + Λ(v))` (`None` unless `Λ(v)` is finite, non-negative and at
+/// most [`MAX_CORRECTED_LAMBDA`]), and `ā(v, l)` corrected on the sum
+/// ([`cubic_corrected_visible_mean_attribute`]) for `(Λ(v), Λ(l))`, `(Λ(l), Λ(v))` and
+/// `(Λ(v), 0)`.
+fn reference_cubic_results(case: &CubicCase) -> CubicResults {
+    let correction = CubicLambdaCorrection { coefficients: case.coefficients };
+    let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array();
+    let attribute = HeightCorrelatedAttribute { mean, height_correlation: correlation };
+    let factor = (0.0..=MAX_CORRECTED_LAMBDA)
+        .contains(&lambda_view)
+        .then(|| correction.factor(lambda_view / (1.0 + lambda_view)));
+    let values = [
+        factor,
+        cubic_corrected_visible_mean_attribute(attribute, lambda_view, lambda_light, &correction),
+        cubic_corrected_visible_mean_attribute(attribute, lambda_light, lambda_view, &correction),
+        cubic_corrected_visible_mean_attribute(attribute, lambda_view, 0.0, &correction),
+    ]
+    .map(encode);
+    CubicResults { values: UVec4::from_array(values) }
+}
+
+/// The CPU reference of the kernel `smith_correlated_values`: 4 encoded results,
+/// [`correlated_lambda`], [`correlated_visible_mean_attribute`],
+/// [`cos_azimuth_difference`] of the two directions, and
+/// [`correlated_visible_mean_attribute_for_directions`] over isotropic slopes `σ_n`.
+fn reference_correlated_results(case: &CorrelatedCase) -> CorrelatedResults {
+    let model = VisibilityCorrection {
+        view_low: case.view_low,
+        view_high: case.view_high,
+        light_low: case.light_low,
+        light_high: case.light_high,
+        correlation: case.correlation,
+    };
+    let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array();
+    let attribute = HeightCorrelatedAttribute { mean, height_correlation: correlation };
+    let cos = case.view.w;
+    let (view, light) = (case.view.truncate(), case.light.truncate());
+    let slopes = SlopeDeviation::new(case.light.w, case.light.w);
+    let values = [
+        correlated_lambda(lambda_view, lambda_light, cos, &model),
+        correlated_visible_mean_attribute(attribute, lambda_view, lambda_light, cos, &model),
+        Some(cos_azimuth_difference(view, light)),
+        slopes.and_then(|s| correlated_visible_mean_attribute_for_directions(attribute, view, light, s, &model)),
+    ]
+    .map(encode);
+    CorrelatedResults { values: UVec4::from_array(values) }
+}
 
 const NAMES: [&str; 16] = [
     "erf",
@@ -229,8 +348,7 @@ fn tolerances(case: &SmithCase, cpu: &[f32; 16]) -> [f64; 16] {
 
 #[test]
 fn every_function_matches_the_cpu_reference() {
-    let module = shader_registry::module("smith_micro").expect("module is registered");
-    let source = module.with_kernel("smith_micro_differential").expect("kernel is registered").source().to_owned();
+    let source = shader_registry::test_kernel_source("smith_micro_differential").unwrap_or_else(|e| panic!("{e}"));
     let cases = test_cases();
     assert!(cases.len() >= 100_000);
     let gpu_results: Vec<SmithResults> = gpu().compute_map(&source, "smith_values", &[0_u8; 16], &cases).unwrap();
@@ -291,8 +409,7 @@ fn run_kernel<C: bytemuck::Pod, R: bytemuck::Pod>(
     cases: &[C],
     bits: impl Fn(&R) -> [u32; 4],
 ) -> Vec<[u32; 4]> {
-    let module = shader_registry::module("smith_micro").expect("module is registered");
-    let source = module.with_kernel(kernel).expect("kernel is registered").source().to_owned();
+    let source = shader_registry::test_kernel_source(kernel).unwrap_or_else(|e| panic!("{e}"));
     let results: Vec<R> = gpu().compute_map(&source, entry, &[0_u8; 16], cases).unwrap();
     results.iter().map(bits).collect()
 }
@@ -408,7 +525,7 @@ fn correction_cases() -> Vec<CorrectionCase> {
 /// plus 4 ε for the products; `Λ'/(Λ'+2)` inherits at most `Λ'`'s relative error, and the
 /// attribute adds the cancellation of `ā + a_s x` as in `tolerances`.
 fn correction_tolerances(case: &CorrectionCase, cpu: &[f32; 4]) -> [f64; 4] {
-    let correction = smith_micro::LambdaCorrection { low: case.knots_low, high: case.knots_high };
+    let correction = LambdaCorrection { low: case.knots_low, high: case.knots_high };
     let knots = correction.knots().map(f64::from);
     let epsilon = f64::from(f32::EPSILON);
     let lambda_tolerance = |lambda: f32| {
@@ -525,7 +642,7 @@ fn correlated_cases() -> Vec<CorrelatedCase> {
 fn correlated_tolerances(case: &CorrelatedCase, cpu: &[f32; 4]) -> [f64; 4] {
     let epsilon = f64::from(f32::EPSILON);
     let table_tolerance = |low: Vec4, high: Vec4, lambda: f64| {
-        let knots = smith_micro::LambdaCorrection { low, high }.knots().map(f64::from);
+        let knots = LambdaCorrection { low, high }.knots().map(f64::from);
         if !(lambda.is_finite() && lambda > 0.0) {
             return 0.0;
         }
@@ -548,20 +665,20 @@ fn correlated_tolerances(case: &CorrelatedCase, cpu: &[f32; 4]) -> [f64; 4] {
     };
     // The cancellation in Λ' (see above), from the CPU's corrected Λs; 1 where they are
     // not finite positive.
-    let model = smith_micro::VisibilityCorrection {
+    let model = VisibilityCorrection {
         view_low: case.view_low,
         view_high: case.view_high,
         light_low: case.light_low,
         light_high: case.light_high,
         correlation: case.correlation,
     };
-    let corrected = |lambda: f64, table: smith_micro::LambdaCorrection| {
-        smith_micro::corrected_lambda(lambda as f32, &table).map(f64::from).filter(|l| l.is_finite())
+    let corrected = |lambda: f64, table: LambdaCorrection| {
+        corrected_lambda(lambda as f32, &table).map(f64::from).filter(|l| l.is_finite())
     };
     let (terms, lambda_prime) = match (
         corrected(lambda_view, model.view()),
         corrected(lambda_light, model.light()),
-        smith_micro::correlated_lambda(lambda_view as f32, lambda_light as f32, 0.0, &model),
+        correlated_lambda(lambda_view as f32, lambda_light as f32, 0.0, &model),
     ) {
         (Some(a), Some(b), Some(_)) if cpu[0].is_finite() => (a + b + 2.0 * a.min(b), f64::from(cpu[0])),
         _ => (0.0, 0.0),
@@ -624,7 +741,7 @@ fn cubic_cases() -> Vec<CubicCase> {
         }
         if rng.random_bool(0.3) {
             let knots: [f32; 8] = std::array::from_fn(|_| log_uniform(rng, 0.25, 4.0));
-            let table = smith_micro::LambdaCorrection::from_knots(knots).expect("knots in range");
+            let table = LambdaCorrection::from_knots(knots).expect("knots in range");
             if let Some(cubic) = CubicLambdaCorrection::fit_to_table(&table) {
                 return cubic.coefficients;
             }

@@ -39,7 +39,7 @@ use std::path::PathBuf;
 
 use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
 use ddm_render::{Camera, GBuffer, pixels_to_image, plane_base_mesh, rasterize_gbuffer, render_pixels};
-use ddm_tracer::gpu::GpuScene;
+use ddm_tracer::GpuScene;
 use ddm_tracer::tangent_space::{BaseRenderParams, PIXEL_HIT, PIXEL_UNCOVERED};
 use ddm_tracer::{
     CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceSettings,

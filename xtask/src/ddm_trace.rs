@@ -48,15 +48,16 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, compute_distance_maps};
-use ddm_tracer::gpu::{GpuScene, TraceRay, TraceResult};
 use ddm_tracer::{
     CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceOutcome,
     TraceSettings, VoxelPatches, relief_trace, trace,
 };
+use ddm_tracer::{GpuScene, TraceResult};
 use glam::{DVec3, UVec3, Vec2, Vec3};
 use gpu_harness::Gpu;
 use mesostructure::Mesostructure;
 use plotters::prelude::*;
+use shader_registry::kernel_io::ddm_tracer::TraceRay;
 
 use crate::chart::{draw_legend, drawing_error, render_png};
 
@@ -234,8 +235,7 @@ fn gpu_scene_run(
     rays: &[(Vec3, Vec3)],
     cpu: &[TraceOutcome],
 ) -> Result<(f64, usize), String> {
-    let module = shader_registry::module("ddm_tracer").ok_or("ddm_tracer is not registered")?;
-    let source = module.with_kernel("ddm_tracer_compute").ok_or("kernel missing")?.source().to_owned();
+    let source = shader_registry::test_kernel_source("ddm_tracer_compute")?;
     let inputs: Vec<TraceRay> = rays.iter().map(|&(o, d)| TraceRay::new(o, d)).collect();
     let uniforms = scene.uniforms(inputs.len() as u32);
     let mut best = f64::INFINITY;

@@ -5,7 +5,9 @@
 //! - `cargo xtask test-gpu`: the GPU integration tests in `tests/` on the adapter chosen
 //!   by `GPU_ADAPTER` (printed first).
 //! - `cargo xtask bench [ARGS]`: the criterion benchmarks in `benches/`.
-//! - `cargo xtask codegen`: rewrite `shaders/generated/` from the Rust declarations.
+//! - `cargo xtask codegen`: rewrite the generated WGSL (each algorithm crate's
+//!   `wgsl/generated/`, the pipeline crates' generated declarations) from the Rust
+//!   declarations.
 //! - `cargo xtask fig9 [OUT_DIR] [--height-map PNG] [--quick]`: the ray-traced ground truth
 //!   of Heitz & Neyret's Fig. 9 against eq. 17 and MIP-mapping (default `target/fig9`).
 //! - `cargo xtask showcase [OUT_DIR]`: the report of what exists so far (default
@@ -57,9 +59,9 @@ fn cargo(args: &[&str]) -> Result<(), String> {
 }
 
 fn codegen() -> Result<(), String> {
-    for module in shader_registry::modules() {
-        let text = module.generate().map_err(|e| format!("{}: {e}", module.generated.path))?;
-        write_if_changed(module.generated.path, &text)?;
+    // The algorithm crates' declarations and `naga_oil` headers, in each crate's `wgsl/`.
+    for (relative, written) in shader_registry::write_generated_files(&workspace_root())? {
+        println!("{} {relative}", if written { "wrote    " } else { "unchanged" });
     }
     // Pipeline crates keep their generated declarations beside their own shaders.
     let pipelines = [

@@ -30,13 +30,11 @@
 //! positions `p ∈ [0, 1]²` map to `ω = 2p − 1`.
 
 use glam::{DVec2, Vec2, Vec3};
+use gpu_layout::f32_bits::{ABS_MASK, INFINITY_BITS};
 
 /// `|v|` at and above which a half-plane covers all of the footprint (`v ≥ √2`) or none of
 /// it (`v ≤ −√2`); [`HalfPlane::from_cone_element`] returns `±V_SATURATION` there.
 pub const V_SATURATION: f32 = 2.0;
-
-const ABS_MASK: u32 = 0x7fff_ffff;
-const INFINITY_BITS: u32 = 0x7f80_0000;
 
 /// Replaces a subnormal value by `+0.0`, as GPUs may.
 fn flush_subnormal(x: f32) -> f32 {

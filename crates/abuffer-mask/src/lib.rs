@@ -36,8 +36,6 @@
 //!   case defined), and the exact covered area.
 //! - [`table`]: the `(θ, v)` mask table, its GPU layout and its bit-exact lookup.
 //! - [`accuracy`]: coverage error of a table against the exact area.
-//! - [`gpu`]: the structs and constants shared with the WGSL twin
-//!   (`shaders/abuffer_mask.wgsl`).
 //!
 //! # Features
 //!
@@ -49,15 +47,17 @@
 extern crate alloc;
 
 pub mod accuracy;
-pub mod gpu;
 pub mod half_plane;
 pub mod mask;
 pub mod samples;
 pub mod table;
+#[cfg(feature = "wgsl")]
+mod wgsl;
 
 pub use accuracy::{CoverageErrorStats, coverage_error};
-pub use gpu::MaskTableUniforms;
 pub use half_plane::{HalfPlane, V_SATURATION, exact_coverage};
 pub use mask::{ConeAccumulator, Mask, Mask32, Mask64, Mask128, alpha_blended_opacity};
 pub use samples::{MAX_SAMPLES, SamplePattern};
-pub use table::{DEFAULT_TABLE_SIZE, MaskTable, TableLayout};
+pub use table::{DEFAULT_TABLE_SIZE, MaskTable, MaskTableUniforms, TableLayout};
+#[cfg(feature = "wgsl")]
+pub use wgsl::WGSL;

@@ -47,8 +47,9 @@ use alloc::vec::Vec;
 use core::f64::consts::{SQRT_2, TAU};
 
 use glam::Vec2;
+use gpu_layout::f32_bits::{ABS_MASK, INFINITY_BITS};
+use gpu_layout::gpu_struct;
 
-use crate::gpu::MaskTableUniforms;
 use crate::mask::Mask;
 use crate::samples::SamplePattern;
 
@@ -58,10 +59,32 @@ pub const DEFAULT_TABLE_SIZE: u32 = 256;
 /// The largest supported resolution along `θ` or `v`.
 pub const MAX_TABLE_SIZE: u32 = 4096;
 
-const ABS_MASK: u32 = 0x7fff_ffff;
-const INFINITY_BITS: u32 = 0x7f80_0000;
 /// `2²⁴`: products are clamped to `±2²⁴` before the integer conversion.
-const INDEX_CLAMP: f32 = 16_777_216.0;
+pub(crate) const INDEX_CLAMP: f32 = 16_777_216.0;
+
+gpu_struct! {
+    /// Describes a [`MaskTable`] to a shader (§5.4): its resolution, the
+    /// lookup scales (precomputed in `f32` on the CPU so that both sides use the same bits)
+    /// and the mask size.
+    pub struct MaskTableUniforms {
+        /// `T`, cells along `θ`.
+        pub theta_count: u32,
+        /// `V`, cells along `v`.
+        pub v_count: u32,
+        /// `W = N / 32`, `u32` words per mask.
+        pub words_per_mask: u32,
+        /// `N`, samples per mask.
+        pub sample_count: u32,
+        /// `T / 2π` as `f32` ([`TableLayout::theta_scale`](crate::TableLayout::theta_scale)).
+        pub theta_scale: f32,
+        /// `(V − 1) / 2√2` as `f32` ([`TableLayout::v_scale`](crate::TableLayout::v_scale)).
+        pub v_scale: f32,
+        /// `1 / N`, exact (a power of two): coverage is `popcount × coverage_scale`.
+        pub coverage_scale: f32,
+        /// Explicit padding to 16 bytes; always zero.
+        pub padding: u32,
+    }
+}
 
 /// The `(θ, v)` resolution of a mask table and its lookup (no allocation).
 #[derive(Clone, Copy, Debug, PartialEq)]

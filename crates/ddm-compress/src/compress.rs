@@ -12,7 +12,8 @@
 
 use alloc::vec::Vec;
 
-use glam::UVec3;
+use glam::{UVec3, UVec4};
+use gpu_layout::gpu_struct;
 
 /// Set in a lookup-grid entry whose block lives in the atlas; the low 31 bits are then
 /// the block's index in the atlas.
@@ -216,6 +217,25 @@ pub fn grid_index(voxel: UVec3, dims: UVec3, block: u32) -> u32 {
 pub fn atlas_index(entry: u32, voxel: UVec3, block: u32) -> u32 {
     let local = voxel % block;
     (entry & !SURFACE_FLAG) * block * block * block + local.x + block * (local.y + block * local.z)
+}
+
+gpu_struct! {
+    /// What a shader needs to read a [`CompressedMap`]: its size, block and grid size.
+    pub struct CompressedMapUniforms {
+        /// `(dims.x, dims.y, dims.z, block)`.
+        pub dims_block: UVec4,
+        /// `(grid.x, grid.y, grid.z, atlas_base)`: the lookup grid's size, and the index of
+        /// the atlas's first word in the buffer it is read from (0 with its own binding).
+        pub grid_atlas_base: UVec4,
+    }
+}
+
+impl CompressedMapUniforms {
+    /// The uniforms of `map`, its atlas starting at word `atlas_base`.
+    pub fn new(map: &CompressedMap, atlas_base: u32) -> Self {
+        let g = grid_dims(map.dims(), map.block());
+        Self { dims_block: map.dims().extend(map.block()), grid_atlas_base: g.extend(atlas_base) }
+    }
 }
 
 #[cfg(test)]

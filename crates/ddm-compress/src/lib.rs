@@ -40,7 +40,6 @@
 //!   duality bounds in the private `convex_cone` module).
 //! - [`compress`]: the lookup grid and atlas (Algorithm A.1) and access (Algorithm A.2).
 //! - [`serialize`]: a versioned binary form that rejects corrupt data.
-//! - [`gpu`]: the uniforms of the WGSL twin.
 //!
 //! # Features
 //!
@@ -58,15 +57,18 @@ pub mod cones;
 mod convex_cone;
 pub mod ddm;
 pub mod geometry;
-pub mod gpu;
 mod search;
 pub mod serialize;
 #[cfg(test)]
 mod test_random;
+#[cfg(feature = "wgsl")]
+mod wgsl;
 
 pub use bvh::TriangleBvh;
-pub use compress::{CellDistance, CompressedMap, SURFACE_FLAG};
+pub use compress::{CellDistance, CompressedMap, CompressedMapUniforms, SURFACE_FLAG};
 pub use cones::{Cone, ConeRelation, DirectionCones, DirectionRange};
 pub use ddm::{DistanceMapSettings, DistanceMaps, compute_distance_maps, reference_distance_maps, sampled_distance};
 pub use geometry::{Aabb, Triangle};
 pub use serialize::DecodeError;
+#[cfg(feature = "wgsl")]
+pub use wgsl::WGSL;

@@ -3,7 +3,7 @@
 //! dependencies), run over the G-buffer with the tracer's scene bound at 3–8 and the
 //! [`BaseRenderParams`] at 9.
 
-use ddm_tracer::gpu::GpuScene;
+use ddm_tracer::GpuScene;
 use ddm_tracer::tangent_space::{BaseRenderParams, BaseRenderPixel, PIXEL_HIT, PIXEL_MISS};
 use gpu_harness::{Gpu, GpuTiming, HarnessError};
 
@@ -11,11 +11,10 @@ use crate::gbuffer::GBuffer;
 
 /// The composed WGSL source of the per-pixel pass.
 pub fn pixel_pass_source() -> Result<String, HarnessError> {
-    let module = shader_registry::module("ddm_render")
-        .ok_or_else(|| HarnessError::InvalidRequest("the ddm_render shader module is not registered".into()))?;
-    let shader = module
-        .with_kernel("ddm_render_compute")
-        .ok_or_else(|| HarnessError::InvalidRequest("the ddm_render_compute kernel is not registered".into()))?;
+    let shader = wgsl_gen::ComposedShader::of_module(&ddm_tracer::WGSL).with_part(
+        "shaders/kernels/ddm_render_compute.wgsl",
+        include_str!("../../../shaders/kernels/ddm_render_compute.wgsl"),
+    );
     Ok(shader.source().to_owned())
 }
 

@@ -39,8 +39,8 @@ use ddm_compress::geometry::{Aabb, triangle_overlaps_box};
 use glam::{DVec3, Vec3, Vec4};
 use quadric_fit::{GpuQuadric, Quadric};
 
-use crate::gpu::{BOUNDED_PATCH, TracePatch};
-use crate::trace::{NUDGE, patch_hit, voxel_exit};
+use crate::patch::{BOUNDED_PATCH, TracePatch, patch_hit};
+use crate::voxel::{NUDGE, voxel_exit};
 
 /// Probe points per axis of a voxel in [`representation_error`] (at `(i + ½)/n`).
 pub const PROBE_POINTS_PER_AXIS: u32 = 3;
@@ -103,10 +103,7 @@ fn bounded_patch(corners: &[DVec3], normal: DVec3) -> Option<TracePatch> {
         efgh: gpu.efgh,
         ij_corners: Vec4::new(gpu.ij.x, gpu.ij.y, corners.len() as f32, BOUNDED_PATCH),
         normal: normal.as_vec3().extend(0.0),
-        p0: corner(0),
-        p1: corner(1),
-        p2: corner(2),
-        p3: corner(3),
+        corners: [corner(0), corner(1), corner(2), corner(3)],
     })
 }
 

@@ -1,7 +1,7 @@
 //! The directional distance map tracer of Mehra & Kumar, *Accurate and Efficient
 //! Rendering of Detail using Directional Distance Maps* (§3.2, Algorithms 3.1–3.3), its
 //! baselines, and the exact ground truth it is measured against. The CPU reference of the
-//! WGSL compute tracer `shaders/ddm_tracer.wgsl`.
+//! WGSL compute tracer `wgsl/ddm_tracer.wgsl`.
 //!
 //! ```
 //! use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
@@ -20,7 +20,10 @@
 //!
 //! # Modules
 //!
+//! - [`voxel`]: ray–voxel geometry (slab entry, voxel and cell entry and exit).
 //! - [`maps`]: raw or compressed maps behind one trait, and the ray's cone.
+//! - [`patch`]: one voxel patch (a quadric clipped to a polygon) and a ray's hit with a
+//!   voxel's patches (Algorithm 3.2).
 //! - [`patches`]: the per-voxel C⁰ quadric patches (§3.1) in tracer form.
 //! - [`exact_patches`]: exact triangle patches and the per-voxel choice between a fitted
 //!   quadric and them under an error budget (beyond the paper).
@@ -28,7 +31,7 @@
 //!   or (beyond the paper) block cells on compressed maps or voxel-exit stepping.
 //! - [`relief`]: the relief mapping baseline on height fields.
 //! - [`ground_truth`]: exact ray–triangle intersection of the periodic mesh (BVH).
-//! - [`gpu`]: the structs and buffers of the WGSL twin.
+//! - [`gpu_scene`]: the scene packed into the buffers of the WGSL twin.
 //! - [`tangent_space`]: the per-pixel ray of a mesostructure mapped on a base mesh.
 //!
 //! # Features
@@ -40,16 +43,24 @@
 extern crate alloc;
 
 pub mod exact_patches;
-pub mod gpu;
+pub mod gpu_scene;
 pub mod ground_truth;
 pub mod maps;
+pub mod patch;
 pub mod patches;
 pub mod relief;
 pub mod tangent_space;
 pub mod trace;
+pub mod voxel;
+#[cfg(feature = "wgsl")]
+mod wgsl;
 
+pub use gpu_scene::{GpuScene, TraceConeMap, TraceResult, TraceUniforms};
 pub use ground_truth::{MeshHit, MeshRaycaster};
 pub use maps::{CompressedMaps, ConeDistances, ConeSelector, DistanceSource, RawConeMap};
+pub use patch::TracePatch;
 pub use patches::{PatchSettings, PatchSurface, VoxelPatches};
 pub use relief::{HeightMap, relief_trace};
 pub use trace::{Method, Stepping, TraceHit, TraceOutcome, TraceSettings, trace};
+#[cfg(feature = "wgsl")]
+pub use wgsl::WGSL;

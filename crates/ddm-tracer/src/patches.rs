@@ -36,7 +36,7 @@ use quadric_fit::surface::{C0Surface, Skipped};
 use quadric_fit::{GpuQuadric, Quadric, build_surface, fit_plane, fit_quadric};
 
 use crate::exact_patches::{probe_directions, representation_error, voxel_triangle_patches};
-use crate::gpu::{BOUNDED_PATCH, TracePatch};
+use crate::patch::{BOUNDED_PATCH, TracePatch};
 
 /// What replaces the mesostructure inside a zero-distance voxel.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -95,10 +95,6 @@ pub struct VoxelPatches {
     /// Voxels whose patches are exact triangles.
     pub triangle_voxels: u32,
 }
-
-/// Tolerance of the polygon test, in voxels: a hit this far outside a patch's polygon
-/// still counts, so that neighbouring patches of a fan overlap instead of leaving a crack.
-pub const POLYGON_TOLERANCE: f32 = 1e-4;
 
 impl VoxelPatches {
     /// Fits and builds the patches of every voxel with `surface[v]` (index as in
@@ -321,32 +317,8 @@ fn trace_patch(quadric: &Quadric, polygon: &[DVec3], origin: DVec3) -> Option<Tr
         efgh: gpu.efgh,
         ij_corners: Vec4::new(gpu.ij.x, gpu.ij.y, polygon.len() as f32, 0.0),
         normal: normal.extend(0.0),
-        p0: corner(0),
-        p1: corner(1),
-        p2: corner(2),
-        p3: corner(3),
+        corners: [corner(0), corner(1), corner(2), corner(3)],
     })
-}
-
-/// Whether the voxel-local point `p` lies inside the patch's polygon seen along its Newell
-/// normal, up to [`POLYGON_TOLERANCE`]: on the inner side of every edge (the polygons of
-/// §3.1 c are convex in practice; a concave one loses hits near its reflex corner). WGSL
-/// twin: `trace_inside_polygon`.
-pub fn inside_polygon(patch: &TracePatch, p: Vec3) -> bool {
-    let n = patch.normal.truncate();
-    let corners = [patch.p0.truncate(), patch.p1.truncate(), patch.p2.truncate(), patch.p3.truncate()];
-    let count = if patch.ij_corners.z > 3.5 { 4 } else { 3 };
-    for i in 0..count {
-        let a = corners[i];
-        let b = corners[(i + 1) % count];
-        let edge = b - a;
-        let side = edge.cross(p - a).dot(n);
-        let length = edge.length();
-        if side < -POLYGON_TOLERANCE * length {
-            return false;
-        }
-    }
-    true
 }
 
 /// Barycentric samples of `triangle` on an `n`-step grid, kept when inside `[lo, hi]`.
@@ -387,7 +359,7 @@ mod tests {
                     let list = patches.of_voxel(UVec3::new(x, y, z));
                     for patch in list {
                         // The patch's polygon corners lie on the plane.
-                        for corner in [patch.p0, patch.p1, patch.p2] {
+                        for corner in &patch.corners[..3] {
                             let p = corner.truncate() + Vec3::new(x as f32, y as f32, z as f32);
                             assert!((p.z - field(p.x, p.y)).abs() < 1e-3, "{p}");
                         }

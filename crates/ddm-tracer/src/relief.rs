@@ -7,7 +7,8 @@ use alloc::vec::Vec;
 use glam::{DVec3, UVec3, Vec2, Vec3};
 
 use crate::ground_truth::MeshRaycaster;
-use crate::trace::{TraceHit, TraceOutcome, slab_entry, unit};
+use crate::trace::{TraceHit, TraceOutcome};
+use crate::voxel::{slab_entry, unit};
 
 /// A periodic height map over the tile, sampled at texel centres, read bilinearly.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,7 +1,7 @@
 //! Rendering a mesostructure mapped onto a base mesh (Mehra & Kumar §3, after Wang et
 //! al.'s view-dependent displacement mapping): the per-pixel ray in the mesostructure's
 //! tangent space, the shading normal back in world space, and the GPU layout of the
-//! base-mesh G-buffer and of the shaded pixels. Mirrored by `shaders/ddm_render.wgsl`.
+//! base-mesh G-buffer and of the shaded pixels. Mirrored by `wgsl/tangent_space.wgsl`.
 //!
 //! # The mapping
 //!
@@ -24,7 +24,7 @@
 //! slightly off, which `h` small relative to the curvature radius keeps small.
 
 use glam::{Vec3, Vec4};
-use gpu_layout::{GpuConst, gpu_const, gpu_struct};
+use gpu_layout::gpu_struct;
 
 use crate::maps::DistanceSource;
 use crate::patches::VoxelPatches;
@@ -83,13 +83,6 @@ gpu_struct! {
         pub hit: Vec4,
     }
 }
-
-/// Constants of this module that the WGSL twin uses, for `cargo xtask codegen`.
-pub const WGSL_CONSTANTS: &[GpuConst] = &[
-    gpu_const!(PIXEL_UNCOVERED: f32 as "RENDER_PIXEL_UNCOVERED"),
-    gpu_const!(PIXEL_MISS: f32 as "RENDER_PIXEL_MISS"),
-    gpu_const!(PIXEL_HIT: f32 as "RENDER_PIXEL_HIT"),
-];
 
 /// The linear map from world directions to tangent-space (voxel) directions at one
 /// G-buffer texel: the scaled frame of the module documentation.

@@ -28,14 +28,12 @@
 //! point inside or on the wall of the voxel whose value is used, which keeps it safe.
 
 use glam::{IVec3, UVec3, Vec3};
-use quadric_fit::{GpuQuadric, first_hit, normal};
+use quadric_fit::normal;
 
-use crate::gpu::TracePatch;
 use crate::maps::{ConeDistances, DistanceSource};
-use crate::patches::{VoxelPatches, inside_polygon};
-
-/// How far ahead along the ray (voxels) the voxel of the current point is looked up.
-pub const NUDGE: f32 = 1e-4;
+use crate::patch::{patch_hit, quadric_of};
+use crate::patches::VoxelPatches;
+use crate::voxel::{NUDGE, cell_exit, slab_entry, unit, voxel_entry, voxel_exit};
 
 /// What happens in a zero-distance voxel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -44,16 +42,6 @@ pub enum Method {
     SphereTracing,
     /// Intersect the voxel's quadric patches, else step to its exit wall (Algorithm 3.1).
     Quadric,
-}
-
-impl Method {
-    /// The method's code in [`crate::gpu::TraceUniforms`].
-    pub fn code(self) -> u32 {
-        match self {
-            Self::SphereTracing => crate::gpu::METHOD_SPHERE_TRACING,
-            Self::Quadric => crate::gpu::METHOD_QUADRIC,
-        }
-    }
 }
 
 /// How far a step through a voxel with a positive distance goes.
@@ -81,17 +69,6 @@ pub enum Stepping {
     /// on compressed maps it gives back the steps the paper's §4 concedes to the blocks'
     /// smaller values.
     BlockCells,
-}
-
-impl Stepping {
-    /// The rule's code in [`crate::gpu::TraceUniforms`].
-    pub fn code(self) -> u32 {
-        match self {
-            Self::Distance => crate::gpu::STEPPING_DISTANCE,
-            Self::VoxelExit => crate::gpu::STEPPING_VOXEL_EXIT,
-            Self::BlockCells => crate::gpu::STEPPING_BLOCK_CELLS,
-        }
-    }
 }
 
 /// Settings of [`trace`].
@@ -135,87 +112,6 @@ pub struct TraceOutcome {
 impl TraceOutcome {
     fn miss(steps: u32, cone: u32) -> Self {
         Self { hit: None, steps, exhausted: false, cone }
-    }
-}
-
-/// `origin + t direction` enters the slab `z ≤ size.z`: the entry parameter (0 when the
-/// origin is inside). WGSL twin: `trace_slab_entry`.
-pub fn slab_entry(origin: Vec3, direction: Vec3, size_z: f32) -> f32 {
-    if origin.z > size_z { (size_z - origin.z) / direction.z } else { 0.0 }
-}
-
-/// `direction / |direction|` computed as both CPU and GPU do.
-pub fn unit(direction: Vec3) -> Vec3 {
-    direction * (1.0 / libm::sqrtf(direction.dot(direction)))
-}
-
-/// The ray parameter, from the point `local` relative to a unit voxel's lowest corner,
-/// where the ray enters the voxel (the largest of the entry walls' parameters), never
-/// negative: a ray starting inside the voxel enters it at its start. WGSL twin:
-/// `trace_voxel_entry`.
-pub fn voxel_entry(local: Vec3, direction: Vec3) -> f32 {
-    let mut entry = 0.0_f32;
-    for axis in 0..3 {
-        let r = direction[axis];
-        if r != 0.0 {
-            let wall = if r > 0.0 { 0.0 } else { 1.0 };
-            entry = entry.max((wall - local[axis]) / r);
-        }
-    }
-    entry
-}
-
-/// The ray parameter, from the point `local` relative to a unit voxel's lowest corner,
-/// where the ray leaves the voxel (Algorithm 3.3, lines 2–4), never negative.
-pub fn voxel_exit(local: Vec3, direction: Vec3) -> f32 {
-    cell_exit(local, direction, Vec3::ONE)
-}
-
-/// The `t ≥ 0` at which the ray `local + t direction` leaves the box `[0, size]` (a cell
-/// of voxels, `local` relative to its first corner), for a point inside or on it.
-///
-/// WGSL twin: `trace_cell_exit`.
-pub fn cell_exit(local: Vec3, direction: Vec3, size: Vec3) -> f32 {
-    let mut exit = f32::MAX;
-    for axis in 0..3 {
-        let r = direction[axis];
-        if r != 0.0 {
-            let wall = if r > 0.0 { size[axis] } else { 0.0 };
-            exit = exit.min((wall - local[axis]) / r);
-        }
-    }
-    exit.max(0.0)
-}
-
-/// The nearest hit of the ray `local + t direction`, `t ∈ [-NUDGE, t_exit]`, with
-/// `patches` (voxel-local): `(t, patch index)`. With one unbounded patch any hit in the
-/// segment counts; with several, or on a bounded patch ([`crate::gpu::BOUNDED_PATCH`]:
-/// an exact triangle), only hits inside the patch's polygon (Algorithm 3.2 over the
-/// voxel's patches). The segment starts [`NUDGE`] before the voxel wall: a surface lying on
-/// the wall (a floor at an integer height) is otherwise lost whenever the rounded entry
-/// point lands a few ulps past it.
-pub fn patch_hit(patches: &[TracePatch], local: Vec3, direction: Vec3, t_exit: f32) -> Option<(f32, usize)> {
-    let mut best: Option<(f32, usize)> = None;
-    for (index, patch) in patches.iter().enumerate() {
-        let Some(t) = first_hit(&quadric_of(patch), local, direction, -NUDGE, t_exit) else { continue };
-        let clipped = patches.len() > 1 || patch.ij_corners.w == crate::gpu::BOUNDED_PATCH;
-        if clipped && !inside_polygon(patch, local + direction * t) {
-            continue;
-        }
-        if best.is_none_or(|b| t < b.0) {
-            best = Some((t, index));
-        }
-    }
-    best
-}
-
-/// The quadric of a patch.
-pub fn quadric_of(patch: &TracePatch) -> GpuQuadric {
-    GpuQuadric {
-        abcd: patch.abcd,
-        efgh: patch.efgh,
-        ij: patch.ij_corners.truncate().truncate(),
-        padding: glam::Vec2::ZERO,
     }
 }
 

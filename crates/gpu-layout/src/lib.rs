@@ -38,13 +38,26 @@
 //! trap where Rust and WGSL silently disagree. Store a `Vec4` (or a `Vec3` plus an explicit
 //! scalar) instead.
 //!
+//! # A crate's WGSL twin
+//!
+//! [`WgslModule`] is how an algorithm crate exports its WGSL twin (behind the crate's
+//! `wgsl` feature): generated declarations, hand-written library, the modules to compose
+//! first, and the same text as a `naga_oil` composable module.
+//!
 //! # Features
 //!
-//! - `std` (default): enables `std` in glam. The crate itself never needs it.
+//! - `std` (default): enables `std` in glam, and `alloc`.
+//! - `alloc`: [`WgslModule::source`], the composed source as a `String`.
 #![no_std]
 
+#[cfg(feature = "alloc")]
+extern crate alloc;
+
+pub mod f32_bits;
+mod module;
 mod wgsl_type;
 
+pub use module::{StructDecl, WgslModule};
 pub use wgsl_type::{Scalar, WgslType, WgslTyped};
 
 /// One field of a [`GpuStruct`]: its name, Rust byte offset and WGSL type.
@@ -105,8 +118,25 @@ pub struct GpuConst {
 /// let c = gpu_layout::gpu_const!(LIMIT: u32 as "MY_LIMIT");
 /// assert_eq!(c.name, "MY_LIMIT");
 /// ```
+///
+/// A value that has no Rust constant of its own (a bit mask, `f32::MAX`, `TAU`) is named
+/// directly: `gpu_const!("WGSL_NAME": f32 = f32::MAX)`.
+///
+/// ```
+/// let c = gpu_layout::gpu_const!("MY_ABS_MASK": u32 = !(1_u32 << 31));
+/// assert_eq!(c.value, gpu_layout::GpuConstValue::U32(0x7fff_ffff));
+/// ```
 #[macro_export]
 macro_rules! gpu_const {
+    ($wgsl:literal : u32 = $value:expr) => {
+        $crate::GpuConst { name: $wgsl, value: $crate::GpuConstValue::U32($value) }
+    };
+    ($wgsl:literal : i32 = $value:expr) => {
+        $crate::GpuConst { name: $wgsl, value: $crate::GpuConstValue::I32($value) }
+    };
+    ($wgsl:literal : f32 = $value:expr) => {
+        $crate::GpuConst { name: $wgsl, value: $crate::GpuConstValue::F32($value) }
+    };
     ($name:ident : $ty:ident as $wgsl:literal) => {
         $crate::GpuConst { name: $wgsl, ..$crate::gpu_const!($name: $ty) }
     };

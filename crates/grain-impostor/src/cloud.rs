@@ -94,22 +94,18 @@ pub fn cloud_generated_wgsl() -> Result<String, GenerateError> {
     generate_declarations("grain_impostor_cloud", &cloud_struct_declarations(), &[])
 }
 
-/// The composed cloud shader: `octahedral_map` (generated + library), this crate's scene
-/// declarations, the cloud declarations and `cloud.wgsl`.
-pub fn cloud_shader() -> Result<ComposedShader, CloudError> {
-    let octahedral = shader_registry::module("octahedral_map").ok_or(CloudError::MissingModule("octahedral_map"))?;
-    Ok(octahedral
-        .library_shader()
+/// The composed cloud shader: `octahedral-map`'s WGSL twin ([`octahedral_map::WGSL`]),
+/// this crate's scene declarations, the cloud declarations and `cloud.wgsl`.
+pub fn cloud_shader() -> ComposedShader {
+    ComposedShader::of_module(&octahedral_map::WGSL)
         .with_part(crate::scene::GENERATED_WGSL_PATH, crate::scene::GENERATED_WGSL)
         .with_part(CLOUD_GENERATED_WGSL_PATH, CLOUD_GENERATED_WGSL)
-        .with_part(CLOUD_WGSL_PATH, CLOUD_WGSL))
+        .with_part(CLOUD_WGSL_PATH, CLOUD_WGSL)
 }
 
 /// Why the cloud pass could not be built or encoded.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum CloudError {
-    /// A WGSL module the cloud shader composes with is not registered.
-    MissingModule(&'static str),
     /// The composed shader failed naga validation (the message names the file and line).
     InvalidShader(String),
     /// The viewport needs more per-pixel scratch memory than one storage binding allows.
@@ -133,7 +129,6 @@ pub enum CloudError {
 impl std::fmt::Display for CloudError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Self::MissingModule(name) => write!(f, "cloud shader: WGSL module `{name}` is not registered"),
             Self::InvalidShader(message) => write!(f, "cloud shader ({CLOUD_WGSL_PATH}): {message}"),
             Self::ViewportTooLarge { pixels, limit } => {
                 write!(f, "impostor cloud: {pixels} pixels exceed the adapter's {limit}-pixel scratch limit")
@@ -233,7 +228,7 @@ fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLay
 impl ImpostorCloudPass {
     /// Validates the composed shader with naga and builds the pipelines.
     pub fn new(device: &wgpu::Device) -> Result<Self, CloudError> {
-        let shader = cloud_shader()?;
+        let shader = cloud_shader();
         shader.validate().map_err(|e| CloudError::InvalidShader(e.to_string()))?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("impostor cloud"),
@@ -407,7 +402,7 @@ mod tests {
     fn committed_cloud_wgsl_is_fresh_valid_and_laid_out_like_rust() {
         let expected = cloud_generated_wgsl().unwrap();
         assert!(CLOUD_GENERATED_WGSL == expected, "stale {CLOUD_GENERATED_WGSL_PATH}; run `cargo xtask codegen`");
-        let module = cloud_shader().unwrap().validate().unwrap_or_else(|e| panic!("{e}"));
+        let module = cloud_shader().validate().unwrap_or_else(|e| panic!("{e}"));
         check_layout(&module.module, &cloud_struct_declarations()).unwrap();
         check_layout(&module.module, &crate::scene::struct_declarations()).unwrap();
     }

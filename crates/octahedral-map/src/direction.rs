@@ -8,13 +8,11 @@
 //! (`octahedral_canonical_direction`) agrees bit for bit.
 
 use glam::Vec3;
+use gpu_layout::f32_bits::{ABS_MASK, INFINITY_BITS};
 
 /// The direction used when the input has no direction: the zero vector, any NaN
 /// component, or every component subnormal. It is the pole of the lower hemisphere.
 pub const FALLBACK_DIRECTION: Vec3 = Vec3::NEG_Z;
-
-const ABS_MASK: u32 = 0x7fff_ffff;
-const INFINITY_BITS: u32 = 0x7f80_0000;
 
 /// Replaces a subnormal value (biased exponent 0) by `+0.0`, as GPUs may (WGSL allows
 /// flushing subnormals to zero).

@@ -39,8 +39,6 @@
 //! - [`compact`]: a layout storing each distinct view once (no duplicated equator).
 //! - [`sampling`]: planar, spherical and mixed sampling of a quasi-spherical impostor
 //!   (§5): the four views, their weights and the texture coordinates to read in each.
-//! - [`gpu`]: the structs and constants shared with the WGSL twin
-//!   (`shaders/octahedral_map.wgsl`).
 //!
 //! # Features
 //!
@@ -51,16 +49,21 @@
 
 pub mod compact;
 pub mod direction;
-pub mod gpu;
 pub mod sampling;
 pub mod validity;
 pub mod view_frame;
 pub mod views;
+#[cfg(feature = "wgsl")]
+mod wgsl;
 
 pub use compact::CompactViews;
 pub use direction::{FALLBACK_DIRECTION, canonical_direction};
-pub use gpu::{ImpostorRayQuery, ImpostorSample, ImpostorSamplingUniforms, OctahedralUniforms, ViewSample};
-pub use sampling::{GrainRay, ImpostorSampler, SamplingMode, ViewLayout, ViewSelection, sample_impostor};
+pub use sampling::{
+    GrainRay, ImpostorSample, ImpostorSampler, ImpostorSamplingUniforms, SamplingMode, ViewLayout, ViewSelection,
+    sample_impostor,
+};
 pub use validity::{max_neighbour_angle, min_subdivisions_for_texels, validity_half_angle};
 pub use view_frame::ViewFrame;
-pub use views::{MAX_SUBDIVISIONS, OctahedralViews};
+pub use views::{MAX_SUBDIVISIONS, OctahedralViews, ViewSample};
+#[cfg(feature = "wgsl")]
+pub use wgsl::WGSL;

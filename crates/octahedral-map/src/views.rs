@@ -21,11 +21,36 @@
 
 use glam::{DVec3, IVec3, UVec4, Vec2, Vec3};
 
+use gpu_layout::gpu_struct;
+
 use crate::direction::canonical_direction;
-use crate::gpu::ViewSample;
 
 /// The largest supported subdivision count: `2n²` must fit in a `u32`.
 pub const MAX_SUBDIVISIONS: u32 = 46_340;
+
+gpu_struct! {
+    /// The four views nearest to a direction and their interpolation coefficients
+    /// (Listing 1 of the paper).
+    pub struct ViewSample {
+        /// `(i0, i1, i2, i3)`: the views at `(⌊u⌋,⌊v⌋)`, `(⌈u⌉,⌊v⌋)`, `(⌊u⌋,⌈v⌉)`,
+        /// `(⌈u⌉,⌈v⌉)` of the direction's hemisphere.
+        pub indices: UVec4,
+        /// `α = fract(u, v)`: `α.x` interpolates `(i0, i2) → (i1, i3)`, `α.y`
+        /// interpolates `(i0, i1) → (i2, i3)`.
+        pub alpha: Vec2,
+        /// Explicit padding to WGSL's 16-byte struct alignment; always zero.
+        pub padding: Vec2,
+    }
+}
+
+impl ViewSample {
+    /// The bilinear weights of `indices`, summing to 1:
+    /// `((1-αx)(1-αy), αx(1-αy), (1-αx)αy, αx αy)`.
+    pub fn weights(&self) -> [f32; 4] {
+        let Vec2 { x, y } = self.alpha;
+        [(1.0 - x) * (1.0 - y), x * (1.0 - y), (1.0 - x) * y, x * y]
+    }
+}
 
 /// The `N = 2n²` view directions of an octahedral impostor with `n` views per edge.
 ///

@@ -11,7 +11,7 @@
 
 use glam::Vec3;
 
-use crate::gpu::GpuQuadric;
+use crate::gpu_quadric::GpuQuadric;
 
 /// `(α, β, γ)` of `Q(o + t r) = α t² + β t + γ`.
 pub fn ray_quadratic(quadric: &GpuQuadric, origin: Vec3, direction: Vec3) -> (f32, f32, f32) {

@@ -33,7 +33,7 @@
 //! - [`patch`]: triangle and bilinear patches as quadrics (Appendix B).
 //! - [`intersect`]: single-precision ray intersection and normal, the WGSL twin's reference.
 //! - [`eigen`]: symmetric eigen-decomposition (Jacobi) without `std`.
-//! - [`gpu`]: the GPU layout of a quadric.
+//! - [`gpu_quadric`]: the single-precision GPU layout of a quadric.
 //! - [`surface`]: the per-voxel C⁰ construction of §3.1 (steps a–c): edge hits, averaged
 //!   representative points, face-ordered polygons and their triangle/bilinear patches.
 //!
@@ -47,15 +47,19 @@ extern crate alloc;
 
 pub mod eigen;
 pub mod fit;
-pub mod gpu;
+pub mod gpu_quadric;
 pub mod intersect;
 pub mod patch;
 pub mod quadric;
 pub mod surface;
+#[cfg(feature = "wgsl")]
+mod wgsl;
 
 pub use fit::{FitKind, QuadricFit, fit_plane, fit_quadric};
-pub use gpu::GpuQuadric;
+pub use gpu_quadric::GpuQuadric;
 pub use intersect::{first_hit, normal};
 pub use patch::{bilinear_quadric, triangle_quadric};
 pub use quadric::Quadric;
 pub use surface::{C0Surface, build_surface};
+#[cfg(feature = "wgsl")]
+pub use wgsl::WGSL;

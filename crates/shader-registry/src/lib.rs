@@ -1,207 +1,161 @@
-//! The project's WGSL modules and where each piece comes from.
+//! The workspace's WGSL, gathered: every algorithm crate's exported twin (its `wgsl`
+//! feature, a [`gpu_layout::WgslModule`]), where the twin's files live in the repository,
+//! and the test kernels that prove each twin equal to its Rust.
 //!
-//! Every algorithm crate with a WGSL twin has one [`ShaderModule`] here:
+//! A crate owns its WGSL: the hand-written library and the generated declarations live in
+//! `crates/<crate>/wgsl/` and are embedded by the crate itself, so its package is
+//! self-contained; the repository's `shaders/<crate>` is a link to that folder, so that
+//! `shaders/` stays the one place where all WGSL is read and edited. This crate adds what
+//! only the workspace needs: the paths (for `cargo xtask codegen` and the freshness test),
+//! and the differential-test kernels of `shaders/test-kernels/` with their input and
+//! output structs ([`kernel_io`]), which are not part of any crate's API.
 //!
-//! - its **generated** declarations, `shaders/generated/<name>.wgsl`, written by
-//!   `cargo xtask codegen` from the crate's [`gpu_layout`] structs and constants;
-//! - its **hand-written** library, `shaders/<name>.wgsl`, the WGSL twin of the crate's
-//!   functions;
-//! - its **kernels**, `shaders/kernels/*.wgsl`, entry points used by the GPU tests and
-//!   benchmarks.
-//!
-//! The sources are embedded with `include_str!`, so binaries need no repository at run
-//! time. The crate's tests parse and validate every composed module with naga, check that
-//! the naga layout of each generated struct equals its Rust layout, and check that the
-//! committed generated files are fresh.
+//! The crate's tests parse and validate every module and kernel with naga, check naga's
+//! layout of every generated struct against Rust's, that the committed generated files
+//! are fresh, that each module lists its dependencies completely and in order, that each
+//! module composes through `naga_oil` as well, and that no WGSL file in `shaders/` escapes
+//! these checks.
 //!
 //! ```
 //! let module = shader_registry::module("octahedral_map").unwrap();
-//! let shader = module.with_kernel("octahedral_map_differential").unwrap();
-//! assert!(shader.source().contains("fn octahedral_view_sample"));
+//! assert!(module.shader().source().contains("fn octahedral_view_sample"));
+//! let kernel = shader_registry::test_kernel("octahedral_map_differential").unwrap();
+//! assert!(kernel.shader().unwrap().source().contains("@compute"));
 //! ```
 
-use gpu_layout::GpuConst;
-use wgsl_gen::{ComposedShader, GenerateError, StructDecl, generate_declarations};
+pub mod kernel_io;
+mod kernels;
 
-/// A WGSL source file of the repository.
+use gpu_layout::WgslModule;
+use wgsl_gen::{ComposedShader, GenerateError, generate_declarations, naga_oil_header};
+
+pub use kernels::{TestKernel, test_kernel, test_kernel_source, test_kernels};
+
+/// An algorithm crate's WGSL twin and where its files are in the repository.
 #[derive(Clone, Copy, Debug)]
-pub struct WgslFile {
-    /// Path relative to the workspace root.
-    pub path: &'static str,
-    /// Contents, embedded at build time.
-    pub source: &'static str,
+pub struct CrateModule {
+    /// The twin, as the crate exports it.
+    pub module: &'static WgslModule,
+    /// The crate's folder, relative to the workspace root.
+    pub crate_dir: &'static str,
+    /// The hand-written files whose concatenation is [`WgslModule::library`], relative to
+    /// [`crate_dir`](Self::crate_dir).
+    pub library_files: &'static [&'static str],
 }
 
-/// One WGSL module: generated declarations, hand-written library and kernels.
-#[derive(Clone, Copy, Debug)]
-pub struct ShaderModule {
-    /// Module name (the crate name with underscores).
-    pub name: &'static str,
-    /// The committed generated declarations.
-    pub generated: WgslFile,
-    /// The hand-written library.
-    pub library: WgslFile,
-    /// Kernels that compose with the library.
-    pub kernels: &'static [WgslFile],
-    /// The Rust structs that the generated file declares.
-    pub structs: fn() -> Vec<StructDecl>,
-    /// The Rust constants that the generated file declares.
-    pub constants: &'static [GpuConst],
-}
-
-macro_rules! wgsl_file {
-    ($path:literal) => {
-        WgslFile { path: $path, source: include_str!(concat!("../../../", $path)) }
-    };
-}
-
-static MODULES: &[ShaderModule] = &[
-    ShaderModule {
-        name: "octahedral_map",
-        generated: wgsl_file!("shaders/generated/octahedral_map.wgsl"),
-        library: wgsl_file!("shaders/octahedral_map.wgsl"),
-        kernels: &[
-            wgsl_file!("shaders/kernels/octahedral_map_differential.wgsl"),
-            wgsl_file!("shaders/kernels/impostor_sampling_differential.wgsl"),
-        ],
-        structs: || {
-            vec![
-                StructDecl::of::<octahedral_map::ViewSample>(),
-                StructDecl::of::<octahedral_map::OctahedralUniforms>(),
-                StructDecl::of::<octahedral_map::ImpostorSamplingUniforms>(),
-                StructDecl::of::<octahedral_map::ImpostorRayQuery>(),
-                StructDecl::of::<octahedral_map::ImpostorSample>(),
-            ]
-        },
-        constants: octahedral_map::gpu::WGSL_CONSTANTS,
+static MODULES: &[CrateModule] = &[
+    CrateModule {
+        module: &octahedral_map::WGSL,
+        crate_dir: "crates/octahedral-map",
+        library_files: &["wgsl/octahedral_map.wgsl"],
     },
-    ShaderModule {
-        name: "quadric_fit",
-        generated: wgsl_file!("shaders/generated/quadric_fit.wgsl"),
-        library: wgsl_file!("shaders/quadric_fit.wgsl"),
-        kernels: &[wgsl_file!("shaders/kernels/quadric_fit_differential.wgsl")],
-        structs: || {
-            vec![StructDecl::of::<quadric_fit::GpuQuadric>(), StructDecl::of::<quadric_fit::gpu::QuadricRayQuery>()]
-        },
-        constants: quadric_fit::gpu::WGSL_CONSTANTS,
+    CrateModule {
+        module: &quadric_fit::WGSL,
+        crate_dir: "crates/quadric-fit",
+        library_files: &["wgsl/quadric_fit.wgsl"],
     },
-    ShaderModule {
-        name: "ddm_compress",
-        generated: wgsl_file!("shaders/generated/ddm_compress.wgsl"),
-        library: wgsl_file!("shaders/ddm_compress.wgsl"),
-        kernels: &[wgsl_file!("shaders/kernels/ddm_compress_differential.wgsl")],
-        structs: || vec![StructDecl::of::<ddm_compress::gpu::CompressedMapUniforms>()],
-        constants: ddm_compress::gpu::WGSL_CONSTANTS,
+    CrateModule {
+        module: &ddm_compress::WGSL,
+        crate_dir: "crates/ddm-compress",
+        library_files: &["wgsl/ddm_compress.wgsl"],
     },
-    ShaderModule {
-        name: "abuffer_mask",
-        generated: wgsl_file!("shaders/generated/abuffer_mask.wgsl"),
-        library: wgsl_file!("shaders/abuffer_mask.wgsl"),
-        kernels: &[wgsl_file!("shaders/kernels/abuffer_mask_differential.wgsl")],
-        structs: || vec![StructDecl::of::<abuffer_mask::MaskTableUniforms>()],
-        constants: abuffer_mask::gpu::WGSL_CONSTANTS,
+    CrateModule {
+        module: &abuffer_mask::WGSL,
+        crate_dir: "crates/abuffer-mask",
+        library_files: &["wgsl/abuffer_mask.wgsl"],
     },
-    ShaderModule {
-        name: "smith_micro",
-        generated: wgsl_file!("shaders/generated/smith_micro.wgsl"),
-        library: wgsl_file!("shaders/smith_micro.wgsl"),
-        kernels: &[
-            wgsl_file!("shaders/kernels/smith_micro_differential.wgsl"),
-            wgsl_file!("shaders/kernels/smith_micro_corrected_differential.wgsl"),
-            wgsl_file!("shaders/kernels/smith_micro_correlated_differential.wgsl"),
-            wgsl_file!("shaders/kernels/smith_micro_cubic_differential.wgsl"),
-        ],
-        structs: || {
-            vec![
-                StructDecl::of::<smith_micro::gpu::SmithCase>(),
-                StructDecl::of::<smith_micro::gpu::SmithResults>(),
-                StructDecl::of::<smith_micro::LambdaCorrection>(),
-                StructDecl::of::<smith_micro::gpu::CorrectionCase>(),
-                StructDecl::of::<smith_micro::gpu::CorrectionResults>(),
-                StructDecl::of::<smith_micro::VisibilityCorrection>(),
-                StructDecl::of::<smith_micro::gpu::CorrelatedCase>(),
-                StructDecl::of::<smith_micro::gpu::CorrelatedResults>(),
-                StructDecl::of::<smith_micro::CubicLambdaCorrection>(),
-                StructDecl::of::<smith_micro::gpu::CubicCase>(),
-                StructDecl::of::<smith_micro::gpu::CubicResults>(),
-            ]
-        },
-        constants: smith_micro::gpu::WGSL_CONSTANTS,
+    CrateModule {
+        module: &smith_micro::WGSL,
+        crate_dir: "crates/smith-micro",
+        library_files: &["wgsl/smith_micro.wgsl"],
     },
-    ShaderModule {
-        name: "ddm_tracer",
-        generated: wgsl_file!("shaders/generated/ddm_tracer.wgsl"),
-        library: wgsl_file!("shaders/ddm_tracer.wgsl"),
-        kernels: &[wgsl_file!("shaders/kernels/ddm_tracer_compute.wgsl")],
-        structs: || {
-            vec![
-                StructDecl::of::<ddm_tracer::gpu::TracePatch>(),
-                StructDecl::of::<ddm_tracer::gpu::TraceUniforms>(),
-                StructDecl::of::<ddm_tracer::gpu::TraceConeMap>(),
-                StructDecl::of::<ddm_tracer::gpu::TraceRay>(),
-                StructDecl::of::<ddm_tracer::gpu::TraceResult>(),
-            ]
-        },
-        constants: ddm_tracer::gpu::WGSL_CONSTANTS,
-    },
-    ShaderModule {
-        name: "ddm_render",
-        generated: wgsl_file!("shaders/generated/ddm_render.wgsl"),
-        library: wgsl_file!("shaders/ddm_render.wgsl"),
-        kernels: &[wgsl_file!("shaders/kernels/ddm_render_compute.wgsl")],
-        structs: || {
-            vec![
-                StructDecl::of::<ddm_tracer::tangent_space::BaseGBufferTexel>(),
-                StructDecl::of::<ddm_tracer::tangent_space::BaseRenderParams>(),
-                StructDecl::of::<ddm_tracer::tangent_space::BaseRenderPixel>(),
-            ]
-        },
-        constants: ddm_tracer::tangent_space::WGSL_CONSTANTS,
+    CrateModule {
+        module: &ddm_tracer::WGSL,
+        crate_dir: "crates/ddm-tracer",
+        library_files: &["wgsl/ddm_tracer.wgsl", "wgsl/tangent_space.wgsl"],
     },
 ];
 
-/// Modules whose library calls other modules' functions: the generated declarations and
-/// library of each listed dependency are composed before the module's own, in order.
-static DEPENDENCIES: &[(&str, &[&str])] =
-    &[("ddm_tracer", &["quadric_fit", "ddm_compress"]), ("ddm_render", &["quadric_fit", "ddm_compress", "ddm_tracer"])];
-
-/// The modules that `name`'s library builds on (see [`ShaderModule::library_shader`]).
-pub fn dependencies(name: &str) -> &'static [&'static str] {
-    DEPENDENCIES.iter().find(|(module, _)| *module == name).map_or(&[], |(_, deps)| deps)
-}
-
-/// All modules.
-pub fn modules() -> &'static [ShaderModule] {
+/// Every algorithm crate's module.
+pub fn modules() -> &'static [CrateModule] {
     MODULES
 }
 
-/// The module called `name`.
-pub fn module(name: &str) -> Option<&'static ShaderModule> {
-    MODULES.iter().find(|m| m.name == name)
+/// The module called `name` (the crate name with underscores).
+pub fn module(name: &str) -> Option<&'static CrateModule> {
+    MODULES.iter().find(|m| m.module.name == name)
 }
 
-impl ShaderModule {
-    /// The generated declarations as the Rust source says they should be now.
-    pub fn generate(&self) -> Result<String, GenerateError> {
-        generate_declarations(self.name, &(self.structs)(), self.constants)
-    }
-
-    /// The committed generated declarations followed by the library, after those of the
-    /// modules it depends on ([`dependencies`]).
-    pub fn library_shader(&self) -> ComposedShader {
-        let mut shader = ComposedShader::new(format!("{}.composed", self.name));
-        for dependency in dependencies(self.name).iter().filter_map(|name| module(name)) {
-            shader = shader
-                .with_part(dependency.generated.path, dependency.generated.source)
-                .with_part(dependency.library.path, dependency.library.source);
+/// Writes every generated file of the registered modules (declarations, `naga_oil`
+/// headers) under `workspace_root` where its content differs; returns each path with
+/// whether it was written (`cargo xtask codegen`). The new files take effect when the
+/// crates are rebuilt, since each crate embeds its own.
+pub fn write_generated_files(workspace_root: &std::path::Path) -> Result<Vec<(String, bool)>, String> {
+    let mut written = Vec::new();
+    for module in MODULES {
+        let declarations =
+            module.generate_declarations().map_err(|e| format!("{}: {e}", module.declarations_path()))?;
+        // The header names what the module uses of its dependencies: generate it from the
+        // declarations just written, not from the embedded (possibly stale) ones.
+        let with_fresh =
+            WgslModule { declarations: Box::leak(declarations.clone().into_boxed_str()), ..*module.module };
+        let files =
+            [(module.declarations_path(), declarations), (module.naga_oil_header_path(), naga_oil_header(&with_fresh))];
+        for (relative, text) in files {
+            let path = workspace_root.join(&relative);
+            let unchanged = std::fs::read_to_string(&path).is_ok_and(|old| old == text);
+            if !unchanged {
+                std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            }
+            written.push((relative, !unchanged));
         }
-        shader.with_part(self.generated.path, self.generated.source).with_part(self.library.path, self.library.source)
+    }
+    Ok(written)
+}
+
+impl CrateModule {
+    /// The module's name.
+    pub fn name(&self) -> &'static str {
+        self.module.name
     }
 
-    /// The library composed with the kernel file whose stem is `kernel`
-    /// (`shaders/kernels/<kernel>.wgsl`).
-    pub fn with_kernel(&self, kernel: &str) -> Option<ComposedShader> {
-        let file = self.kernels.iter().find(|k| k.path.rsplit('/').next() == Some(&format!("{kernel}.wgsl")))?;
-        Some(self.library_shader().with_part(file.path, file.source))
+    /// Path of the committed generated declarations, relative to the workspace root.
+    pub fn declarations_path(&self) -> String {
+        format!("{}/wgsl/generated/{}.wgsl", self.crate_dir, self.module.name)
+    }
+
+    /// Path of the committed `naga_oil` header, relative to the workspace root.
+    pub fn naga_oil_header_path(&self) -> String {
+        format!("{}/wgsl/generated/{}.naga_oil_header.wgsl", self.crate_dir, self.module.name)
+    }
+
+    /// The generated declarations as the Rust source says they should be now.
+    pub fn generate_declarations(&self) -> Result<String, GenerateError> {
+        generate_declarations(self.module.name, self.module.structs, self.module.constants)
+    }
+
+    /// The `naga_oil` header as the sources say it should be now.
+    pub fn generate_naga_oil_header(&self) -> String {
+        naga_oil_header(self.module)
+    }
+
+    /// The module composed with its dependencies ([`WgslModule::parts`]), each part
+    /// labelled with its file.
+    pub fn shader(&self) -> ComposedShader {
+        let mut shader = ComposedShader::new(format!("{}.composed", self.module.name));
+        for dependency in self.module.dependencies {
+            shader = match module(dependency.name) {
+                Some(registered) => registered.with_own_parts(shader),
+                None => shader.with_module(dependency),
+            };
+        }
+        self.with_own_parts(shader)
+    }
+
+    fn with_own_parts(&self, shader: ComposedShader) -> ComposedShader {
+        let label = self.library_files.iter().map(|file| format!("{}/{file}", self.crate_dir)).collect::<Vec<_>>();
+        shader
+            .with_part(self.declarations_path(), self.module.declarations)
+            .with_part(label.join(" + "), self.module.library)
     }
 }

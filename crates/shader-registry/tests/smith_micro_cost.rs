@@ -29,7 +29,7 @@ use wgsl_gen::{OperationCount, operation_count};
 
 fn count(name: &str) -> OperationCount {
     let module = shader_registry::module("smith_micro").expect("smith_micro is registered");
-    let validated = module.library_shader().validate().unwrap_or_else(|e| panic!("{e}"));
+    let validated = module.shader().validate().unwrap_or_else(|e| panic!("{e}"));
     operation_count(&validated, name).unwrap_or_else(|| panic!("no function {name}"))
 }
 

@@ -28,6 +28,8 @@
 //! (`erfc` loses more than `erfcx` for large `x` because `exp(−x²)` amplifies the f32
 //! rounding of `x²` by `x²`.) The tests assert bounds slightly above these figures.
 
+use gpu_layout::f32_bits::{ABS_MASK, INFINITY_BITS};
+
 /// Coefficients `c₀ … c₉` of `P(t) = c₀ + c₁t + … + c₉t⁹` (Numerical Recipes `erfcc`).
 pub const ERFC_COEFFICIENTS: [f32; 10] = [
     -1.265_512_2,
@@ -50,23 +52,23 @@ pub const ERFC_ZERO_FROM: f32 = 10.0;
 /// would lose the relative accuracy of small results.
 pub const ERF_SERIES_LIMIT: f32 = 0.5;
 
-const ABS_MASK: u32 = 0x7fff_ffff;
-const EXPONENT_MASK: u32 = 0x7f80_0000;
+/// `exp(−x)` is 0 after flushing for `x` above this (`exp(−104) < 10⁻⁴⁵`).
+pub(crate) const EXP_ZERO_FROM: f32 = 104.0;
 
 /// Replaces a subnormal value by `+0.0`, as GPUs may (WGSL allows flushing subnormals).
 /// The CPU does it explicitly wherever a subnormal could arise, so that both agree.
 pub fn flush_subnormal(x: f32) -> f32 {
-    if x.to_bits() & EXPONENT_MASK == 0 { 0.0 } else { x }
+    if x.to_bits() & INFINITY_BITS == 0 { 0.0 } else { x }
 }
 
 /// `true` when `x` is NaN, tested on the bits as the WGSL twin does.
 pub(crate) fn is_nan_bits(x: f32) -> bool {
-    x.to_bits() & ABS_MASK > EXPONENT_MASK
+    x.to_bits() & ABS_MASK > INFINITY_BITS
 }
 
 /// `true` when `x` is ±∞, tested on the bits as the WGSL twin does.
 pub(crate) fn is_infinite_bits(x: f32) -> bool {
-    x.to_bits() & ABS_MASK == EXPONENT_MASK
+    x.to_bits() & ABS_MASK == INFINITY_BITS
 }
 
 /// The scaled complementary error function `erfcx(x) = exp(x²)·erfc(x)` for `x ≥ 0`.

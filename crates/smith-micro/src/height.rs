@@ -18,7 +18,7 @@
 //! series of `ln(1 − y)` for small `y = ½ erfc(t)`, `h > 0`.
 
 use crate::attribute::HeightCorrelatedAttribute;
-use crate::erf::{erfc, erfcx, flush_subnormal, is_finite_bits, is_infinite_bits, is_nan_bits};
+use crate::erf::{EXP_ZERO_FROM, erfc, erfcx, flush_subnormal, is_finite_bits, is_infinite_bits, is_nan_bits};
 
 /// Below this `y`, `ln(1 − y)` uses its series (8 terms, truncation < 10⁻⁹ relative).
 pub const LOG_ONE_MINUS_SERIES_LIMIT: f32 = 0.0625;
@@ -28,8 +28,6 @@ pub const MAX_HEIGHT_DEVIATION: f32 = 18_446_744_073_709_551_616.0;
 /// `|t| = |h|/(√2 σ_h)` is clamped to `2⁶²`: beyond it `g` is exactly 0 or 1 in f32 and
 /// `t²` still fits in f32.
 pub const STANDARDIZED_HEIGHT_LIMIT: f32 = 4_611_686_018_427_387_904.0;
-/// `exp(−x)` is 0 after flushing for `x` above this (`exp(−104) < 10⁻⁴⁵`).
-const EXP_ZERO_FROM: f32 = 104.0;
 
 /// `t = h / (√2 σ_h)`, or `Err(g)` when the CDF is decided without it (`σ_h = 0` or
 /// `h = ±∞`), or `None` for invalid input.

@@ -49,8 +49,6 @@
 //! - [`correlated`]: the corrected visibility model with separate view and light tables
 //!   and a light–view correlation term in the azimuth difference (its derivation).
 //! - [`shading`]: the NDF ⊗ BRDF convolution of §5.5 and the shading of eq. 13.
-//! - [`gpu`]: the structs and constants shared with the WGSL twin
-//!   (`shaders/smith_micro.wgsl`) and the CPU reference of its differential kernel.
 //!
 //! Every function documents its result for every input in a table: normal incidence,
 //! grazing, below the horizon, `σ = 0`, extreme anisotropy, NaN and ±∞. No function
@@ -73,11 +71,13 @@ pub mod attribute;
 pub mod correction;
 pub mod correlated;
 pub mod cubic_correction;
+pub mod encoding;
 pub mod erf;
-pub mod gpu;
 pub mod height;
 pub mod masking;
 pub mod shading;
+#[cfg(feature = "wgsl")]
+mod wgsl;
 
 pub use attribute::{HeightCorrelatedAttribute, visible_mean_attribute, visible_mean_attribute_for_directions};
 pub use correction::{LambdaCorrection, corrected_lambda, corrected_visible_mean_attribute};
@@ -88,6 +88,7 @@ pub use correlated::{
 pub use cubic_correction::{
     CUBIC_DEVIATION_BUDGET, CheckedCubicCorrection, CubicLambdaCorrection, cubic_corrected_visible_mean_attribute,
 };
+pub use encoding::{NONE_BITS, encode};
 pub use erf::{erf, erfc, erfcx};
 pub use height::{attribute_at_height, height_cdf, height_visibility, log_height_cdf};
 pub use masking::{
@@ -95,3 +96,5 @@ pub use masking::{
     smith_lambda_from_nu,
 };
 pub use shading::{FilteredSurface, convolved_slope_deviation, gaussian_slope_ndf, shade};
+#[cfg(feature = "wgsl")]
+pub use wgsl::WGSL;

@@ -27,12 +27,10 @@
 use glam::Vec3;
 
 use crate::attribute::{HeightCorrelatedAttribute, visible_mean_attribute};
-use crate::erf::{flush_subnormal, is_nan_bits};
+use crate::erf::{EXP_ZERO_FROM, flush_subnormal, is_nan_bits};
 
 /// Largest accepted light radiance `Ē`, `2⁶⁴`.
 pub const MAX_LIGHT_RADIANCE: f32 = 18_446_744_073_709_551_616.0;
-/// `exp(−x)` is 0 after flushing for `x` above this (`exp(−104) < 10⁻⁴⁵`).
-const EXP_ZERO_FROM: f32 = 104.0;
 use crate::masking::{SlopeDeviation, canonical_direction, mean_visibility, smith_lambda_direction};
 
 /// The slopes of the surface's NDF convolved with the BRDF's microfacet slopes (§5.5):

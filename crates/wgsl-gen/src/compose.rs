@@ -2,6 +2,8 @@
 
 use std::fmt;
 
+use gpu_layout::WgslModule;
+
 /// A WGSL module assembled from named parts (generated declarations, hand-written
 /// library code, kernels), concatenated in order.
 #[derive(Clone, Debug, Default)]
@@ -62,6 +64,23 @@ impl ComposedShader {
         self.source.push_str(source);
         self.parts.push((label, first_line));
         self
+    }
+
+    /// Appends every part of `module` ([`WgslModule::parts`]: its dependencies' then its own
+    /// declarations and library), each labelled `<module>: declarations` or
+    /// `<module>: library`.
+    pub fn with_module(mut self, module: &WgslModule) -> Self {
+        for (name, declarations, library) in module.parts() {
+            self = self
+                .with_part(format!("{name}: declarations"), declarations)
+                .with_part(format!("{name}: library"), library);
+        }
+        self
+    }
+
+    /// A module called `<module name>.composed` holding [`with_module`](Self::with_module)'s parts.
+    pub fn of_module(module: &WgslModule) -> Self {
+        Self::new(format!("{}.composed", module.name)).with_module(module)
     }
 
     /// The module's name.

@@ -2,25 +2,7 @@
 
 use std::fmt::{self, Write as _};
 
-use gpu_layout::{GpuConst, GpuConstValue, GpuField, GpuStruct, WgslType};
-
-/// A struct to declare in WGSL: its name, fields and Rust size.
-#[derive(Clone, Copy, Debug)]
-pub struct StructDecl {
-    /// WGSL (and Rust) name.
-    pub name: &'static str,
-    /// Fields with their Rust offsets and WGSL types.
-    pub fields: &'static [GpuField],
-    /// `size_of` of the Rust struct.
-    pub rust_size: usize,
-}
-
-impl StructDecl {
-    /// The declaration of `T`.
-    pub fn of<T: GpuStruct>() -> Self {
-        Self { name: T::WGSL_NAME, fields: T::FIELDS, rust_size: size_of::<T>() }
-    }
-}
+use gpu_layout::{GpuConst, GpuConstValue, StructDecl, WgslType};
 
 /// Why declarations could not be generated.
 #[derive(Clone, Debug, PartialEq)]

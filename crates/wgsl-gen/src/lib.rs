@@ -35,8 +35,11 @@ mod compose;
 mod cost;
 mod generate;
 mod layout_check;
+mod naga_oil;
 
 pub use compose::{ComposedShader, ShaderError, ValidatedModule};
 pub use cost::{OperationCount, operation_count};
-pub use generate::{GenerateError, StructDecl, generate_declarations, wgsl_float_literal, wgsl_type_name};
+pub use generate::{GenerateError, generate_declarations, wgsl_float_literal, wgsl_type_name};
+pub use gpu_layout::StructDecl;
 pub use layout_check::{LayoutMismatch, check_layout};
+pub use naga_oil::{naga_oil_header, naga_oil_imports, top_level_items};

@@ -69,15 +69,16 @@
 //!   view indices still come from the (always defined) direction.
 
 mod ray;
+mod sample;
 
 use glam::{UVec4, Vec2, Vec3, Vec4};
 
 pub use ray::{
     GrainRay, MAX_GRAIN_SCALE, MAX_RAY_ORIGIN_COMPONENT, MAX_WORLD_COMPONENT, MIN_GRAIN_SCALE, intersect_proxy_sphere,
 };
+pub use sample::{ImpostorSample, ImpostorSamplingUniforms};
 
 use crate::compact::compact_from_listing_index;
-use crate::gpu::{ImpostorSample, ImpostorSamplingUniforms};
 use crate::view_frame::ViewFrame;
 use crate::views::{OctahedralViews, view_sample_from_direction};
 

@@ -2,23 +2,11 @@
 //! measured by `ddm_experiments::trace_tables` (24×24×8 voxel tiles by default, 12×12×6
 //! with `--quick`, any grid with `--size`); this command writes the rows, images and charts.
 //!
-//! For each mesostructure (maze, bricks: height fields; beads, ball: not) on a plane tile,
-//! one perspective view over about 2 × 2 tiles is traced per pixel with each method:
-//! sphere tracing with the plain distance map (DM) and with the DDMs 2×1, 4×1, 8×1 and 4×2
-//! (each stopping at the first zero voxel, as Donnelly's sphere tracing does), DDM 4×1 +
-//! quadric (Algorithm 3.1 on the C⁰ patches of §3.1), DDM 4×1 + fitted Q (the same on each
-//! voxel's fitted quadric of step a), DDM 4×1 + triangles (the mesh's own triangles per
-//! voxel, exact: beyond the paper), DDM 4×1 + adaptive (per voxel the fitted quadric where
-//! it stays within 1e-3 voxel of the triangles, else the triangles: see
-//! `ddm_tracer::exact_patches`), DM / DDM 4×1 / DDM 4×1 + adaptive with voxel-exit
-//! stepping (`... exit`: `ddm_tracer::Stepping::VoxelExit`, beyond the paper; every other
-//! row steps by the stored distance as Algorithm 3.1 does), and relief mapping (height fields only; height map
-//! at 2 texels per voxel, 32 linear + 8 binary steps). Every pixel is compared with the
-//! exact first hit of the original mesh. Every method also runs in the WGSL compute pass
-//! (one ray per invocation), on the raw maps for Tables 1/2.
-//!
-//! Known limits of the inputs, visible in the numbers: the spheres and tori are coarse
-//! meshes, whose facets a smooth quadric cannot match to 1e-3 voxel.
+//! For each mesostructure (maze, bricks: height fields; beads, ball, chain mail: not) one
+//! perspective view is traced per pixel with every `ddm_experiments::TraceMethod` (plain
+//! DM, DDMs, DDM 4×1 + patches, voxel-exit stepping, relief mapping: the library's
+//! `trace_tables` documentation says which is which) on the CPU and in the WGSL compute
+//! pass, and compared with the exact first hit of the original mesh.
 //!
 //! Writes to `OUT_DIR` (default `target/ddm-trace`):
 //! - `ddm_trace_methods.csv` (Tables 1/2): steps per ray (mean, max), hit error in voxels
@@ -233,10 +221,9 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         println!("(GPU times are from a software rasterizer's compute: lavapipe on the CPU, not a GPU)");
     }
     let tracer = GpuTracer::new(&gpu, GPU_DISPATCHES).map_err(|e| e.to_string())?;
-    let view = View::perspective(dims, width, height).map_err(|e| e.to_string())?;
     let mut tables = Tables::new(tracer.timing_name());
     for structure in Mesostructure::ALL {
-        trace_structure(structure, &settings, &view, &tracer, &out, &mut tables)?;
+        trace_structure(structure, &settings, &tracer, &out, &mut tables)?;
     }
     write_tables(&out, &settings, &tables)
 }
@@ -245,13 +232,13 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
 fn trace_structure(
     structure: Mesostructure,
     settings: &TraceTablesSettings,
-    view: &View,
     tracer: &GpuTracer<'_>,
     out: &Path,
     tables: &mut Tables,
 ) -> Result<(), String> {
     let error = |e: ddm_experiments::ExperimentError| e.to_string();
-    let scene = TraceScene::build(structure, settings, view).map_err(error)?;
+    let scene = TraceScene::build(structure, settings).map_err(error)?;
+    let view = &scene.view;
     write_image(&out.join(format!("{}_truth.png", scene.name)), view, &scene.truth.normals)?;
     let patches = &scene.patches;
     println!(
@@ -267,13 +254,13 @@ fn trace_structure(
     for row in scene.patch_rows() {
         tables.patch_row(&row)?;
     }
-    for row in scene.budget_rows(settings, view).map_err(error)? {
+    for row in scene.budget_rows().map_err(error)? {
         tables.budget_row(&row)?;
     }
-    tables.steps.extend(scene.steps_rows(settings).map_err(error)?);
+    tables.steps.extend(scene.steps_rows().map_err(error)?);
     let mut rows = Vec::new();
     for method in TraceMethod::ALL {
-        let Some(result) = scene.run_method(method, settings, view, Some(tracer)).map_err(error)? else {
+        let Some(result) = scene.run_method(method, Some(tracer)).map_err(error)? else {
             continue;
         };
         if let Some(compression) = &result.compression {

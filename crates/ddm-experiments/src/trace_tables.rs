@@ -15,7 +15,7 @@
 //! original mesh ([`trace_stats`]).
 //!
 //! The steps of one structure, each a function of [`TraceScene`]: [`TraceScene::build`]
-//! (ground truth, maps, patches), [`TraceScene::patch_rows`] (patch memory),
+//! (the view, its ground truth, maps, patches), [`TraceScene::patch_rows`] (patch memory),
 //! [`TraceScene::budget_rows`] (the adaptive patches against their budget),
 //! [`TraceScene::steps_rows`] (steps against the view angle) and
 //! [`TraceScene::run_method`] (Tables 1/2 and, on compressed maps, Table 3).
@@ -434,11 +434,16 @@ pub struct MethodResult {
     pub normals: Vec<Option<Vec3>>,
 }
 
-/// One structure of the tables: its mesh, the truth of the view, its maps and patches.
+/// One structure of the tables: its settings and view, its mesh, the truth of the view,
+/// its maps and patches.
 #[derive(Clone, Debug)]
 pub struct TraceScene {
     /// The mesostructure's name.
     pub name: &'static str,
+    /// The settings it was built with (every later step uses them).
+    pub settings: TraceTablesSettings,
+    /// The view of the settings ([`View::perspective`]).
+    pub view: View,
     /// Voxels of the tile.
     pub dims: UVec3,
     /// The tile's triangles.
@@ -459,13 +464,9 @@ pub struct TraceScene {
 
 impl TraceScene {
     /// The scene of `structure` (maze and bricks are height fields) at `settings.dims`.
-    pub fn build(
-        structure: Mesostructure,
-        settings: &TraceTablesSettings,
-        view: &View,
-    ) -> Result<Self, ExperimentError> {
+    pub fn build(structure: Mesostructure, settings: &TraceTablesSettings) -> Result<Self, ExperimentError> {
         let height_field = matches!(structure, Mesostructure::Maze(_) | Mesostructure::Bricks);
-        Self::from_triangles(structure.name(), structure.triangles(settings.dims), height_field, settings, view)
+        Self::from_triangles(structure.name(), structure.triangles(settings.dims), height_field, settings)
     }
 
     /// The scene of any tile mesh `triangles` named `name`.
@@ -474,10 +475,10 @@ impl TraceScene {
         triangles: Vec<Triangle>,
         height_field: bool,
         settings: &TraceTablesSettings,
-        view: &View,
     ) -> Result<Self, ExperimentError> {
         settings.validate()?;
         let dims = settings.dims;
+        let view = View::perspective(dims, settings.width, settings.height)?;
         let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));
         let truth = ground_truth(&mesh, &view.rays);
         let start = Instant::now();
@@ -503,7 +504,8 @@ impl TraceScene {
             c0_fitted_seconds,
             triangles_adaptive_seconds: start.elapsed().as_secs_f64(),
         };
-        Ok(Self { name, dims, triangles, height_field, mesh, truth, maps, maps_seconds, patches })
+        let settings = settings.clone();
+        Ok(Self { name, settings, view, dims, triangles, height_field, mesh, truth, maps, maps_seconds, patches })
     }
 
     /// The map called `name`.
@@ -532,9 +534,10 @@ impl TraceScene {
             .collect()
     }
 
-    /// The adaptive patches at each of `settings.budgets`, traced with the DDM 4×1 over
-    /// `view` against the truth (one timed pass).
-    pub fn budget_rows(&self, settings: &TraceTablesSettings, view: &View) -> Result<Vec<BudgetRow>, ExperimentError> {
+    /// The adaptive patches at each of the settings' `budgets`, traced with the DDM 4×1
+    /// over the view against the truth (one timed pass).
+    pub fn budget_rows(&self) -> Result<Vec<BudgetRow>, ExperimentError> {
+        let (settings, view) = (&self.settings, &self.view);
         let ddm = self.map("DDM 4x1")?;
         let surface = &self.map("DM")?.surface;
         let quadric = settings.quadric();
@@ -560,23 +563,21 @@ impl TraceScene {
     }
 
     /// Mean steps against the view angle of every map ([`steps_vs_angle`]).
-    pub fn steps_rows(&self, settings: &TraceTablesSettings) -> Result<Vec<StepsRow>, ExperimentError> {
-        steps_vs_angle(self.name, self.dims, &self.maps, &settings.steps)
+    pub fn steps_rows(&self) -> Result<Vec<StepsRow>, ExperimentError> {
+        steps_vs_angle(self.name, self.dims, &self.maps, &self.settings.steps)
     }
 
-    /// Traces `view` with `method` on the CPU (and on `gpu`, when given): its Tables 1/2
+    /// Traces the view with `method` on the CPU (and on `gpu`, when given): its Tables 1/2
     /// row and, for a map-based method, its Table 3 row. `None` for relief mapping on a
     /// structure that is no height field.
     pub fn run_method(
         &self,
         method: TraceMethod,
-        settings: &TraceTablesSettings,
-        view: &View,
         gpu: Option<&GpuTracer<'_>>,
     ) -> Result<Option<MethodResult>, ExperimentError> {
-        match method.case(settings) {
-            Some(case) => self.run_case(method, case, settings, view, gpu).map(Some),
-            None if self.height_field => self.run_relief(settings, view, gpu).map(Some),
+        match method.case(&self.settings) {
+            Some(case) => self.run_case(method, case, gpu).map(Some),
+            None if self.height_field => self.run_relief(gpu).map(Some),
             None => Ok(None),
         }
     }
@@ -585,10 +586,9 @@ impl TraceScene {
         &self,
         method: TraceMethod,
         case: MethodCase,
-        settings: &TraceTablesSettings,
-        view: &View,
         gpu: Option<&GpuTracer<'_>>,
     ) -> Result<MethodResult, ExperimentError> {
+        let (settings, view) = (&self.settings, &self.view);
         let raw = self.map(case.map)?;
         let patches = case.patches.map(|kind| self.patches.get(kind));
         let trace_settings = case.settings;
@@ -657,12 +657,8 @@ impl TraceScene {
         })
     }
 
-    fn run_relief(
-        &self,
-        settings: &TraceTablesSettings,
-        view: &View,
-        gpu: Option<&GpuTracer<'_>>,
-    ) -> Result<MethodResult, ExperimentError> {
+    fn run_relief(&self, gpu: Option<&GpuTracer<'_>>) -> Result<MethodResult, ExperimentError> {
+        let (settings, view) = (&self.settings, &self.view);
         let height_map = HeightMap::from_mesh(&self.mesh, self.dims, RELIEF_TEXELS_PER_VOXEL);
         let size_z = self.dims.z as f32;
         let run = timed(&view.rays, settings.timed_passes, |o, d| {
@@ -711,9 +707,9 @@ mod tests {
         }
     }
 
-    fn floor_scene(settings: &TraceTablesSettings, view: &View) -> TraceScene {
+    fn floor_scene(settings: &TraceTablesSettings) -> TraceScene {
         let floor = mesostructure::plane(settings.dims, 1.25);
-        TraceScene::from_triangles("floor", floor, true, settings, view).unwrap()
+        TraceScene::from_triangles("floor", floor, true, settings).unwrap()
     }
 
     #[test]
@@ -740,8 +736,8 @@ mod tests {
     #[test]
     fn a_floor_is_traced_exactly_by_the_exact_methods_and_compression_loses_nothing() {
         let settings = tiny();
-        let view = View::perspective(settings.dims, settings.width, settings.height).unwrap();
-        let scene = floor_scene(&settings, &view);
+        let scene = floor_scene(&settings);
+        let view = &scene.view;
         let covered = scene.truth.points.iter().filter(|p| p.is_some()).count();
         assert!(covered > 0);
         let relief_bound = view
@@ -753,7 +749,7 @@ mod tests {
             + 1e-5;
         let layer_bound = view.rays.iter().map(|(_, d)| 0.75 / f64::from(d.z.abs())).fold(0.0, f64::max) + 1e-5;
         for method in TraceMethod::ALL {
-            let result = scene.run_method(method, &settings, &view, None).unwrap().unwrap();
+            let result = scene.run_method(method, None).unwrap().unwrap();
             let s = result.row.stats;
             let name = method.name();
             assert_eq!((s.truth_hits, s.holes, s.false_hits, s.exhausted), (covered, 0, 0, 0), "{name}");
@@ -791,10 +787,9 @@ mod tests {
     #[test]
     fn relief_runs_on_height_fields_only() {
         let settings = tiny();
-        let view = View::perspective(settings.dims, settings.width, settings.height).unwrap();
         let floor = mesostructure::plane(settings.dims, 1.25);
-        let scene = TraceScene::from_triangles("floor", floor, false, &settings, &view).unwrap();
-        assert!(scene.run_method(TraceMethod::Relief, &settings, &view, None).unwrap().is_none());
+        let scene = TraceScene::from_triangles("floor", floor, false, &settings).unwrap();
+        assert!(scene.run_method(TraceMethod::Relief, None).unwrap().is_none());
     }
 
     /// A floor is flat: the fitted quadric meets every budget, so every budget keeps all
@@ -802,8 +797,8 @@ mod tests {
     #[test]
     fn patch_and_budget_rows_of_a_floor() {
         let settings = tiny();
-        let view = View::perspective(settings.dims, settings.width, settings.height).unwrap();
-        let scene = floor_scene(&settings, &view);
+        let scene = floor_scene(&settings);
+        assert_eq!(scene.view, View::perspective(settings.dims, settings.width, settings.height).unwrap());
         let surface_voxels = scene.maps[0].maps.surface.iter().filter(|&&s| s).count() as u32;
         let patches = scene.patch_rows();
         let kinds: Vec<_> = patches.iter().map(|r| r.patches.name()).collect();
@@ -812,7 +807,7 @@ mod tests {
         assert_eq!((triangles.triangle_voxels, triangles.quadric_voxels), (surface_voxels, 0));
         let adaptive = &patches[3];
         assert_eq!((adaptive.quadric_voxels, adaptive.triangle_voxels), (surface_voxels, 0));
-        let budgets = scene.budget_rows(&settings, &view).unwrap();
+        let budgets = scene.budget_rows().unwrap();
         let listed: Vec<f32> = budgets.iter().map(|r| r.budget).collect();
         assert_eq!(listed, settings.budgets);
         for row in &budgets {
@@ -820,13 +815,12 @@ mod tests {
             assert_eq!((row.stats.holes, row.stats.false_hits), (0, 0));
             assert!(row.stats.max_error < 1e-3 && row.cpu_rays_per_second > 0.0);
         }
-        let steps = scene.steps_rows(&settings).unwrap();
+        let steps = scene.steps_rows().unwrap();
         assert_eq!(steps.len(), settings.steps.angles_deg.len() * (TRACE_MAPS.len() + 2));
     }
 
     #[test]
     fn bad_settings_name_their_field() {
-        let view = View::perspective(UVec3::new(8, 8, 4), 2, 2).unwrap();
         let floor = mesostructure::plane(UVec3::new(8, 8, 4), 1.25);
         for (settings, field) in [
             (TraceTablesSettings { compression_block: 0, ..tiny() }, "compression_block"),
@@ -836,7 +830,7 @@ mod tests {
             (TraceTablesSettings { timed_passes: 0, ..tiny() }, "timed_passes"),
             (TraceTablesSettings { dims: UVec3::new(8, 8, 0), ..tiny() }, "dims"),
         ] {
-            let error = TraceScene::from_triangles("floor", floor.clone(), true, &settings, &view).unwrap_err();
+            let error = TraceScene::from_triangles("floor", floor.clone(), true, &settings).unwrap_err();
             assert!(error.to_string().contains(field), "{error}");
         }
     }

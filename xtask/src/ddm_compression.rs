@@ -1,111 +1,79 @@
-//! `cargo xtask ddm-compression [OUT_DIR] [--quick] [--size WxHxD]`: the equivalent of Mehra & Kumar's
-//! Table 3. For each mesostructure (maze, bricks, beads, ball, chain mail) on a
-//! 64 × 64 × 16 tile (the paper's resolution; 8 × 8 × 4 with `--quick`), the plain distance map and
-//! the downward DDMs 2×1, 4×1 and 8×1 are computed and every map is compressed with
-//! blocks of 2, 4 and 8; the compression efficiency is uncompressed size / (lookup grid +
-//! atlas) ([`CompressedMap::compression_efficiency`]). Prints a table and writes
-//! `ddm_compression.csv`.
+//! `cargo xtask ddm-compression [OUT_DIR] [--quick] [--size WxHxD]`: the equivalent of
+//! Mehra & Kumar's Table 3, measured by `ddm_experiments::compression`: for each
+//! mesostructure (maze, bricks, beads, ball, chain mail) on a 64 × 64 × 16 tile (the paper's
+//! resolution; 8 × 8 × 4 with `--quick`, any grid with `--size`), the plain distance map and
+//! the downward DDMs 2×1, 4×1 and 8×1 compressed with blocks of 2, 4 and 8. Prints a table
+//! and writes `ddm_compression.csv`.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use std::time::Instant;
 
-use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, compute_distance_maps};
-use glam::UVec3;
+use ddm_experiments::compression::{CompressionSettings, MapCompression, map_compression};
 use mesostructure::Mesostructure;
 
-/// Block sizes of the compression.
-const BLOCKS: [u32; 3] = [2, 4, 8];
+use crate::cli::{Args, grid_size};
 
-/// The maps of the table: name and cones (`None` for the plain distance map).
-fn map_kinds() -> Vec<(&'static str, Option<DirectionCones>)> {
-    vec![
-        ("DM", None),
-        ("DDM 2x1", DirectionCones::downward(2, 1)),
-        ("DDM 4x1", DirectionCones::downward(4, 1)),
-        ("DDM 8x1", DirectionCones::downward(8, 1)),
-    ]
+/// The command's settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// Where the CSV goes.
+    pub out: PathBuf,
+    /// The table's settings.
+    pub settings: CompressionSettings,
 }
 
-/// The grid size of a `--size WxHxD` argument (`text` is the word after `--size`).
-pub fn parse_size(text: Option<&str>) -> Result<UVec3, String> {
-    let text = text.ok_or("--size needs WxHxD")?;
-    let parts: Vec<u32> =
-        text.split('x').map(str::parse).collect::<Result<_, _>>().map_err(|e| format!("--size {text}: {e}"))?;
-    match parts[..] {
-        [x, y, z] if x > 0 && y > 0 && z > 0 => Ok(UVec3::new(x, y, z)),
-        _ => Err(format!("--size {text}: expected three positive sizes WxHxD")),
-    }
-}
-
-/// Runs the experiment; `args` are `[OUT_DIR] [--quick] [--size WxHxD]`.
-pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
-    let mut out = default_out;
-    let mut quick = false;
-    let mut size = None;
-    let mut args = args.iter();
-    while let Some(&arg) = args.next() {
-        match arg {
-            "--quick" => quick = true,
-            "--size" => size = Some(parse_size(args.next().copied())?),
-            _ => out = PathBuf::from(arg),
+impl Options {
+    /// `[OUT_DIR] [--quick] [--size WxHxD]`.
+    pub fn from_args(args: &Args<'_>) -> Result<Self, String> {
+        let mut settings = if args.flag("quick") { CompressionSettings::quick() } else { CompressionSettings::paper() };
+        if let Some(dims) = args.parse_value("size", grid_size)? {
+            settings.dims = dims;
         }
+        Ok(Self { out: args.out_dir(), settings })
     }
+}
+
+/// Runs the experiment.
+pub fn run(args: &Args<'_>) -> Result<(), String> {
+    let Options { out, settings } = Options::from_args(args)?;
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
-    let dims = size.unwrap_or(if quick { UVec3::new(8, 8, 4) } else { UVec3::new(64, 64, 16) });
-    let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+    let dims = settings.dims;
     println!(
         "DDM compression (Table 3): {}x{}x{} voxels, tolerance {} voxel, periodic in x and y",
-        dims.x, dims.y, dims.z, settings.tolerance
+        dims.x, dims.y, dims.z, settings.map_settings.tolerance
     );
     println!("efficiency = uncompressed / (lookup + atlas); time = computing the map (all its cones)\n");
-    println!(
-        "{:<9} {:>9} {:>8} {:>9} {:>9} {:>9} {:>9}",
-        "mesh", "triangles", "map", "time s", "block 2", "block 4", "block 8"
-    );
+    let blocks: String = settings.blocks.iter().map(|b| format!(" {:>9}", format!("block {b}"))).collect();
+    println!("{:<9} {:>9} {:>8} {:>9}{blocks}", "mesh", "triangles", "map", "time s");
     let mut csv = String::from("mesostructure,triangles,map,cones,block,efficiency,seconds\n");
     for structure in Mesostructure::ALL {
         let triangles = structure.triangles(dims);
-        for (map_name, cones) in map_kinds() {
-            let start = Instant::now();
-            let maps = compute_distance_maps(dims, &triangles, cones, settings)
-                .ok_or_else(|| format!("{}: invalid scene for {map_name}", structure.name()))?;
-            let seconds = start.elapsed().as_secs_f64();
-            let mut efficiencies = Vec::new();
-            for block in BLOCKS {
-                // Every cone's map is compressed on its own; report their mean.
-                let mut sum = 0.0;
-                for values in &maps.values {
-                    let compressed = CompressedMap::compress(values, &maps.surface, dims, block).ok_or_else(|| {
-                        format!("{} {map_name}: cannot compress with block {block}", structure.name())
-                    })?;
-                    sum += compressed.compression_efficiency();
-                }
-                let efficiency = sum / maps.values.len() as f64;
-                efficiencies.push(efficiency);
-                let cone_count = maps.values.len();
-                writeln!(
-                    csv,
-                    "{},{},{map_name},{cone_count},{block},{efficiency:.4},{seconds:.3}",
-                    structure.name(),
-                    triangles.len()
-                )
-                .map_err(|e| e.to_string())?;
-            }
-            println!(
-                "{:<9} {:>9} {:>8} {:>9.2} {:>9.2} {:>9.2} {:>9.2}",
-                structure.name(),
-                triangles.len(),
-                map_name,
-                seconds,
-                efficiencies[0],
-                efficiencies[1],
-                efficiencies[2]
-            );
+        for row in map_compression(structure.name(), &triangles, &settings).map_err(|e| e.to_string())? {
+            print_row(&row);
+            write_rows(&mut csv, &row)?;
         }
     }
     let path = out.join("ddm_compression.csv");
     std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     println!("\nwrote {}", path.display());
+    Ok(())
+}
+
+/// One line of the printed table: a map's time and its efficiency per block.
+fn print_row(row: &MapCompression) {
+    let efficiencies: String = row.efficiencies.iter().map(|(_, e)| format!(" {e:>9.2}")).collect();
+    println!("{:<9} {:>9} {:>8} {:>9.2}{efficiencies}", row.mesostructure, row.triangles, row.map, row.seconds);
+}
+
+/// The CSV rows of a map: one per block.
+fn write_rows(csv: &mut String, row: &MapCompression) -> Result<(), String> {
+    for (block, efficiency) in &row.efficiencies {
+        writeln!(
+            csv,
+            "{},{},{},{},{block},{efficiency:.4},{:.3}",
+            row.mesostructure, row.triangles, row.map, row.cones, row.seconds
+        )
+        .map_err(|e| e.to_string())?;
+    }
     Ok(())
 }

@@ -65,15 +65,8 @@ struct Base {
 }
 
 /// Runs the renders; `args` are `[OUT_DIR] [--quick]`.
-pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
-    let mut out = default_out;
-    let mut quick = false;
-    for &arg in args {
-        match arg {
-            "--quick" => quick = true,
-            _ => out = PathBuf::from(arg),
-        }
-    }
+pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
+    let (out, quick): (PathBuf, bool) = (args.out_dir(), args.flag("quick"));
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let (dims, width, height) =
         if quick { (UVec3::new(12, 12, 6), 160, 120) } else { (UVec3::new(16, 16, 8), 320, 240) };

@@ -26,6 +26,7 @@ use microsurface_truth::{
 use plotters::prelude::*;
 
 use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
+use crate::cli::Args;
 
 /// RMS slope of every generated surface: Λ spans 0 … 20 over 0° … 89°.
 const SLOPE_SIGMA: f64 = 0.5;
@@ -260,19 +261,35 @@ fn percent(x: f64) -> String {
     format!("{:.2}%", 100.0 * x)
 }
 
-/// Runs the experiment and writes `fig9.csv` and one PNG per surface and sweep into `out`.
-pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
-    let mut out = default_out;
-    let (mut height_map, mut quick, mut spectra) = (None, false, false);
-    let mut iter = args.iter();
-    while let Some(&arg) = iter.next() {
-        match arg {
-            "--height-map" => height_map = Some(PathBuf::from(iter.next().ok_or("--height-map needs a PNG path")?)),
-            "--quick" => quick = true,
-            "--spectra" => spectra = true,
-            _ => out = PathBuf::from(arg),
+/// The command's settings: `[OUT_DIR] [--height-map PNG] [--quick] [--spectra]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// Where the files go.
+    pub out: PathBuf,
+    /// A grayscale image added as a surface.
+    pub height_map: Option<PathBuf>,
+    /// 512² fields and fewer rays instead of 1024².
+    pub quick: bool,
+    /// Adds the sweep over spectra.
+    pub spectra: bool,
+}
+
+impl Options {
+    /// The options of `args`.
+    pub fn from_args(args: &Args<'_>) -> Self {
+        Self {
+            out: args.out_dir(),
+            height_map: args.value("height-map").map(PathBuf::from),
+            quick: args.flag("quick"),
+            spectra: args.flag("spectra"),
         }
     }
+}
+
+/// Runs the experiment and writes `fig9.csv` and one PNG per surface and sweep into the
+/// output folder.
+pub fn run(args: &Args<'_>) -> Result<(), String> {
+    let Options { out, height_map, quick, spectra } = Options::from_args(args);
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let (size, rays) = if quick { (512, 40_000) } else { (1024, 200_000) };
     println!("Fig. 9 ground truth: {size}² periodic fields, {rays} rays per view angle, RMS slope {SLOPE_SIGMA}");

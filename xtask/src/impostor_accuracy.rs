@@ -17,6 +17,7 @@ use octahedral_map::{SamplingMode, ViewLayout};
 use plotters::prelude::*;
 
 use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
+use crate::cli::Args;
 
 const MIB: f64 = 1024.0 * 1024.0;
 
@@ -191,20 +192,31 @@ fn save_strip(
     strip.save(path).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
-/// Runs the experiment; `args` are `[OUT_DIR] [--quick] [--obj PATH]...` (each `--obj` adds a
-/// grain loaded from an OBJ file).
-pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
-    let mut out = default_out;
-    let mut quick = false;
-    let mut objs = Vec::new();
-    let mut args = args.iter();
-    while let Some(&arg) = args.next() {
-        match arg {
-            "--quick" => quick = true,
-            "--obj" => objs.push(PathBuf::from(args.next().ok_or("--obj needs a path")?)),
-            _ => out = PathBuf::from(arg),
+/// The command's settings: `[OUT_DIR] [--quick] [--obj PATH]...`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// Where the files go.
+    pub out: PathBuf,
+    /// Two grains and a small sweep.
+    pub quick: bool,
+    /// Grains loaded from OBJ files, besides the procedural ones.
+    pub objs: Vec<PathBuf>,
+}
+
+impl Options {
+    /// The options of `args`.
+    pub fn from_args(args: &Args<'_>) -> Self {
+        Self {
+            out: args.out_dir(),
+            quick: args.flag("quick"),
+            objs: args.values("obj").into_iter().map(PathBuf::from).collect(),
         }
     }
+}
+
+/// Runs the experiment (each `--obj` adds a grain loaded from an OBJ file).
+pub fn run(args: &Args<'_>) -> Result<(), String> {
+    let Options { out, quick, objs } = Options::from_args(args);
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let settings = if quick {
         SweepSettings {

@@ -1,5 +1,5 @@
 //! `cargo xtask impostor-cloud [OUT_DIR] [--obj PATH | --grain ball|bean|rock|nut] [--n N]
-//! [--p P] [--mode planar|spherical|mixed] [--grains COUNT]`: bakes any grain (an OBJ file or
+//! [--p P] [--mode planar|spherical|mixed|mixed-smooth] [--grains COUNT]`: bakes any grain (an OBJ file or
 //! a procedural one) into an octahedral impostor atlas and renders a pile of randomly turned
 //! copies as an impostor cloud, next to the mesh rendered with the same shading; writes the
 //! atlas file, both renders side by side, and prints SSIM, RMSE and times.
@@ -8,7 +8,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use glam::{Quat, Vec3};
-use grain_impostor::accuracy::{AccuracySweep, ComparisonScene, compare_images, sampling_mode_from_name};
+use grain_impostor::accuracy::{
+    AccuracySweep, ComparisonScene, compare_images, sampling_mode_from_name, sampling_mode_name,
+};
 use grain_impostor::atlas_file::save_atlas;
 use grain_impostor::atlas_gpu::AtlasTextures;
 use grain_impostor::bake::{BakeSettings, Baker};
@@ -17,6 +19,8 @@ use grain_mesh::{Ball, CoffeeBean, GrainMesh, HexNut, SandGrain, load_obj};
 use octahedral_map::SamplingMode;
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
+
+use crate::cli::{Args, positive};
 
 /// A pile of `count` grains of outer radius `radius`: layers of a jittered square grid, each
 /// grain turned at random and scaled by 0.8–1.0, seen from above at an angle.
@@ -56,28 +60,55 @@ fn pile_scene(count: u32, radius: f32, size: (u32, u32)) -> Option<ComparisonSce
     Some(ComparisonScene { camera, instances, local_directions_to_eye: directions, size, apparent_diameter })
 }
 
-/// Runs the command.
-pub fn run(args: &[&str], default_out: PathBuf) -> Result<(), String> {
-    let mut out = default_out;
-    let (mut obj, mut grain, mut n, mut p, mut mode, mut count) = (None, "bean", 8, 64, SamplingMode::Mixed, 400);
-    let mut args = args.iter();
-    let number = |value: Option<&&str>, what: &str| -> Result<u32, String> {
-        value.and_then(|v| v.parse().ok()).ok_or_else(|| format!("{what} needs a positive integer"))
-    };
-    while let Some(&arg) = args.next() {
-        match arg {
-            "--obj" => obj = Some(PathBuf::from(args.next().ok_or("--obj needs a path")?)),
-            "--grain" => grain = args.next().ok_or("--grain needs ball, bean, rock or nut")?,
-            "--n" => n = number(args.next(), "--n")?,
-            "--p" => p = number(args.next(), "--p")?,
-            "--grains" => count = number(args.next(), "--grains")?,
-            "--mode" => {
-                let name = args.next().ok_or("--mode needs planar, spherical or mixed")?;
-                mode = sampling_mode_from_name(name).ok_or_else(|| format!("unknown sampling mode {name}"))?;
-            }
-            _ => out = PathBuf::from(arg),
-        }
+/// The procedural grains `--grain` names.
+pub const GRAINS: [&str; 4] = ["ball", "bean", "rock", "nut"];
+
+/// The command's settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// Where the files go.
+    pub out: PathBuf,
+    /// A grain from an OBJ file, else the procedural `grain`.
+    pub obj: Option<PathBuf>,
+    /// One of [`GRAINS`] (`bean` by default).
+    pub grain: &'static str,
+    /// Views per hemisphere edge (`--n`, 8 by default).
+    pub n: u32,
+    /// Texels per view (`--p`, 64 by default).
+    pub p: u32,
+    /// The sampling mode (`--mode`, mixed by default).
+    pub mode: SamplingMode,
+    /// Grains in the pile (`--grains`, 400 by default).
+    pub count: u32,
+}
+
+impl Options {
+    /// `[OUT_DIR] [--obj PATH | --grain NAME] [--n N] [--p P] [--mode MODE] [--grains COUNT]`.
+    pub fn from_args(args: &Args<'_>) -> Result<Self, String> {
+        let grain = |name: &str| {
+            GRAINS.into_iter().find(|g| *g == name).ok_or_else(|| format!("expected one of {}", GRAINS.join(", ")))
+        };
+        let mode = |name: &str| {
+            sampling_mode_from_name(name).ok_or_else(|| {
+                let names: Vec<_> = SamplingMode::ALL.into_iter().map(sampling_mode_name).collect();
+                format!("expected one of {}", names.join(", "))
+            })
+        };
+        Ok(Self {
+            out: args.out_dir(),
+            obj: args.value("obj").map(PathBuf::from),
+            grain: args.parse_value("grain", grain)?.unwrap_or("bean"),
+            n: args.parse_value("n", positive)?.unwrap_or(8),
+            p: args.parse_value("p", positive)?.unwrap_or(64),
+            mode: args.parse_value("mode", mode)?.unwrap_or(SamplingMode::Mixed),
+            count: args.parse_value("grains", positive)?.unwrap_or(400),
+        })
     }
+}
+
+/// Runs the command.
+pub fn run(args: &Args<'_>) -> Result<(), String> {
+    let Options { out, obj, grain, n, p, mode, count } = Options::from_args(args)?;
     let (name, mesh): (String, GrainMesh) = match &obj {
         Some(path) => (
             path.file_stem().map_or_else(|| "grain".into(), |s| s.to_string_lossy().into_owned()),

@@ -1,36 +1,16 @@
 //! Project automation, in matklad's `cargo xtask` pattern (`.cargo/config.toml` aliases
 //! `cargo xtask` to `cargo run --package xtask --`).
 //!
-//! - `cargo xtask test`: `cargo test --workspace`, then `test-gpu`.
-//! - `cargo xtask test-gpu`: the GPU integration tests in `tests/` on the adapter chosen
-//!   by `GPU_ADAPTER` (printed first).
-//! - `cargo xtask bench [ARGS]`: the criterion benchmarks in `benches/`.
-//! - `cargo xtask codegen`: rewrite the generated WGSL (each algorithm crate's
-//!   `wgsl/generated/`, the pipeline crates' generated declarations) from the Rust
-//!   declarations.
-//! - `cargo xtask fig9 [OUT_DIR] [--height-map PNG] [--quick]`: the ray-traced ground truth
-//!   of Heitz & Neyret's Fig. 9 against eq. 17 and MIP-mapping (default `target/fig9`).
-//! - `cargo xtask showcase [OUT_DIR]`: the report of what exists so far (default
-//!   `target/showcase`): the octahedral layout's angular error, the A-buffer masks'
-//!   coverage error, and Fig. 9 at quick settings.
-//! - `cargo xtask abuffer-chart [OUT_DIR]`: coverage error of the A-buffer mask tables
-//!   against N (default `target/showcase`).
-//! - `cargo xtask impostor-accuracy [OUT_DIR] [--quick] [--obj PATH]...`: SSIM/RMSE of octahedral impostors
-//!   against the mesh for four grains, every `(n, p)`, three sampling modes, two screen sizes
-//!   (Michel & Boubekeur's Fig. 13; default `target/impostor-accuracy`).
-//! - `cargo xtask impostor-cloud [OUT_DIR] [--obj PATH | --grain NAME] [--n N] [--p P] [--mode M]
-//!   [--grains COUNT]`: bakes any grain and renders a pile of it as an impostor cloud beside the
-//!   mesh (default `target/impostor-cloud`).
-//! - `cargo xtask ddm-compression [OUT_DIR] [--quick]`: compression efficiency of the
-//!   distance maps and DDMs of four mesostructures (Mehra & Kumar's Table 3; default
-//!   `target/ddm-compression`).
-//! - `cargo xtask ddm-trace [OUT_DIR] [--quick] [--size WxHxD]`: Mehra & Kumar's Tables 1–3 measured with
-//!   the DDM tracer on CPU and GPU against the exact mesh (default `target/ddm-trace`).
-//! - `cargo xtask ddm-render [OUT_DIR] [--quick]`: the mesostructures mapped on a plane tile
-//!   and a torus through a raster G-buffer and a compute trace (default `target/ddm-render`).
+//! Every command is declared once in [`COMMANDS`] (its flags, its `OUT_DIR` and what runs
+//! it); `cargo xtask --help` lists their usage lines, `cargo xtask COMMAND --help` prints
+//! one, and the README's command table shows the same lines (a test checks it). The
+//! experiments themselves live in library crates (e.g. `ddm-experiments` for Mehra &
+//! Kumar's Tables 1–3); the commands parse arguments, call them, write CSV/PNG files, draw
+//! charts and print.
 
 mod abuffer_chart;
 mod chart;
+mod cli;
 mod ddm_compression;
 mod ddm_render;
 mod ddm_steps;
@@ -41,7 +21,9 @@ mod impostor_cloud;
 mod showcase;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitCode};
+use std::process::ExitCode;
+
+use cli::{Args, Command, Parsed, Positional, repeated, switch, value};
 
 fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -50,7 +32,7 @@ fn workspace_root() -> PathBuf {
 fn cargo(args: &[&str]) -> Result<(), String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     println!("$ cargo {}", args.join(" "));
-    let status = Command::new(&cargo)
+    let status = std::process::Command::new(&cargo)
         .args(args)
         .current_dir(workspace_root())
         .status()
@@ -95,55 +77,158 @@ fn test_gpu() -> Result<(), String> {
     cargo(&["test", "--workspace", "--features", "integration-tests/gpu", "--test", "*_gpu", "--", "--show-output"])
 }
 
-fn run(args: &[String]) -> Result<(), String> {
-    let mut rest: Vec<&str> = args.iter().skip(1).map(String::as_str).collect();
-    if rest.first() == Some(&"--") {
-        rest.remove(0);
+/// `--quick`: the command's quick settings.
+const QUICK: cli::Flag = switch("quick");
+/// `--size WxHxD`: the tile's voxels.
+const SIZE: cli::Flag = value("size", "WxHxD");
+/// `--obj PATH`: a grain from an OBJ file.
+const OBJ: cli::Flag = value("obj", "PATH");
+
+/// Every command, in usage order.
+pub const COMMANDS: &[Command] = &[
+    Command { name: "test", flags: &[], exclusive: &[], positional: Positional::None, run: test },
+    Command { name: "test-gpu", flags: &[], exclusive: &[], positional: Positional::None, run: |_| test_gpu() },
+    Command {
+        name: "bench",
+        flags: &[],
+        exclusive: &[],
+        positional: Positional::PassThrough("CRITERION ARGS"),
+        run: bench,
+    },
+    Command { name: "codegen", flags: &[], exclusive: &[], positional: Positional::None, run: |_| codegen() },
+    Command {
+        name: "showcase",
+        flags: &[],
+        exclusive: &[],
+        positional: Positional::OutDir("target/showcase"),
+        run: showcase,
+    },
+    Command {
+        name: "fig9",
+        flags: &[value("height-map", "PNG"), QUICK, switch("spectra")],
+        exclusive: &[],
+        positional: Positional::OutDir("target/fig9"),
+        run: fig9::run,
+    },
+    Command {
+        name: "abuffer-chart",
+        flags: &[],
+        exclusive: &[],
+        positional: Positional::OutDir("target/showcase"),
+        run: |args| abuffer_chart::run(&args.out_dir()),
+    },
+    Command {
+        name: "ddm-compression",
+        flags: &[QUICK, SIZE],
+        exclusive: &[],
+        positional: Positional::OutDir("target/ddm-compression"),
+        run: ddm_compression::run,
+    },
+    Command {
+        name: "ddm-trace",
+        flags: &[QUICK, SIZE],
+        exclusive: &[],
+        positional: Positional::OutDir("target/ddm-trace"),
+        run: ddm_trace::run,
+    },
+    Command {
+        name: "ddm-render",
+        flags: &[QUICK],
+        exclusive: &[],
+        positional: Positional::OutDir("target/ddm-render"),
+        run: ddm_render::run,
+    },
+    Command {
+        name: "impostor-accuracy",
+        flags: &[QUICK, repeated("obj", "PATH")],
+        exclusive: &[],
+        positional: Positional::OutDir("target/impostor-accuracy"),
+        run: impostor_accuracy::run,
+    },
+    Command {
+        name: "impostor-cloud",
+        flags: &[
+            OBJ,
+            value("grain", "NAME"),
+            value("n", "N"),
+            value("p", "P"),
+            value("mode", "MODE"),
+            value("grains", "COUNT"),
+        ],
+        exclusive: &[("obj", "grain")],
+        positional: Positional::OutDir("target/impostor-cloud"),
+        run: impostor_cloud::run,
+    },
+];
+
+/// The usage of every command.
+fn usage() -> String {
+    let mut text = String::from("usage (`cargo xtask COMMAND --help` prints one):");
+    for command in COMMANDS {
+        text += &format!("\n  {}", command.usage());
     }
-    match args.first().map(String::as_str) {
-        Some("test") => {
-            cargo(&["test", "--workspace"])?;
-            test_gpu()
+    text
+}
+
+fn test(_: &Args<'_>) -> Result<(), String> {
+    cargo(&["test", "--workspace"])?;
+    test_gpu()
+}
+
+/// `cargo bench --package benches`, the arguments passed on to criterion.
+fn bench(args: &Args<'_>) -> Result<(), String> {
+    let mut command = vec!["bench", "--package", "benches"];
+    if !args.rest().is_empty() {
+        command.push("--");
+        command.extend(args.rest().iter().map(String::as_str));
+    }
+    cargo(&command)
+}
+
+/// Everything that can be shown so far, at quick settings: the octahedral layout, impostor
+/// accuracy (Fig. 12-13), the DDM tracer's tables and its renders on a plane and a torus,
+/// the A-buffer masks' coverage error and Fig. 9.
+fn showcase(args: &Args<'_>) -> Result<(), String> {
+    let out = args.out_dir();
+    showcase::run(&out)?;
+    let out_text = out.to_string_lossy().into_owned();
+    run_command("impostor-accuracy", &[&out_text, "--quick"])?;
+    run_command("ddm-trace", &[&out_text, "--quick"])?;
+    run_command("ddm-render", &[&out_text, "--quick"])?;
+    abuffer_chart::run(&out)?;
+    run_command("fig9", &[&out_text, "--quick"])
+}
+
+/// The command called `name`.
+fn command(name: &str) -> Option<&'static Command> {
+    COMMANDS.iter().find(|c| c.name == name)
+}
+
+/// Runs the command `name` with `words` (parsed as if typed).
+fn run_command(name: &str, words: &[&str]) -> Result<(), String> {
+    let command = command(name).ok_or_else(|| format!("unknown command `{name}`"))?;
+    let words: Vec<String> = words.iter().map(|&w| w.to_owned()).collect();
+    match command.parse(&words)? {
+        Parsed::Run(args) => (command.run)(&args),
+        Parsed::Help(usage) => Err(format!("{name}: unexpected --help\nusage: {usage}")),
+    }
+}
+
+fn run(words: &[String]) -> Result<(), String> {
+    let Some((name, rest)) = words.split_first() else {
+        return Err(format!("no command\n{}", usage()));
+    };
+    if matches!(name.as_str(), "--help" | "-h" | "help") {
+        println!("{}", usage());
+        return Ok(());
+    }
+    let command = command(name).ok_or_else(|| format!("unknown command `{name}`\n{}", usage()))?;
+    match command.parse(rest)? {
+        Parsed::Run(args) => (command.run)(&args),
+        Parsed::Help(usage) => {
+            println!("usage: {usage}");
+            Ok(())
         }
-        Some("test-gpu") => test_gpu(),
-        Some("bench") => {
-            let mut command = vec!["bench", "--package", "benches"];
-            if !rest.is_empty() {
-                command.push("--");
-                command.extend(rest);
-            }
-            cargo(&command)
-        }
-        Some("codegen") => codegen(),
-        Some("fig9") => fig9::run(&rest, workspace_root().join("target/fig9")),
-        Some("showcase") => {
-            let out = rest.first().map_or_else(|| workspace_root().join("target/showcase"), PathBuf::from);
-            // Everything that can be shown so far, at quick settings: the octahedral layout,
-            // impostor accuracy (Fig. 12-13), the A-buffer masks' coverage error, Fig. 9 and
-            // the DDM tracer's tables and its renders on a plane and a torus.
-            showcase::run(&out)?;
-            let out_text = out.to_string_lossy().into_owned();
-            impostor_accuracy::run(&[out_text.as_str(), "--quick"], out.clone())?;
-            ddm_trace::run(&[out_text.as_str(), "--quick"], out.clone())?;
-            ddm_render::run(&[out_text.as_str(), "--quick"], out.clone())?;
-            abuffer_chart::run(&out)?;
-            fig9::run(&["--quick"], out)
-        }
-        Some("abuffer-chart") => {
-            let out = rest.first().map_or_else(|| workspace_root().join("target/showcase"), PathBuf::from);
-            abuffer_chart::run(&out)
-        }
-        Some("impostor-accuracy") => {
-            impostor_accuracy::run(&rest, workspace_root().join("target/impostor-accuracy"))
-        }
-        Some("impostor-cloud") => impostor_cloud::run(&rest, workspace_root().join("target/impostor-cloud")),
-        Some("ddm-compression") => ddm_compression::run(&rest, workspace_root().join("target/ddm-compression")),
-        Some("ddm-trace") => ddm_trace::run(&rest, workspace_root().join("target/ddm-trace")),
-        Some("ddm-render") => ddm_render::run(&rest, workspace_root().join("target/ddm-render")),
-        _ => Err(
-            "usage: cargo xtask <test | test-gpu | bench [CRITERION ARGS] | codegen | showcase [OUT_DIR] | fig9 [OUT_DIR] [--height-map PNG] [--quick] [--spectra] | abuffer-chart [OUT_DIR] | ddm-compression [OUT_DIR] [--quick] [--size WxHxD] | ddm-trace [OUT_DIR] [--quick] [--size WxHxD] | ddm-render [OUT_DIR] [--quick] | impostor-accuracy [OUT_DIR] [--quick] [--obj PATH]... | impostor-cloud [OUT_DIR] [--obj PATH | --grain NAME] [--n N] [--p P] [--mode MODE] [--grains COUNT]>"
-                .into(),
-        ),
     }
 }
 
@@ -160,7 +245,11 @@ fn rerun_with_runtime_dir(args: &[String]) -> Option<ExitCode> {
         use std::os::unix::fs::PermissionsExt;
         std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700)).ok()?;
     }
-    let status = Command::new(std::env::current_exe().ok()?).args(args).env("XDG_RUNTIME_DIR", &dir).status().ok()?;
+    let status = std::process::Command::new(std::env::current_exe().ok()?)
+        .args(args)
+        .env("XDG_RUNTIME_DIR", &dir)
+        .status()
+        .ok()?;
     Some(status.code().map_or(ExitCode::FAILURE, |code| ExitCode::from(code as u8)))
 }
 
@@ -174,6 +263,240 @@ fn main() -> ExitCode {
         Err(message) => {
             eprintln!("xtask: {message}");
             ExitCode::FAILURE
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::PathBuf;
+
+    use ddm_experiments::compression::CompressionSettings;
+    use ddm_experiments::trace_tables::{TraceMethod, TraceTablesSettings};
+    use glam::UVec3;
+    use octahedral_map::SamplingMode;
+
+    use super::*;
+
+    fn words(text: &str) -> Vec<String> {
+        text.split_whitespace().map(str::to_owned).collect()
+    }
+
+    /// The arguments of `cargo xtask NAME TEXT`, or the parse error.
+    fn parse(name: &str, text: &str) -> Result<Args<'static>, String> {
+        match command(name).unwrap_or_else(|| panic!("no command {name}")).parse(&words(text))? {
+            Parsed::Run(args) => Ok(args),
+            Parsed::Help(usage) => Err(format!("help: {usage}")),
+        }
+    }
+
+    fn root(path: &str) -> PathBuf {
+        workspace_root().join(path)
+    }
+
+    /// Every command of the table, so that a new one cannot skip it (parsed only: a
+    /// command that took the flag would otherwise run).
+    #[test]
+    fn every_command_rejects_an_unknown_flag_with_its_usage() {
+        for command in COMMANDS {
+            let usage = format!("usage: {}", command.usage());
+            if let Positional::PassThrough(_) = command.positional {
+                // `bench` hands every argument to criterion: checked below, without running.
+                continue;
+            }
+            for flag in ["--obj-typo", "-x"] {
+                let error = command.parse(&words(&format!("{flag} out"))).err().expect(command.name);
+                assert!(error.starts_with(&format!("{}: unknown flag {flag}\n", command.name)), "{error}");
+                assert!(error.ends_with(&usage), "{error}");
+            }
+        }
+        // Through `run`, as `main` calls it: the example writes nothing.
+        let error = run(&words("ddm-trace --obj foo.obj")).unwrap_err();
+        assert!(error.starts_with("ddm-trace: unknown flag --obj\n"), "{error}");
+        let Ok(args) = parse("bench", "--obj-typo -x out") else { panic!("bench parses anything") };
+        assert_eq!(args.rest(), words("--obj-typo -x out"));
+    }
+
+    #[test]
+    fn every_command_prints_its_usage_with_help() {
+        for command in COMMANDS {
+            let parsed = command.parse(&words("--help"));
+            assert!(matches!(parsed, Ok(Parsed::Help(ref u)) if *u == command.usage()), "{}", command.name);
+            assert!(command.usage().starts_with(&format!("cargo xtask {}", command.name)));
+        }
+        assert!(run(&words("--help")).is_ok() && run(&words("help")).is_ok());
+    }
+
+    #[test]
+    fn an_unknown_or_missing_command_gets_the_usage() {
+        for text in ["ddm-tracing --quick", ""] {
+            let error = run(&words(text)).unwrap_err();
+            assert!(error.ends_with(&usage()), "{error}");
+        }
+        for command in COMMANDS {
+            assert!(usage().contains(&format!("\n  {}", command.usage())));
+        }
+    }
+
+    #[test]
+    fn a_second_positional_is_rejected() {
+        for command in COMMANDS {
+            let error = match command.positional {
+                Positional::OutDir(_) => command.parse(&words("a b")).err(),
+                Positional::None => command.parse(&words("a")).err(),
+                Positional::PassThrough(_) => continue,
+            };
+            let error = error.unwrap_or_else(|| panic!("{} took it", command.name));
+            assert!(error.contains("unexpected argument"), "{error}");
+            assert!(error.ends_with(&command.usage()), "{error}");
+        }
+    }
+
+    #[test]
+    fn every_flag_with_a_value_needs_one() {
+        for command in COMMANDS {
+            for flag in command.flags {
+                if let cli::Takes::Value(placeholder) | cli::Takes::Values(placeholder) = flag.takes {
+                    let error = command.parse(&words(&format!("--{}", flag.name))).err().unwrap();
+                    let expected = format!("{}: --{} needs a value {placeholder}\n", command.name, flag.name);
+                    assert!(error.starts_with(&expected), "{error}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_malformed_size_names_the_flag_and_value() {
+        for name in ["ddm-trace", "ddm-compression"] {
+            let args = parse(name, "--size 12x12").unwrap();
+            let error = if name == "ddm-trace" {
+                ddm_trace::Options::from_args(&args).err()
+            } else {
+                ddm_compression::Options::from_args(&args).err()
+            };
+            let error = error.unwrap();
+            assert!(
+                error.starts_with(&format!("{name}: --size 12x12: expected three positive sizes WxHxD\n")),
+                "{error}"
+            );
+            assert!(error.ends_with(&command(name).unwrap().usage()));
+        }
+    }
+
+    #[test]
+    fn ddm_trace_and_compression_parse_to_their_settings() {
+        let options = ddm_trace::Options::from_args(&parse("ddm-trace", "").unwrap()).unwrap();
+        assert_eq!(
+            options,
+            ddm_trace::Options { out: root("target/ddm-trace"), settings: TraceTablesSettings::full() }
+        );
+        let options =
+            ddm_trace::Options::from_args(&parse("ddm-trace", "target/x --quick --size 4x4x2").unwrap()).unwrap();
+        let settings = TraceTablesSettings { dims: UVec3::new(4, 4, 2), ..TraceTablesSettings::quick() };
+        assert_eq!(options, ddm_trace::Options { out: PathBuf::from("target/x"), settings });
+        let options = ddm_compression::Options::from_args(&parse("ddm-compression", "--quick out").unwrap()).unwrap();
+        assert_eq!(
+            options,
+            ddm_compression::Options { out: PathBuf::from("out"), settings: CompressionSettings::quick() }
+        );
+        let options = ddm_compression::Options::from_args(&parse("ddm-compression", "--size=3x2x1").unwrap()).unwrap();
+        let settings = CompressionSettings { dims: UVec3::new(3, 2, 1), ..CompressionSettings::paper() };
+        assert_eq!(options, ddm_compression::Options { out: root("target/ddm-compression"), settings });
+    }
+
+    #[test]
+    fn repeated_obj_flags_are_kept_in_order_where_allowed() {
+        let options =
+            impostor_accuracy::Options::from_args(&parse("impostor-accuracy", "--obj a.obj x --obj b.obj").unwrap());
+        let expected = impostor_accuracy::Options {
+            out: PathBuf::from("x"),
+            quick: false,
+            objs: vec![PathBuf::from("a.obj"), PathBuf::from("b.obj")],
+        };
+        assert_eq!(options, expected);
+        let error = parse("impostor-cloud", "--obj a.obj --obj b.obj").err().unwrap();
+        assert!(error.starts_with("impostor-cloud: --obj given twice\n"), "{error}");
+    }
+
+    #[test]
+    fn impostor_cloud_parses_and_checks_its_values() {
+        let options = impostor_cloud::Options::from_args(&parse("impostor-cloud", "").unwrap()).unwrap();
+        let defaults = impostor_cloud::Options {
+            out: root("target/impostor-cloud"),
+            obj: None,
+            grain: "bean",
+            n: 8,
+            p: 64,
+            mode: SamplingMode::Mixed,
+            count: 400,
+        };
+        assert_eq!(options, defaults);
+        let text = "--grain rock --n 4 --p 32 --mode spherical --grains 10 pile";
+        let options = impostor_cloud::Options::from_args(&parse("impostor-cloud", text).unwrap()).unwrap();
+        let expected = impostor_cloud::Options {
+            out: PathBuf::from("pile"),
+            grain: "rock",
+            n: 4,
+            p: 32,
+            mode: SamplingMode::Spherical,
+            count: 10,
+            ..defaults
+        };
+        assert_eq!(options, expected);
+        for (text, expected) in [
+            ("--n 0", "--n 0: expected a positive integer"),
+            ("--grains many", "--grains many: expected a positive integer"),
+            ("--mode fuzzy", "--mode fuzzy: expected one of planar, spherical, mixed, mixed-smooth"),
+            ("--grain pebble", "--grain pebble: expected one of ball, bean, rock, nut"),
+        ] {
+            let error = impostor_cloud::Options::from_args(&parse("impostor-cloud", text).unwrap()).err().unwrap();
+            assert!(error.starts_with(&format!("impostor-cloud: {expected}\n")), "{error}");
+        }
+        let error = parse("impostor-cloud", "--obj a.obj --grain ball").err().unwrap();
+        assert!(error.starts_with("impostor-cloud: --obj and --grain exclude each other\n"), "{error}");
+    }
+
+    #[test]
+    fn fig9_ddm_render_and_bench_parse() {
+        let options = fig9::Options::from_args(&parse("fig9", "--spectra --height-map h.png out").unwrap());
+        let expected = fig9::Options {
+            out: PathBuf::from("out"),
+            height_map: Some(PathBuf::from("h.png")),
+            quick: false,
+            spectra: true,
+        };
+        assert_eq!(options, expected);
+        let args = parse("ddm-render", "--quick").unwrap();
+        assert!(args.flag("quick") && args.out_dir() == root("target/ddm-render"));
+        assert_eq!(parse("abuffer-chart", "").unwrap().out_dir(), root("target/showcase"));
+        assert_eq!(parse("bench", "-- ddm --save-baseline main").unwrap().rest(), words("ddm --save-baseline main"));
+    }
+
+    /// The README's command table shows exactly the usage lines of [`COMMANDS`].
+    #[test]
+    fn the_readme_table_shows_every_usage() {
+        let readme = std::fs::read_to_string(workspace_root().join("README.md")).unwrap();
+        let mut listed: Vec<String> = readme
+            .lines()
+            .filter_map(|line| line.strip_prefix("| `cargo xtask "))
+            .map(|rest| format!("cargo xtask {}", rest.split('`').next().unwrap_or_default().replace("\\|", "|")))
+            .collect();
+        let mut usages: Vec<String> = COMMANDS.iter().map(Command::usage).collect();
+        listed.sort();
+        usages.sort();
+        assert_eq!(listed, usages);
+    }
+
+    /// Every method and steps row of `ddm-trace` has a colour in the charts.
+    #[test]
+    fn every_ddm_method_has_a_chart_colour() {
+        let names: Vec<&str> = ddm_trace::METHOD_COLORS.iter().map(|(name, _)| *name).collect();
+        assert_eq!(names.len(), TraceMethod::ALL.len());
+        for method in TraceMethod::ALL {
+            assert_eq!(names.iter().filter(|n| **n == method.name()).count(), 1, "{}", method.name());
+        }
+        for (_, exit) in ddm_experiments::steps::EXIT_NAMES {
+            assert!(names.contains(&exit));
         }
     }
 }

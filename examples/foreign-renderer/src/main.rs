@@ -142,15 +142,15 @@ fn run() -> Result<(), String> {
         None => 8,
         Some(text) => text.parse().map_err(|_| format!("SUBDIVISIONS must be a positive integer, not `{text}`"))?,
     };
-    let views = OctahedralViews::new(subdivisions).ok_or_else(|| {
-        format!("SUBDIVISIONS = {subdivisions} is outside 1..={}", octahedral_map::MAX_SUBDIVISIONS)
-    })?;
+    let views = OctahedralViews::new(subdivisions)
+        .ok_or_else(|| format!("SUBDIVISIONS = {subdivisions} is outside 1..={}", octahedral_map::MAX_SUBDIVISIONS))?;
     let directions = directions(views);
     let (adapter, gpu) = gpu_samples(views, &directions)?;
     println!("adapter: {adapter}");
     for (direction, gpu) in directions.iter().zip(&gpu) {
         let cpu = views.sample(*direction);
-        let same = cpu.indices == gpu.indices && cpu.alpha.to_array().map(f32::to_bits) == gpu.alpha.to_array().map(f32::to_bits);
+        let same = cpu.indices == gpu.indices
+            && cpu.alpha.to_array().map(f32::to_bits) == gpu.alpha.to_array().map(f32::to_bits);
         if !same {
             return Err(format!("direction {direction}: CPU {cpu:?}, GPU {gpu:?}"));
         }

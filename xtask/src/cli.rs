@@ -1,0 +1,351 @@
+//! One argument parser for every command: each [`Command`] declares its flags (switches,
+//! flags with a value, repeated flags) and whether it takes an `OUT_DIR`; its usage line
+//! is written from that declaration, and anything else — an unknown flag, a missing or
+//! attached-but-unwanted value, a second positional argument — is an error naming it,
+//! followed by the usage. `--help` (or `-h`) prints the usage.
+//!
+//! [`lexopt`] splits the words (long flags, `--flag=value`, `-h`, `--` before positional
+//! arguments); the declarations decide what they mean. Values are checked and converted
+//! by each command ([`Args::parse_value`]), whose errors name the flag and value too.
+
+use std::path::PathBuf;
+
+use lexopt::Arg;
+
+/// What a flag takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Takes {
+    /// Nothing: present or not.
+    Nothing,
+    /// One value, at most once (`--size WxHxD`).
+    Value(&'static str),
+    /// One value, any number of times (`--obj PATH ...`).
+    Values(&'static str),
+}
+
+/// A flag of a command, without its leading `--`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Flag {
+    /// The name (`quick` for `--quick`).
+    pub name: &'static str,
+    /// What follows it.
+    pub takes: Takes,
+}
+
+/// A switch: `--name`.
+pub const fn switch(name: &'static str) -> Flag {
+    Flag { name, takes: Takes::Nothing }
+}
+
+/// A flag with one value: `--name VALUE`.
+pub const fn value(name: &'static str, placeholder: &'static str) -> Flag {
+    Flag { name, takes: Takes::Value(placeholder) }
+}
+
+/// A flag that may be repeated: `--name VALUE ...`.
+pub const fn repeated(name: &'static str, placeholder: &'static str) -> Flag {
+    Flag { name, takes: Takes::Values(placeholder) }
+}
+
+/// What a command takes besides its flags.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Positional {
+    /// Nothing.
+    None,
+    /// At most one `OUT_DIR`, defaulting to this path under the workspace root.
+    OutDir(&'static str),
+    /// Every word after the command, passed on unread (`bench`'s criterion arguments),
+    /// shown as this placeholder.
+    PassThrough(&'static str),
+}
+
+/// A command: its name, its arguments and what runs it.
+pub struct Command {
+    /// The name after `cargo xtask`.
+    pub name: &'static str,
+    /// Its flags, in usage order.
+    pub flags: &'static [Flag],
+    /// Pairs of flags that exclude each other (shown as `[--a A | --b B]`).
+    pub exclusive: &'static [(&'static str, &'static str)],
+    /// Its positional arguments.
+    pub positional: Positional,
+    /// Runs the parsed arguments.
+    pub run: fn(&Args<'_>) -> Result<(), String>,
+}
+
+impl Command {
+    /// The flag called `name`.
+    fn flag(&self, name: &str) -> Option<&'static Flag> {
+        self.flags.iter().find(|f| f.name == name)
+    }
+
+    /// `cargo xtask NAME [OUT_DIR] [--flag VALUE]...`, from the declaration.
+    pub fn usage(&self) -> String {
+        let mut words = vec!["cargo xtask".to_owned(), self.name.to_owned()];
+        match self.positional {
+            Positional::None => {}
+            Positional::OutDir(_) => words.push("[OUT_DIR]".to_owned()),
+            Positional::PassThrough(placeholder) => words.push(format!("[{placeholder}]")),
+        }
+        let shown = |flag: &Flag| match flag.takes {
+            Takes::Nothing => format!("--{}", flag.name),
+            Takes::Value(v) | Takes::Values(v) => format!("--{} {v}", flag.name),
+        };
+        for flag in self.flags {
+            if self.exclusive.iter().any(|&(_, second)| second == flag.name) {
+                continue;
+            }
+            let mut text = shown(flag);
+            if let Some(&(_, second)) = self.exclusive.iter().find(|&&(first, _)| first == flag.name)
+                && let Some(other) = self.flag(second)
+            {
+                text = format!("{text} | {}", shown(other));
+            }
+            let repeat = if matches!(flag.takes, Takes::Values(_)) { "..." } else { "" };
+            words.push(format!("[{text}]{repeat}"));
+        }
+        words.join(" ")
+    }
+
+    /// `message` followed by the usage line: every parse error's form.
+    pub fn error(&self, message: impl std::fmt::Display) -> String {
+        format!("{}: {message}\nusage: {}", self.name, self.usage())
+    }
+
+    /// Parses the words after the command's name.
+    pub fn parse(&self, words: &[String]) -> Result<Parsed<'_>, String> {
+        let mut args = Args { command: self, out_dir: None, values: Vec::new(), rest: Vec::new() };
+        // A leading `--` only separates the arguments from the command (`cargo xtask
+        // bench -- ARGS`); a later one ends the flags.
+        let words = words.strip_prefix(&["--".to_owned()]).unwrap_or(words);
+        if let Positional::PassThrough(_) = self.positional {
+            if matches!(words, [only] if only == "--help" || only == "-h") {
+                return Ok(Parsed::Help(self.usage()));
+            }
+            args.rest = words.to_vec();
+            return Ok(Parsed::Run(args));
+        }
+        let mut parser = lexopt::Parser::from_args(words);
+        loop {
+            let arg = parser.next().map_err(|e| self.error(e))?;
+            let name = match arg {
+                None => break,
+                Some(Arg::Long("help") | Arg::Short('h')) => return Ok(Parsed::Help(self.usage())),
+                Some(Arg::Short(c)) => return Err(self.error(format!("unknown flag -{c}"))),
+                Some(Arg::Long(name)) => name.to_owned(),
+                Some(Arg::Value(word)) => {
+                    let word = word.to_string_lossy().into_owned();
+                    match (self.positional, &args.out_dir) {
+                        (Positional::OutDir(_), None) => args.out_dir = Some(PathBuf::from(word)),
+                        (Positional::OutDir(_), Some(first)) => {
+                            return Err(self.error(format!(
+                                "unexpected argument `{word}`: OUT_DIR is already `{}`",
+                                first.display()
+                            )));
+                        }
+                        _ => return Err(self.error(format!("unexpected argument `{word}`"))),
+                    }
+                    continue;
+                }
+            };
+            let flag = self.flag(&name).ok_or_else(|| self.error(format!("unknown flag --{name}")))?;
+            let given = match flag.takes {
+                Takes::Nothing => match parser.optional_value() {
+                    Some(v) => {
+                        return Err(self.error(format!("--{name} takes no value (got `{}`)", v.to_string_lossy())));
+                    }
+                    None => String::new(),
+                },
+                Takes::Value(placeholder) | Takes::Values(placeholder) => {
+                    // `--flag=VALUE` takes any value; a detached one must not look like a flag.
+                    let attached = parser.optional_value();
+                    let detached = || {
+                        parser.try_raw_args()?.next_if(|next| {
+                            let next = next.to_string_lossy();
+                            !(next.starts_with('-') && next.len() > 1)
+                        })
+                    };
+                    match attached.or_else(detached) {
+                        Some(v) => v.to_string_lossy().into_owned(),
+                        None => return Err(self.error(format!("--{name} needs a value {placeholder}"))),
+                    }
+                }
+            };
+            if !matches!(flag.takes, Takes::Values(_)) && args.values.iter().any(|(n, _)| *n == flag.name) {
+                return Err(self.error(format!("--{name} given twice")));
+            }
+            args.values.push((flag.name, given));
+        }
+        for &(first, second) in self.exclusive {
+            if args.flag(first) && args.flag(second) {
+                return Err(self.error(format!("--{first} and --{second} exclude each other")));
+            }
+        }
+        Ok(Parsed::Run(args))
+    }
+}
+
+/// The outcome of [`Command::parse`].
+pub enum Parsed<'c> {
+    /// Run the command with these arguments.
+    Run(Args<'c>),
+    /// `--help`: print this usage.
+    Help(String),
+}
+
+/// A command's parsed arguments.
+pub struct Args<'c> {
+    command: &'c Command,
+    out_dir: Option<PathBuf>,
+    /// `(flag, value)` in the order given (the value empty for a switch).
+    values: Vec<(&'static str, String)>,
+    rest: Vec<String>,
+}
+
+impl Args<'_> {
+    /// Whether `--name` was given.
+    pub fn flag(&self, name: &str) -> bool {
+        self.values.iter().any(|(n, _)| *n == name)
+    }
+
+    /// The values of `--name`, in the order given.
+    pub fn values(&self, name: &str) -> Vec<&str> {
+        self.values.iter().filter(|(n, _)| *n == name).map(|(_, v)| v.as_str()).collect()
+    }
+
+    /// The value of `--name`, if given.
+    pub fn value(&self, name: &str) -> Option<&str> {
+        self.values.iter().find(|(n, _)| *n == name).map(|(_, v)| v.as_str())
+    }
+
+    /// The value of `--name` converted by `convert`; its error becomes one naming the flag
+    /// and the value, followed by the usage.
+    pub fn parse_value<T>(&self, name: &str, convert: impl Fn(&str) -> Result<T, String>) -> Result<Option<T>, String> {
+        self.value(name).map(|v| convert(v).map_err(|e| self.command.error(format!("--{name} {v}: {e}")))).transpose()
+    }
+
+    /// The `OUT_DIR` given, else the command's default under the workspace root.
+    pub fn out_dir(&self) -> PathBuf {
+        match (&self.out_dir, self.command.positional) {
+            (Some(dir), _) => dir.clone(),
+            (None, Positional::OutDir(default)) => crate::workspace_root().join(default),
+            (None, _) => crate::workspace_root(),
+        }
+    }
+
+    /// The words passed through unread (a [`Positional::PassThrough`] command).
+    pub fn rest(&self) -> &[String] {
+        &self.rest
+    }
+}
+
+/// A positive integer.
+pub fn positive(text: &str) -> Result<u32, String> {
+    match text.parse::<u32>() {
+        Ok(n) if n > 0 => Ok(n),
+        _ => Err("expected a positive integer".to_owned()),
+    }
+}
+
+/// A tile size `WxHxD` of three positive integers.
+pub fn grid_size(text: &str) -> Result<glam::UVec3, String> {
+    let parts: Result<Vec<u32>, _> = text.split('x').map(str::parse).collect();
+    match parts.as_deref() {
+        Ok(&[x, y, z]) if x > 0 && y > 0 && z > 0 => Ok(glam::UVec3::new(x, y, z)),
+        _ => Err("expected three positive sizes WxHxD".to_owned()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const QUICK: Flag = switch("quick");
+    const SIZE: Flag = value("size", "WxHxD");
+    const OBJ: Flag = repeated("obj", "PATH");
+    const GRAIN: Flag = value("grain", "NAME");
+    const TEST: Command = Command {
+        name: "demo",
+        flags: &[QUICK, OBJ, GRAIN, SIZE],
+        exclusive: &[("obj", "grain")],
+        positional: Positional::OutDir("target/demo"),
+        run: |_| Ok(()),
+    };
+
+    fn words(text: &str) -> Vec<String> {
+        text.split_whitespace().map(str::to_owned).collect()
+    }
+
+    fn run(text: &str) -> Result<Args<'static>, String> {
+        match TEST.parse(&words(text))? {
+            Parsed::Run(args) => Ok(args),
+            Parsed::Help(_) => Err("help".to_owned()),
+        }
+    }
+
+    #[test]
+    fn the_usage_is_written_from_the_declaration() {
+        assert_eq!(TEST.usage(), "cargo xtask demo [OUT_DIR] [--quick] [--obj PATH | --grain NAME]... [--size WxHxD]");
+    }
+
+    #[test]
+    fn flags_values_and_the_out_dir_parse_in_any_order() {
+        let args = run("--size 2x2x2 out --quick").unwrap();
+        assert!(args.flag("quick") && !args.flag("obj"));
+        assert_eq!((args.value("size"), args.out_dir()), (Some("2x2x2"), PathBuf::from("out")));
+        let args = run("--size=1x1x1 --obj=a.obj --obj b.obj").unwrap();
+        assert_eq!((args.value("size"), args.values("obj")), (Some("1x1x1"), vec!["a.obj", "b.obj"]));
+        assert_eq!(args.out_dir(), crate::workspace_root().join("target/demo"));
+        // A leading `--` is dropped; after a later one every word is positional.
+        assert!(run("-- --quick").unwrap().flag("quick"));
+        assert_eq!(run("--quick -- --odd").unwrap().out_dir(), PathBuf::from("--odd"));
+    }
+
+    #[test]
+    fn every_mistake_names_itself_and_shows_the_usage() {
+        for (text, expected) in [
+            ("--obj", "--obj needs a value PATH"),
+            ("--size --quick", "--size needs a value WxHxD"),
+            ("--bogus", "unknown flag --bogus"),
+            ("-x", "unknown flag -x"),
+            ("a b", "unexpected argument `b`: OUT_DIR is already `a`"),
+            ("--quick=yes", "--quick takes no value"),
+            ("--size 1x1x1 --size 2x2x2", "--size given twice"),
+            ("--obj a.obj --grain bean", "--obj and --grain exclude each other"),
+        ] {
+            let error = run(text).err().unwrap_or_else(|| panic!("`{text}` parsed"));
+            assert!(error.starts_with(&format!("demo: {expected}")), "`{text}`: {error}");
+            assert!(error.ends_with(&format!("\nusage: {}", TEST.usage())), "`{text}`: {error}");
+        }
+    }
+
+    #[test]
+    fn help_prints_the_usage() {
+        for text in ["--help", "-h", "out --quick --help"] {
+            assert!(matches!(TEST.parse(&words(text)), Ok(Parsed::Help(u)) if u == TEST.usage()), "{text}");
+        }
+    }
+
+    #[test]
+    fn values_are_converted_with_errors_naming_flag_and_value() {
+        let args = run("--size 12").unwrap();
+        let error = args.parse_value("size", |_| Err::<(), _>("expected WxHxD".to_owned())).unwrap_err();
+        assert!(error.starts_with("demo: --size 12: expected WxHxD\nusage: "), "{error}");
+        assert_eq!(args.parse_value("grain", |v| Ok(v.len())).unwrap(), None);
+        assert_eq!(grid_size("12x8x4"), Ok(glam::UVec3::new(12, 8, 4)));
+        for bad in ["12x12", "12x12x0", "1x2x3x4", "axbxc", "", "-1x2x3"] {
+            assert!(grid_size(bad).is_err(), "{bad}");
+        }
+        assert_eq!(positive("3"), Ok(3));
+        assert!(positive("0").is_err() && positive("-1").is_err() && positive("x").is_err());
+    }
+
+    #[test]
+    fn pass_through_commands_keep_every_word() {
+        let bench = Command { positional: Positional::PassThrough("ARGS"), flags: &[], ..TEST };
+        let parsed = bench.parse(&words("-- --save-baseline x --bogus")).unwrap();
+        let Parsed::Run(args) = parsed else { panic!("help") };
+        assert_eq!(args.rest(), words("--save-baseline x --bogus"));
+        assert_eq!(bench.usage(), "cargo xtask demo [ARGS]");
+    }
+}

@@ -148,7 +148,7 @@ static MODULES: &[ShaderModule] = &[
         name: "ddm_render",
         generated: wgsl_file!("shaders/generated/ddm_render.wgsl"),
         library: wgsl_file!("shaders/ddm_render.wgsl"),
-        kernels: &[wgsl_file!("shaders/kernels/ddm_render_compute.wgsl")],
+        kernels: &[],
         structs: || {
             vec![
                 StructDecl::of::<ddm_tracer::tangent_space::BaseGBufferTexel>(),

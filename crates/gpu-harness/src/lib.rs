@@ -30,13 +30,16 @@
 //!
 //! # Warm calls
 //!
-//! A [`Gpu`] compiles each kernel once: its pipeline is cached, keyed by the WGSL source,
-//! the entry point and the number of scene buffers, and every later call with the same
-//! three reuses it, so call sites stay one line and a timed call
-//! ([`Gpu::compute_map_timed`]) after the first times a warm pipeline. Scene buffers that
-//! several calls bind can be uploaded once ([`Gpu::upload_storage`], then
+//! A [`Gpu`] compiles each kernel once: its pipeline is cached (for the device's
+//! lifetime), keyed by the WGSL source, the entry point and the number of scene buffers,
+//! and every later call with the same three reuses it, so call sites stay one line. Before
+//! a pipeline's first timed dispatch, one untimed workgroup runs it into a scratch output
+//! (whatever a driver defers to first use stays out of the timing), so every timed
+//! dispatch ([`Gpu::compute_map_timed`] and all calls returning a [`GpuTiming`]) is one of
+//! a warm pipeline, the first call's included. Scene buffers that several calls bind can
+//! be uploaded once ([`Gpu::upload_storage`], then
 //! [`Gpu::compute_map_with_uploaded_storage`]); [`Gpu::compute_map_with_storage`] uploads
-//! them per call. Timings ([`GpuTiming`]) never include compilation, uploads or readback.
+//! them per call. Timings never include compilation, uploads or readback.
 
 mod bound;
 mod compute;

@@ -231,7 +231,7 @@ fn color_target_holds_the_pixel_colours_in_half_precision() {
         gpu.queue.submit([encoder.finish()]);
     }
     let pixels = readback.read(gpu).unwrap();
-    let texels: Vec<[u16; 4]> = bytemuck::pod_collect_to_vec(&read_texture(gpu, &texture, 8).unwrap());
+    let texels: Vec<[u16; 4]> = bytemuck::pod_collect_to_vec(&read_texture(gpu, &texture).unwrap());
     assert_eq!(texels.len(), pixels.len());
     let (mut covered, mut rounded_away) = (0, 0);
     for (i, (texel, pixel)) in texels.iter().zip(&pixels).enumerate() {

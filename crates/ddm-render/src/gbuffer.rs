@@ -427,10 +427,19 @@ pub struct GBuffer {
     pub texels: Vec<BaseGBufferTexel>,
 }
 
-/// The texels of `texture` (mip 0, layer 0), rows unpadded, row 0 on top, after all
-/// submitted work: `bytes_per_texel` bytes each (the format's block size; the texture
-/// needs `COPY_SRC`).
-pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, bytes_per_texel: u32) -> Result<Vec<u8>, DdmRenderError> {
+/// The texels of `texture` (mip 0, layer 0) as bytes, rows unpadded, row 0 on top, after
+/// all submitted work. The texture needs `COPY_SRC` usage and an uncompressed colour
+/// format (its texel size is the format's block copy size).
+pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Vec<u8>, DdmRenderError> {
+    let bytes_per_texel = match texture.format().block_copy_size(None) {
+        Some(bytes) if texture.format().block_dimensions() == (1, 1) => bytes,
+        _ => {
+            return Err(DdmRenderError::InvalidTarget {
+                what: "texture to read back",
+                problem: format!("format {:?} has no single-texel copy size", texture.format()),
+            });
+        }
+    };
     let (width, height) = (texture.width(), texture.height());
     let row_bytes = width.checked_mul(bytes_per_texel).ok_or(DdmRenderError::TooLarge {
         what: "texture row in bytes",
@@ -474,16 +483,28 @@ pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, bytes_per_texel: u32) ->
 /// The G-buffer of `pass` as the last submitted frame left it, copied back (the exact
 /// `f32` values that the per-pixel pass reads with `textureLoad`).
 pub fn read_gbuffer(gpu: &Gpu, pass: &GBufferPass) -> Result<GBuffer, DdmRenderError> {
-    let mut layers: Vec<Vec<Vec4>> = Vec::with_capacity(GBUFFER_TEXTURES);
-    for texture in &pass.textures {
-        layers.push(bytemuck::pod_collect_to_vec(&read_texture(gpu, texture, TEXEL_BYTES)?));
+    let [position_coverage, tangent_u, bitangent_v, normal_depth] = &pass.textures;
+    let read = |texture| -> Result<Vec<Vec4>, DdmRenderError> {
+        Ok(bytemuck::pod_collect_to_vec(&read_texture(gpu, texture)?))
+    };
+    let layers = [read(position_coverage)?, read(tangent_u)?, read(bitangent_v)?, read(normal_depth)?];
+    let count = pass.width as usize * pass.height as usize;
+    if layers.iter().any(|layer| layer.len() != count) {
+        return Err(DdmRenderError::Gpu(gpu_harness::HarnessError::Readback(format!(
+            "a G-buffer texture read back with the wrong texel count (expected {count})"
+        ))));
     }
-    let texels = (0..pass.width as usize * pass.height as usize)
-        .map(|i| BaseGBufferTexel {
-            position_coverage: layers[0][i],
-            tangent_u: layers[1][i],
-            bitangent_v: layers[2][i],
-            normal_depth: layers[3][i],
+    let [p, t, b, n] = layers;
+    let texels = p
+        .into_iter()
+        .zip(t)
+        .zip(b)
+        .zip(n)
+        .map(|(((position_coverage, tangent_u), bitangent_v), normal_depth)| BaseGBufferTexel {
+            position_coverage,
+            tangent_u,
+            bitangent_v,
+            normal_depth,
         })
         .collect();
     Ok(GBuffer { width: pass.width, height: pass.height, texels })

@@ -38,10 +38,11 @@
 //! per-pixel passes, submission to completion, warm pipelines; fastest of 3), the frame's
 //! fixed cost (`call_overhead_wall_ms`: the same submission with the raster pass only;
 //! fastest of 3), their difference `trace_wall_ms` (the per-pixel work) and the base's
-//! raster wall time (`raster_wall_ms`, measured once per base, fastest of 3). On lavapipe
-//! the timestamp difference stays about 0.01–0.07 ms whatever the work (it does not
-//! bracket the software execution), so `trace_wall_ms` is the meaningful time there; on a
-//! hardware adapter the timestamps are.
+//! raster wall time (`raster_wall_ms`, measured once per base, fastest of 3). On lavapipe,
+//! with both passes in one command buffer, `gpu_ms` follows `trace_wall_ms` within about a
+//! millisecond (measured; when the per-pixel pass was a lone dispatch its timestamps stayed
+//! at 0.01–0.07 ms whatever the work), and `trace_wall_ms` remains the time to trust
+//! there; on a hardware adapter the timestamps are.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;

@@ -1,31 +1,45 @@
-//! The base-mesh pipeline of `ddm-render` (Mehra & Kumar §3) on the GPU: the raster
+//! The base-mesh pipeline of `ddm-render` (Mehra & Kumar §3) on the GPU, through its
+//! embeddable renderer (`DdmRenderer`, built once, one `encode` per frame): the raster
 //! G-buffer and the compute pass's tangent-space rays.
 //!
 //! - Plane tile: the base mesh is the top of the slab in the tracer's own coordinates, so
 //!   every covered pixel's tangent-space ray must be the ray that `xtask ddm-trace`'s
 //!   plane-tile path traces through that pixel (same camera): origin on the eye ray at
 //!   the slab top, same direction, and the same hit. The compute pass's ray also equals
-//!   the CPU reference `tangent_space_ray` applied to the read-back G-buffer texel
-//!   (CPU = GPU for `render_tangent_ray`), its hit equals the CPU tracer's, and its shadow
-//!   flag equals `in_shadow` on the CPU (CPU = GPU for `render_in_shadow`).
+//!   the CPU reference `tangent_space_ray` applied to the G-buffer texel (CPU = GPU for
+//!   `render_tangent_ray`; the texel is copied back from the same `Rgba32Float` textures
+//!   that the compute pass reads with `textureLoad`, so both see the same bits), its hit
+//!   equals the CPU tracer's, and its shadow flag equals `in_shadow` on the CPU (CPU = GPU
+//!   for `render_in_shadow`). Two frames with different cameras go through one renderer
+//!   and one target, and both are checked.
+//! - Colour target: the `Rgba16Float` texture holds the pixel target's colours, rounded to
+//!   half precision, and the coverage in alpha.
 //! - Torus: the G-buffer frames at every covered pixel are orthonormal (after
 //!   normalisation) and match `torus_base_mesh`'s analytic frame at the pixel's texture
 //!   coordinates, and the positions lie on the torus.
 
-use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
-use ddm_render::{Camera, plane_base_mesh, rasterize_gbuffer, render_pixels};
+use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, compute_distance_maps};
+use ddm_render::{
+    COLOR_TARGET_FORMAT, Camera, DdmFrame, DdmRenderPipelines, DdmRenderer, GBuffer, GBufferPass, GpuSceneBuffers,
+    PixelReadback, RenderSettings, plane_base_mesh, rasterize_gbuffer, read_gbuffer, read_texture,
+};
 use ddm_tracer::GpuScene;
 use ddm_tracer::tangent_space::{
-    BaseRenderParams, PIXEL_HIT, PIXEL_UNCOVERED, TangentFrame, in_shadow, tangent_space_ray,
+    BaseRenderPixel, PIXEL_HIT, PIXEL_UNCOVERED, TangentFrame, in_shadow, tangent_space_ray,
 };
 use ddm_tracer::{CompressedMaps, Method, PatchSettings, Stepping, TraceSettings, VoxelPatches, trace};
-use glam::{UVec2, UVec3, Vec3, Vec4};
+use glam::{UVec2, UVec3, Vec3};
+use grain_impostor::half::{f16_bits_to_f32, f32_to_f16_bits};
 use integration_tests::gpu;
 use mesostructure::Mesostructure;
 
 const DIMS: UVec3 = UVec3::new(12, 12, 6);
 /// Shadow rays: how far short of the shaded point (voxels) a hit must be.
 const SHADOW_TOLERANCE: f32 = 0.02;
+const TRACE_SETTINGS: TraceSettings =
+    TraceSettings { method: Method::Quadric, max_steps: 256, stepping: Stepping::Distance };
+const WIDTH: u32 = 80;
+const HEIGHT: u32 = 60;
 
 /// The camera of `xtask ddm-trace`'s view: above and to the side of the tile.
 fn plane_camera(width: u32, height: u32) -> Camera {
@@ -35,46 +49,103 @@ fn plane_camera(width: u32, height: u32) -> Camera {
     Camera { eye, target, up: Vec3::Z, half_fov_y: 25f32.to_radians(), width, height }
 }
 
+/// A second view of the same tile: the eye moved to the other side, lower and closer.
+fn moved_camera(width: u32, height: u32) -> Camera {
+    let size = DIMS.as_vec3();
+    let target = Vec3::new(1.5 * size.x, 1.2 * size.y, 0.3 * size.z);
+    let eye = target + Vec3::new(1.1 * size.x, -0.8 * size.y, 0.9 * size.x.max(size.y));
+    Camera { eye, target, up: Vec3::Z, half_fov_y: 25f32.to_radians(), width, height }
+}
+
+fn settings() -> RenderSettings {
+    RenderSettings {
+        slab: Vec3::new(DIMS.x as f32, DIMS.y as f32, 1.0),
+        light: Vec3::new(0.45, 0.3, 0.84).normalize(),
+        ambient: 0.2,
+        shadow_tolerance: Some(SHADOW_TOLERANCE),
+        miss_color: Vec3::new(0.2, 0.25, 0.35),
+    }
+}
+
+/// A structure's maps and patches, and a renderer of it on 3 × 3 plane tiles.
+struct PlaneScene {
+    maps: DistanceMaps,
+    patches: VoxelPatches,
+    renderer: DdmRenderer,
+}
+
+impl PlaneScene {
+    fn new(structure: Mesostructure) -> Self {
+        let gpu = gpu();
+        let triangles = structure.triangles(DIMS);
+        let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+        let maps = compute_distance_maps(DIMS, &triangles, DirectionCones::downward(4, 1), settings).unwrap();
+        let patches = VoxelPatches::build(DIMS, &triangles, &maps.surface, PatchSettings::default()).unwrap();
+        let packed = CompressedMaps::compress(&maps, 1).unwrap();
+        let scene = GpuScene::new(&packed, Some(&patches), TRACE_SETTINGS).unwrap();
+        let pipelines = DdmRenderPipelines::new(&gpu.device).unwrap();
+        let mesh = plane_base_mesh(DIMS, UVec2::new(3, 3)).unwrap();
+        let gbuffer = GBufferPass::new(&gpu.device, pipelines.gbuffer(), &mesh, WIDTH, HEIGHT).unwrap();
+        let scene = GpuSceneBuffers::new(&gpu.device, &scene).unwrap();
+        let renderer = DdmRenderer::new(&gpu.device, &pipelines, &gbuffer, &scene).unwrap();
+        Self { maps, patches, renderer }
+    }
+}
+
 #[test]
 fn plane_tile_pixels_trace_the_plane_tile_rays() {
     // A non-height-field and a height field with walls and a floor.
     for structure in [Mesostructure::Ball, Mesostructure::Maze(1)] {
-        check_plane_tile(structure);
+        let gpu = gpu();
+        let scene = PlaneScene::new(structure);
+        let readback = PixelReadback::new(gpu, &scene.renderer).unwrap();
+        // Two frames through the same renderer and target: only the camera and parameter
+        // uniforms change between them.
+        let mut frames: Vec<Vec<BaseRenderPixel>> = Vec::new();
+        for (name, camera) in [("first", plane_camera(WIDTH, HEIGHT)), ("moved", moved_camera(WIDTH, HEIGHT))] {
+            let started = std::time::Instant::now();
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            scene
+                .renderer
+                .encode(&gpu.queue, &mut encoder, &DdmFrame::new(&camera, settings()), readback.target())
+                .unwrap();
+            gpu.queue.submit([encoder.finish()]);
+            gpu.wait().unwrap();
+            let wall = started.elapsed().as_secs_f64() * 1e3;
+            let pixels = readback.read(gpu).unwrap();
+            let gbuffer = read_gbuffer(gpu, scene.renderer.gbuffer()).unwrap();
+            check_frame(
+                &format!("{} ({name} camera, frame {wall:.1} ms)", structure.name()),
+                &scene,
+                &camera,
+                &gbuffer,
+                &pixels,
+            );
+            frames.push(pixels);
+        }
+        let moved = frames[0].iter().zip(&frames[1]).filter(|(a, b)| a.ray_origin != b.ray_origin).count();
+        assert!(moved > 2000, "{}: the second frame repeats the first ({moved} rays differ)", structure.name());
     }
 }
 
-fn check_plane_tile(structure: Mesostructure) {
-    let gpu = gpu();
-    let triangles = structure.triangles(DIMS);
-    let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
-    let maps = compute_distance_maps(DIMS, &triangles, DirectionCones::downward(4, 1), settings).unwrap();
-    let patches = VoxelPatches::build(DIMS, &triangles, &maps.surface, PatchSettings::default()).unwrap();
-    let trace_settings = TraceSettings { method: Method::Quadric, max_steps: 256, stepping: Stepping::Distance };
-    let packed = CompressedMaps::compress(&maps, 1).unwrap();
-    let scene = GpuScene::new(&packed, Some(&patches), trace_settings).unwrap();
-    let camera = plane_camera(80, 60);
-    let mesh = plane_base_mesh(DIMS, UVec2::new(3, 3)).unwrap();
-    let gbuffer = rasterize_gbuffer(gpu, &mesh, &camera).unwrap();
-    let slab = Vec3::new(DIMS.x as f32, DIMS.y as f32, 1.0);
-    let params = BaseRenderParams {
-        eye: camera.eye.extend(0.0),
-        light: Vec4::new(0.45, 0.3, 0.84, 0.0).normalize().with_w(0.2),
-        slab: slab.extend(SHADOW_TOLERANCE),
-        miss_color: Vec4::new(0.2, 0.25, 0.35, 0.0),
-    };
-    let pass = render_pixels(gpu, &gbuffer, &scene, &params).unwrap();
+/// Checks one frame's pixels against the CPU: ray construction, hits and shadows.
+fn check_frame(name: &str, scene: &PlaneScene, camera: &Camera, gbuffer: &GBuffer, pixels: &[BaseRenderPixel]) {
+    let (maps, patches) = (&scene.maps, Some(&scene.patches));
+    let settings = settings();
+    let (slab, light) = (settings.slab, settings.light);
     let size_z = DIMS.z as f32;
+    assert_eq!((gbuffer.width, gbuffer.height), (camera.width, camera.height));
+    assert_eq!(pixels.len(), gbuffer.texels.len());
     let (mut covered, mut hits) = (0, 0);
     let (mut worst_origin, mut worst_direction, mut worst_mirror, mut worst_hit, mut worst_eye_hit) =
         (0.0_f32, 0.0_f32, 0.0_f32, 0.0_f32, 0.0_f32);
     let (mut hit_miss_differ, mut shadow_differ, mut shadowed) = (0, 0, 0);
-    let light = params.light.truncate();
     for y in 0..camera.height {
         for x in 0..camera.width {
             let i = (x + y * camera.width) as usize;
-            let (texel, pixel) = (&gbuffer.texels[i], &pass.pixels[i]);
+            let (texel, pixel) = (&gbuffer.texels[i], &pixels[i]);
             let Some((origin, direction)) = tangent_space_ray(texel, camera.eye, slab, size_z) else {
-                assert_eq!(pixel.color.w, PIXEL_UNCOVERED, "pixel {x},{y}");
+                assert_eq!(pixel.color.w, PIXEL_UNCOVERED, "{name}: pixel {x},{y}");
                 continue;
             };
             covered += 1;
@@ -91,8 +162,8 @@ fn check_plane_tile(structure: Mesostructure) {
             // |a × b| = sin of the angle (acos near 1 has no resolution in f32).
             worst_direction = worst_direction.max(gpu_direction.normalize().cross(eye_direction).length());
             // The GPU hit against the CPU tracer on the same ray, and on the eye ray.
-            let cpu = trace(&maps, Some(&patches), origin, direction, trace_settings);
-            let from_eye = trace(&maps, Some(&patches), camera.eye, eye_direction, trace_settings);
+            let cpu = trace(maps, patches, origin, direction, TRACE_SETTINGS);
+            let from_eye = trace(maps, patches, camera.eye, eye_direction, TRACE_SETTINGS);
             let gpu_hit = pixel.color.w == PIXEL_HIT;
             hits += usize::from(gpu_hit);
             match (cpu.hit, from_eye.hit, gpu_hit) {
@@ -103,8 +174,8 @@ fn check_plane_tile(structure: Mesostructure) {
                     let frame = TangentFrame::new(texel, slab).unwrap();
                     let lit_side = frame.normal_to_world(c.normal).dot(light) > 0.0;
                     let tangent_light = frame.to_tangent(light);
-                    let expected = lit_side
-                        && in_shadow(&maps, Some(&patches), c.point, tangent_light, SHADOW_TOLERANCE, trace_settings);
+                    let expected =
+                        lit_side && in_shadow(maps, patches, c.point, tangent_light, SHADOW_TOLERANCE, TRACE_SETTINGS);
                     let gpu_shadowed = pixel.ray_direction.w == 1.0;
                     shadowed += usize::from(gpu_shadowed);
                     shadow_differ += usize::from(expected != gpu_shadowed);
@@ -115,26 +186,79 @@ fn check_plane_tile(structure: Mesostructure) {
         }
     }
     println!(
-        "{}: covered {covered}, hits {hits}, hit/miss differ {hit_miss_differ}, shadowed {shadowed}, \
+        "{name}: covered {covered}, hits {hits}, hit/miss differ {hit_miss_differ}, shadowed {shadowed}, \
          shadow differs {shadow_differ}; worst: mirror {worst_mirror:e}, \
          origin {worst_origin:e} voxel, direction {worst_direction:e} rad, hit vs CPU {worst_hit:e}, \
-         hit vs eye ray {worst_eye_hit:e} voxel; compute {}",
-        structure.name(),
-        pass.timing
+         hit vs eye ray {worst_eye_hit:e} voxel"
     );
-    assert!(covered > 2000 && hits > covered / 2, "{}: covered {covered}, hits {hits}", structure.name());
+    assert!(covered > 2000 && hits > covered / 2, "{name}: covered {covered}, hits {hits}");
     // Measured on lavapipe: 0 pixels differ; mirror 0 (bit-equal); origin 3.2e-4 voxel (the
     // rasterizer's interpolation of world positions ~36 voxels long); hit vs CPU on the same
     // ray 0, vs the eye ray 3.0e-4 (ball) and 4.2e-4 voxel (maze: the origin's error,
     // carried along); the maze's 157 misses (quadric holes) are the CPU tracer's too; direction
     // 2.1e-6 rad.
-    assert_eq!(hit_miss_differ, 0);
-    assert!(shadowed > 0, "no shadow to compare");
-    assert_eq!(shadow_differ, 0);
-    assert!(worst_mirror < 1e-5, "{worst_mirror}");
-    assert!(worst_origin < 5e-4, "{worst_origin}");
-    assert!(worst_direction < 1e-5, "{worst_direction}");
-    assert!(worst_hit < 1e-5 && worst_eye_hit < 5e-4, "{worst_hit} {worst_eye_hit}");
+    assert_eq!(hit_miss_differ, 0, "{name}");
+    assert!(shadowed > 0, "{name}: no shadow to compare");
+    assert_eq!(shadow_differ, 0, "{name}");
+    assert!(worst_mirror < 1e-5, "{name}: {worst_mirror}");
+    assert!(worst_origin < 5e-4, "{name}: {worst_origin}");
+    assert!(worst_direction < 1e-5, "{name}: {worst_direction}");
+    assert!(worst_hit < 1e-5 && worst_eye_hit < 5e-4, "{name}: {worst_hit} {worst_eye_hit}");
+}
+
+#[test]
+fn color_target_holds_the_pixel_colours_in_half_precision() {
+    let gpu = gpu();
+    let scene = PlaneScene::new(Mesostructure::Ball);
+    let camera = plane_camera(WIDTH, HEIGHT);
+    let frame = DdmFrame::new(&camera, settings());
+    let readback = PixelReadback::new(gpu, &scene.renderer).unwrap();
+    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("colour target"),
+        size: wgpu::Extent3d { width: WIDTH, height: HEIGHT, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: COLOR_TARGET_FORMAT,
+        usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let color = scene.renderer.color_target(&gpu.device, &texture).unwrap();
+    // Two frames of the same view, one per target, in one submission each.
+    for target in [readback.target(), &color] {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        scene.renderer.encode(&gpu.queue, &mut encoder, &frame, target).unwrap();
+        gpu.queue.submit([encoder.finish()]);
+    }
+    let pixels = readback.read(gpu).unwrap();
+    let texels: Vec<[u16; 4]> = bytemuck::pod_collect_to_vec(&read_texture(gpu, &texture).unwrap());
+    assert_eq!(texels.len(), pixels.len());
+    let (mut covered, mut rounded_away) = (0, 0);
+    for (i, (texel, pixel)) in texels.iter().zip(&pixels).enumerate() {
+        if pixel.color.w == PIXEL_UNCOVERED {
+            assert_eq!(*texel, [0; 4], "uncovered pixel {i}");
+            continue;
+        }
+        covered += 1;
+        assert_eq!(f16_bits_to_f32(texel[3]), 1.0, "coverage of pixel {i}");
+        // Vulkan lets a storage write round f32 to f16 either to nearest or toward zero:
+        // the stored half is one of the two halves around the colour (adjacent patterns).
+        for (c, (&stored, value)) in texel.iter().zip(pixel.color.to_array()).take(3).enumerate() {
+            let nearest = f32_to_f16_bits(value);
+            assert!(
+                nearest.abs_diff(stored) <= 1,
+                "pixel {i} channel {c}: {value} stored as {}",
+                f16_bits_to_f32(stored)
+            );
+            let error = (f16_bits_to_f32(stored) - value).abs();
+            // Within one half-precision ulp: 2⁻¹⁰ relative, 2⁻²⁴ among the subnormal halves.
+            let ulp = (value.abs() * 2f32.powi(-10)).max(2f32.powi(-24));
+            assert!(error <= ulp, "pixel {i} channel {c}: error {error}");
+            rounded_away += usize::from(nearest != stored);
+        }
+    }
+    println!("colour target: {covered} covered pixels, {rounded_away} channels not rounded to nearest");
+    assert!(covered > 2000, "{covered}");
 }
 
 #[test]

@@ -80,3 +80,62 @@ fn timing_reports_its_source() {
     assert!(timing.seconds > 0.0 && timing.seconds < 60.0, "{timing}");
     println!("1M-element kernel: {timing}");
 }
+
+const SCENE_KERNEL: &str = "
+@group(0) @binding(0) var<uniform> factor: vec4<u32>;
+@group(0) @binding(1) var<storage, read> input: array<u32>;
+@group(0) @binding(2) var<storage, read_write> output: array<u32>;
+@group(0) @binding(3) var<storage, read> offsets: array<u32>;
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let index = id.x + id.y * groups.x * 64u;
+    if index >= arrayLength(&input) {
+        return;
+    }
+    output[index] = input[index] * factor.x + offsets[index % arrayLength(&offsets)];
+}
+";
+
+#[test]
+fn repeated_calls_reuse_the_kernel_and_bind_their_own_buffers() {
+    // The harness caches the kernel after the first call (its unit tests count the
+    // compilations); here every later call must still see its own uniforms, inputs and
+    // storage buffers.
+    let gpu = gpu();
+    let offsets: Vec<u32> = (0..37).map(|k| k * 1000).collect();
+    let uploaded = gpu.upload_storage(&[bytemuck::cast_slice(&offsets)]).unwrap();
+    let expected = |inputs: &[u32], factor: u32| -> Vec<u32> {
+        inputs.iter().enumerate().map(|(i, &x)| x * factor + offsets[i % offsets.len()]).collect()
+    };
+    let mut walls = Vec::new();
+    for (call, (count, factor)) in
+        [(300_000_usize, 3_u32), (300_000, 5), (1_000, 7), (300_000, 2)].into_iter().enumerate()
+    {
+        let inputs: Vec<u32> = (0..count as u32).map(|x| x ^ 0x55).collect();
+        let uniforms = [factor, 0, 0, 0];
+        let started = std::time::Instant::now();
+        let (outputs, timing): (Vec<u32>, _) = gpu
+            .compute_map_with_uploaded_storage(SCENE_KERNEL, "main", bytemuck::bytes_of(&uniforms), &inputs, &uploaded)
+            .unwrap();
+        walls.push((count, started.elapsed().as_secs_f64() * 1e3, timing));
+        assert_eq!(outputs, expected(&inputs, factor), "call {call}");
+        // Uploading per call gives the same outputs.
+        let (per_call, _): (Vec<u32>, _) = gpu
+            .compute_map_with_storage(
+                SCENE_KERNEL,
+                "main",
+                bytemuck::bytes_of(&uniforms),
+                &inputs,
+                &[bytemuck::cast_slice(&offsets)],
+            )
+            .unwrap();
+        assert_eq!(per_call, outputs, "call {call}");
+    }
+    for (call, (count, wall, timing)) in walls.iter().enumerate() {
+        let kind = if call == 0 { "first (compiles the kernel)" } else { "warm" };
+        println!("call {call}, {count} elements, {kind}: whole call {wall:.2} ms, dispatch {timing}");
+    }
+    let result = gpu.upload_storage(&[&[]]);
+    assert!(matches!(result, Err(HarnessError::InvalidRequest(ref m)) if m.contains("storage buffer 3")), "{result:?}");
+}

@@ -24,28 +24,41 @@
 //! the rays' depth small against the tube's radius of curvature (the tangent frame is held
 //! constant along each ray, the paper's approximation).
 //!
+//! Everything is built once with `ddm-render`'s embeddable renderer: the pipelines for the
+//! run, each base mesh's G-buffer pass (mesh uploaded once), each scene's buffers (uploaded
+//! once, shared by both bases), and per base × scene a `DdmRenderer` and its pixel target:
+//! it renders every frame with `encode` (no rebuild, no readback), and the target is read
+//! back once per image, after its frames, for the PNG and the counts.
+//!
 //! Writes to `OUT_DIR` (default `target/ddm-render`) `<mesostructure>_<base>_<method>.png`
 //! and `ddm_render_times.csv`: per image the covered, hit and shadowed pixels, mean and
-//! max tracer steps per covered pixel (primary ray), the compute pass's GPU time (fastest
-//! of 3; timestamps, lavapipe here), the wall time of the whole call (shader compilation,
-//! uploads, dispatch and readback; fastest of 3), the same call's fixed cost (measured on
-//! a single uncovered texel), their difference `trace_wall_ms` (the per-pixel work) and the
-//! raster pass's wall time. On lavapipe the timestamp difference stays about 0.01–0.07 ms
-//! whatever the work (it does not bracket the software execution), so `trace_wall_ms` is
-//! the meaningful time there; on a hardware adapter the timestamps are.
+//! max tracer steps per covered pixel (primary ray), the per-pixel pass's GPU time
+//! (`gpu_ms`, fastest of 3 frames; timestamps where the adapter has them, else the
+//! `trace_wall_ms` below), the wall time of one whole frame (`pass_call_wall_ms`: raster and
+//! per-pixel passes, submission to completion, warm pipelines; fastest of 3), the frame's
+//! fixed cost (`call_overhead_wall_ms`: the same submission with the raster pass only;
+//! fastest of 3), their difference `trace_wall_ms` (the per-pixel work) and the base's
+//! raster wall time (`raster_wall_ms`, measured once per base, fastest of 3). On lavapipe,
+//! with both passes in one command buffer, `gpu_ms` follows `trace_wall_ms` within about a
+//! millisecond (measured; when the per-pixel pass was a lone dispatch its timestamps stayed
+//! at 0.01–0.07 ms whatever the work), and `trace_wall_ms` remains the time to trust
+//! there; on a hardware adapter the timestamps are.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
-use ddm_render::{Camera, GBuffer, pixels_to_image, plane_base_mesh, rasterize_gbuffer, render_pixels};
+use ddm_render::{
+    Camera, DdmFrame, DdmRenderPipelines, DdmRenderer, GBufferPass, GpuSceneBuffers, PassTimestamps, PixelReadback,
+    RenderSettings, pixels_to_image, plane_base_mesh, wgpu,
+};
 use ddm_tracer::GpuScene;
-use ddm_tracer::tangent_space::{BaseRenderParams, PIXEL_HIT, PIXEL_UNCOVERED};
+use ddm_tracer::tangent_space::{PIXEL_HIT, PIXEL_UNCOVERED};
 use ddm_tracer::{
     CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceSettings,
     VoxelPatches,
 };
-use glam::{UVec2, UVec3, Vec2, Vec3, Vec4};
+use glam::{UVec2, UVec3, Vec2, Vec3};
 use gpu_harness::Gpu;
 use mesostructure::Mesostructure;
 
@@ -53,15 +66,66 @@ const MAX_STEPS: u32 = 256;
 const RELIEF_LINEAR: u32 = 32;
 const RELIEF_BINARY: u32 = 8;
 const BACKGROUND: [u8; 3] = [18, 20, 30];
+/// Frames per image; the fastest is reported.
+const FRAMES: usize = 3;
 
-/// One base mesh with its camera, light and slab.
+/// One base mesh with its G-buffer pass, camera, light and slab.
 struct Base {
     name: &'static str,
-    gbuffer: GBuffer,
-    eye: Vec3,
+    gbuffer: GBufferPass,
+    camera: Camera,
     light: Vec3,
     /// `(L_x, L_y, L_z / h)`.
     slab: Vec3,
+    /// Wall time of its raster pass alone (fastest of [`FRAMES`]).
+    raster_seconds: f64,
+}
+
+/// Timestamps of both passes of a frame (queries 0–1 raster, 2–3 per-pixel pass), where
+/// the adapter has them.
+struct FrameTimer {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+}
+
+impl FrameTimer {
+    fn new(gpu: &Gpu) -> Option<Self> {
+        gpu.has_timestamps().then(|| Self {
+            queries: gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("ddm-render frame timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 4,
+            }),
+            resolve: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("ddm-render frame timestamps"),
+                size: 32,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+        })
+    }
+
+    /// Seconds of the per-pixel pass of the last resolved frame.
+    fn trace_seconds(&self, gpu: &Gpu) -> Result<f64, String> {
+        let bytes = gpu.read_buffer(&self.resolve, 32).map_err(|e| e.to_string())?;
+        let ticks: [u64; 4] = bytemuck::pod_read_unaligned(&bytes);
+        Ok(ticks[3].saturating_sub(ticks[2]) as f64 * f64::from(gpu.queue.get_timestamp_period()) * 1e-9)
+    }
+}
+
+/// Records a command buffer with `record`, submits it and waits: the wall time from
+/// submission to completion.
+fn submit_and_wait(
+    gpu: &Gpu,
+    record: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<(), String>,
+) -> Result<f64, String> {
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    record(&mut encoder)?;
+    let commands = encoder.finish();
+    let started = std::time::Instant::now();
+    gpu.queue.submit([commands]);
+    gpu.wait().map_err(|e| e.to_string())?;
+    Ok(started.elapsed().as_secs_f64())
 }
 
 /// Runs the renders; `args` are `[OUT_DIR] [--quick]`.
@@ -81,8 +145,11 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
     if gpu.is_software() {
         println!("(GPU times are from lavapipe, a software Vulkan on the CPU, not a GPU)");
     }
-    let bases = base_meshes(&gpu, dims, width, height)?;
-    let one_texel = GBuffer { width: 1, height: 1, texels: vec![bytemuck::Zeroable::zeroed()], raster_seconds: 0.0 };
+    let started = std::time::Instant::now();
+    let pipelines = DdmRenderPipelines::new(&gpu.device).map_err(|e| e.to_string())?;
+    println!("pipelines: {:.1} ms (built once for the run)", started.elapsed().as_secs_f64() * 1e3);
+    let bases = base_meshes(&gpu, &pipelines, dims, width, height)?;
+    let timer = FrameTimer::new(&gpu);
     let mut csv = String::from(
         "mesostructure,base,method,covered_pixels,hit_pixels,shadowed_pixels,mean_steps,max_steps,gpu_ms,gpu_timing,pass_call_wall_ms,call_overhead_wall_ms,trace_wall_ms,raster_wall_ms\n",
     );
@@ -91,6 +158,7 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
         "{:<11} {:<6} {:<20} {:>8} {:>8} {:>8} {:>7} {:>5} {:>9} {:>9}",
         "structure", "base", "method", "covered", "hits", "shadow", "steps", "max", "GPU ms", "trace ms"
     );
+    let (mut first_frames, mut warm_frames, mut images) = (0.0, 0.0, 0);
     for structure in Mesostructure::ALL {
         let triangles = structure.triangles(dims);
         let plain = compute_distance_maps(dims, &triangles, None, settings).ok_or("invalid scene")?;
@@ -131,45 +199,67 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
                 .ok_or("the relief scene does not pack")?;
             scenes.push(("relief", scene, 0.25));
         }
+        // Each scene uploaded once, for both bases.
+        let uploaded: Vec<(&'static str, GpuSceneBuffers, f32)> = scenes
+            .iter()
+            .map(|(method, scene, tolerance)| {
+                GpuSceneBuffers::new(&gpu.device, scene).map(|b| (*method, b, *tolerance)).map_err(|e| e.to_string())
+            })
+            .collect::<Result<_, _>>()?;
         for base in &bases {
-            for (method, scene, tolerance) in &scenes {
-                let params = BaseRenderParams {
-                    eye: base.eye.extend(0.0),
-                    light: base.light.extend(0.2),
-                    slab: base.slab.extend(*tolerance),
-                    miss_color: Vec4::new(0.22, 0.27, 0.36, 0.0),
+            for (method, scene, tolerance) in &uploaded {
+                let renderer =
+                    DdmRenderer::new(&gpu.device, &pipelines, &base.gbuffer, scene).map_err(|e| e.to_string())?;
+                let readback = PixelReadback::new(&gpu, &renderer).map_err(|e| e.to_string())?;
+                let frame = DdmFrame {
+                    camera: &base.camera,
+                    settings: RenderSettings {
+                        slab: base.slab,
+                        light: base.light,
+                        ambient: 0.2,
+                        shadow_tolerance: Some(*tolerance),
+                        miss_color: Vec3::new(0.22, 0.27, 0.36),
+                    },
+                    raster_timestamps: timer.as_ref().map(|t| PassTimestamps { query_set: &t.queries, first: 0 }),
+                    trace_timestamps: timer.as_ref().map(|t| PassTimestamps { query_set: &t.queries, first: 2 }),
                 };
-                let mut best = f64::INFINITY;
-                let mut pixels = Vec::new();
-                let mut timing_name = "";
-                let mut call_wall = f64::INFINITY;
-                for _ in 0..3 {
-                    let started = std::time::Instant::now();
-                    let pass = render_pixels(&gpu, &base.gbuffer, scene, &params).map_err(|e| e.to_string())?;
-                    call_wall = call_wall.min(started.elapsed().as_secs_f64());
-                    best = best.min(pass.timing.seconds);
-                    timing_name = match pass.timing.source {
-                        gpu_harness::TimingSource::Timestamps => "timestamps",
-                        gpu_harness::TimingSource::WallClock => "wall clock",
-                    };
-                    pixels = pass.pixels;
+                let (mut best_gpu, mut frame_wall, mut overhead) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+                for k in 0..FRAMES {
+                    let wall = submit_and_wait(&gpu, |encoder| {
+                        renderer.encode(&gpu.queue, encoder, &frame, readback.target()).map_err(|e| e.to_string())?;
+                        if let Some(t) = &timer {
+                            encoder.resolve_query_set(&t.queries, 0..4, &t.resolve, 0);
+                        }
+                        Ok(())
+                    })?;
+                    if k == 0 {
+                        first_frames += wall;
+                    } else {
+                        warm_frames += wall / (FRAMES - 1) as f64;
+                    }
+                    frame_wall = frame_wall.min(wall);
+                    if let Some(t) = &timer {
+                        best_gpu = best_gpu.min(t.trace_seconds(&gpu)?);
+                    }
+                    // The frame without its per-pixel pass (the pixel target keeps the
+                    // full frame's pixels).
+                    let raster_only = submit_and_wait(&gpu, |encoder| {
+                        renderer.gbuffer().encode(&gpu.queue, encoder, &base.camera, None).map_err(|e| e.to_string())
+                    })?;
+                    overhead = overhead.min(raster_only);
                 }
-                // The call's fixed cost (shader compilation, scene upload): the same call
-                // on a single uncovered texel.
-                let mut overhead = f64::INFINITY;
-                for _ in 0..3 {
-                    let started = std::time::Instant::now();
-                    render_pixels(&gpu, &one_texel, scene, &params).map_err(|e| e.to_string())?;
-                    overhead = overhead.min(started.elapsed().as_secs_f64());
-                }
-                let trace_wall = (call_wall - overhead).max(0.0);
+                images += 1;
+                let trace_wall = (frame_wall - overhead).max(0.0);
+                let (gpu_seconds, timing_name) =
+                    if timer.is_some() { (best_gpu, "timestamps") } else { (trace_wall, "wall clock") };
+                let pixels = readback.read(&gpu).map_err(|e| e.to_string())?;
                 let covered: Vec<_> = pixels.iter().filter(|p| p.color.w != PIXEL_UNCOVERED).collect();
                 let hits = covered.iter().filter(|p| p.color.w == PIXEL_HIT).count();
                 let shadowed = covered.iter().filter(|p| p.color.w == PIXEL_HIT && p.ray_direction.w == 1.0).count();
                 let mean_steps =
                     covered.iter().map(|p| f64::from(p.ray_origin.w)).sum::<f64>() / covered.len().max(1) as f64;
                 let max_steps = covered.iter().map(|p| p.ray_origin.w as u32).max().unwrap_or(0);
-                let image = pixels_to_image(&pixels, base.gbuffer.width, base.gbuffer.height, BACKGROUND);
+                let image = pixels_to_image(&pixels, width, height, BACKGROUND);
                 let path = out.join(format!("{}_{}_{method}.png", structure.name(), base.name));
                 image.save(&path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
                 println!(
@@ -182,7 +272,7 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
                     shadowed,
                     mean_steps,
                     max_steps,
-                    best * 1e3,
+                    gpu_seconds * 1e3,
                     trace_wall * 1e3
                 );
                 writeln!(
@@ -191,11 +281,11 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
                     structure.name(),
                     base.name,
                     covered.len(),
-                    best * 1e3,
-                    call_wall * 1e3,
+                    gpu_seconds * 1e3,
+                    frame_wall * 1e3,
                     overhead * 1e3,
                     trace_wall * 1e3,
-                    base.gbuffer.raster_seconds * 1e3
+                    base.raster_seconds * 1e3
                 )
                 .map_err(|e| e.to_string())?;
             }
@@ -203,13 +293,25 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
     }
     let path = out.join("ddm_render_times.csv");
     std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    let images_f = f64::from(images.max(1));
+    println!(
+        "frames (raster + trace, wall clock): first of each renderer {:.1} ms, later ones {:.1} ms, mean over {images} images",
+        first_frames / images_f * 1e3,
+        warm_frames / images_f * 1e3
+    );
     println!("wrote {} and the PNGs beside it", path.display());
     Ok(())
 }
 
 /// The plane tile (4 × 4 tiles seen by `xtask ddm-trace`'s camera) and the torus, each
-/// rasterized once.
-fn base_meshes(gpu: &Gpu, dims: UVec3, width: u32, height: u32) -> Result<Vec<Base>, String> {
+/// uploaded once into a G-buffer pass, with the raster pass's wall time.
+fn base_meshes(
+    gpu: &Gpu,
+    pipelines: &DdmRenderPipelines,
+    dims: UVec3,
+    width: u32,
+    height: u32,
+) -> Result<Vec<Base>, String> {
     let size = dims.as_vec3();
     let target = Vec3::new(size.x, size.y, 0.3 * size.z);
     let plane_camera = Camera {
@@ -236,9 +338,17 @@ fn base_meshes(gpu: &Gpu, dims: UVec3, width: u32, height: u32) -> Result<Vec<Ba
         ("plane", plane, plane_camera, Vec3::new(0.45, 0.3, 0.84), Vec3::new(size.x, size.y, 1.0)),
         ("torus", torus, torus_camera, Vec3::new(-0.35, -0.55, 0.75), Vec3::new(size.x, size.y, size.z / thickness)),
     ] {
-        let gbuffer = rasterize_gbuffer(gpu, &mesh, &camera).map_err(|e| format!("{name}: {e}"))?;
-        println!("{name}: G-buffer raster {:.2} ms (wall clock)", gbuffer.raster_seconds * 1e3);
-        bases.push(Base { name, gbuffer, eye: camera.eye, light: light.normalize(), slab });
+        let gbuffer = GBufferPass::new(&gpu.device, pipelines.gbuffer(), &mesh, width, height)
+            .map_err(|e| format!("{name}: {e}"))?;
+        let mut raster_seconds = f64::INFINITY;
+        for _ in 0..FRAMES {
+            let wall = submit_and_wait(gpu, |encoder| {
+                gbuffer.encode(&gpu.queue, encoder, &camera, None).map_err(|e| format!("{name}: {e}"))
+            })?;
+            raster_seconds = raster_seconds.min(wall);
+        }
+        println!("{name}: G-buffer raster {:.2} ms (wall clock, fastest of {FRAMES})", raster_seconds * 1e3);
+        bases.push(Base { name, gbuffer, camera, light: light.normalize(), slab, raster_seconds });
     }
     Ok(bases)
 }

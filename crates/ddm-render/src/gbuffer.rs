@@ -1,210 +1,376 @@
-//! The base-mesh G-buffer: the coarse base mesh rasterized with a perspective camera
-//! into four `Rgba32Float` targets, read back as one [`BaseGBufferTexel`] per pixel
-//! (world position and coverage, `(∂P/∂u, u)`, `(∂P/∂v, v)`, `(N, view depth)`), linearly
-//! interpolated with perspective correction by the rasterizer.
+//! The base-mesh G-buffer: the coarse base mesh rasterized with a perspective camera into
+//! four `Rgba32Float` textures ([`GBUFFER_FORMAT`]), one per field of
+//! [`BaseGBufferTexel`] (world position and coverage, `(∂P/∂u, u)`, `(∂P/∂v, v)`,
+//! `(N, view depth)`), linearly interpolated with perspective correction by the rasterizer.
+//!
+//! - [`GBufferPipeline`]: the raster pipeline, once per device.
+//! - [`GBufferPass`]: one base mesh (vertex and index buffers uploaded once) and the
+//!   textures of one size; [`GBufferPass::encode`] records a frame's raster pass.
+//! - [`read_gbuffer`], [`rasterize_gbuffer`]: readback for tests and tools, after the frame.
 
 use ddm_tracer::tangent_space::BaseGBufferTexel;
-use gpu_harness::{Gpu, HarnessError};
+use glam::{Vec3, Vec4};
+use gpu_harness::{Gpu, error_scoped};
 use mesostructure::BaseMesh;
 use wgpu::util::DeviceExt;
-use wgsl_gen::{StructDecl, generate_declarations};
 
 use crate::base_mesh::{BaseVertex, scaled_vertices};
 use crate::camera::{BaseCamera, Camera};
+use crate::error::{DdmRenderError, check_limit};
+use crate::shaders::{RASTER_SHADER, raster_shader};
 
-/// The G-buffer targets' format.
-const GBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// Bytes per texel of one target.
-const TARGET_BYTES: u32 = 16;
-/// Number of targets.
-const TARGETS: usize = 4;
+/// The format of the G-buffer textures.
+pub const GBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Number of G-buffer textures (the fields of [`BaseGBufferTexel`], in order).
+pub const GBUFFER_TEXTURES: usize = 4;
+/// Bytes per texel of one G-buffer texture.
+const TEXEL_BYTES: u32 = 16;
+/// The depth buffer's format.
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// `vec4` interpolants the raster pass passes from vertex to fragment stage.
+const INTERPOLANTS: u32 = 4;
 
-/// The raster shader; the declarations of [`BaseCamera`] and [`BaseVertex`] are generated
-/// from Rust and prepended.
-const RASTER_WGSL: &str = r"
-@group(0) @binding(0) var<uniform> camera: BaseCamera;
-@group(0) @binding(1) var<storage, read> vertices: array<BaseVertex>;
-
-struct Interpolants {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) position: vec3<f32>,
-    @location(1) tangent_u: vec4<f32>,
-    @location(2) bitangent_v: vec4<f32>,
-    @location(3) normal: vec3<f32>,
+/// Where a pass writes its timestamps: queries `first` (beginning) and `first + 1` (end)
+/// of `query_set`, a [`wgpu::QueryType::Timestamp`] set.
+#[derive(Clone, Copy, Debug)]
+pub struct PassTimestamps<'a> {
+    /// The query set.
+    pub query_set: &'a wgpu::QuerySet,
+    /// Index of the beginning-of-pass query; the end goes to `first + 1`.
+    pub first: u32,
 }
 
-struct GBufferOut {
-    @location(0) position_coverage: vec4<f32>,
-    @location(1) tangent_u: vec4<f32>,
-    @location(2) bitangent_v: vec4<f32>,
-    @location(3) normal_depth: vec4<f32>,
+impl PassTimestamps<'_> {
+    /// `Err` naming the problem when the set is not a timestamp set or lacks the two queries.
+    pub(crate) fn check(&self) -> Result<(), DdmRenderError> {
+        if !matches!(self.query_set.ty(), wgpu::QueryType::Timestamp) {
+            return Err(DdmRenderError::InvalidTimestamps("the query set is not a timestamp query set".into()));
+        }
+        let count = self.query_set.count();
+        if self.first.checked_add(2).is_none_or(|end| end > count) {
+            return Err(DdmRenderError::InvalidTimestamps(format!(
+                "queries {} and {} do not fit a set of {count}",
+                self.first,
+                u64::from(self.first) + 1
+            )));
+        }
+        Ok(())
+    }
+
+    fn render_writes(&self) -> wgpu::RenderPassTimestampWrites<'_> {
+        wgpu::RenderPassTimestampWrites {
+            query_set: self.query_set,
+            beginning_of_pass_write_index: Some(self.first),
+            end_of_pass_write_index: Some(self.first + 1),
+        }
+    }
+
+    pub(crate) fn compute_writes(&self) -> wgpu::ComputePassTimestampWrites<'_> {
+        wgpu::ComputePassTimestampWrites {
+            query_set: self.query_set,
+            beginning_of_pass_write_index: Some(self.first),
+            end_of_pass_write_index: Some(self.first + 1),
+        }
+    }
 }
 
-@vertex
-fn base_vertex(@builtin(vertex_index) index: u32) -> Interpolants {
-    let v = vertices[index];
-    let m = mat4x4<f32>(camera.clip_from_world[0], camera.clip_from_world[1], camera.clip_from_world[2], camera.clip_from_world[3]);
-    return Interpolants(m * vec4<f32>(v.position.xyz, 1.0), v.position.xyz, v.tangent_u, v.bitangent_v, v.normal.xyz);
-}
-
-@fragment
-fn base_fragment(in: Interpolants) -> GBufferOut {
-    let depth = distance(in.position, camera.eye.xyz);
-    return GBufferOut(vec4<f32>(in.position, 1.0), in.tangent_u, in.bitangent_v, vec4<f32>(in.normal, depth));
-}
-";
-
-/// A read-back G-buffer.
+/// The compiled raster pipeline and its bind group layout (camera uniform, vertex
+/// storage buffer), created once per device and shared by every [`GBufferPass`].
 #[derive(Clone, Debug)]
-pub struct GBuffer {
+pub struct GBufferPipeline {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+impl GBufferPipeline {
+    /// Validates the composed raster shader with naga and builds the pipeline. Errors name
+    /// the device limit the G-buffer exceeds (colour attachments, bytes per sample,
+    /// inter-stage variables, vertex-stage storage buffers) or the shader problem.
+    pub fn new(device: &wgpu::Device) -> Result<Self, DdmRenderError> {
+        let limits = device.limits();
+        let targets = GBUFFER_TEXTURES as u32;
+        check_limit(
+            "G-buffer colour attachments (max_color_attachments)",
+            targets.into(),
+            limits.max_color_attachments.into(),
+        )?;
+        check_limit(
+            "G-buffer colour bytes per sample (max_color_attachment_bytes_per_sample)",
+            u64::from(targets * TEXEL_BYTES),
+            limits.max_color_attachment_bytes_per_sample.into(),
+        )?;
+        check_limit(
+            "raster interpolants (max_inter_stage_shader_variables)",
+            INTERPOLANTS.into(),
+            limits.max_inter_stage_shader_variables.into(),
+        )?;
+        let shader = raster_shader()?;
+        shader
+            .validate()
+            .map_err(|e| DdmRenderError::InvalidShader { shader: RASTER_SHADER, message: e.to_string() })?;
+        Ok(error_scoped(device, || {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(RASTER_SHADER),
+                source: wgpu::ShaderSource::Wgsl(shader.source().into()),
+            });
+            let buffer_entry = |binding, ty, visibility| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility,
+                ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+                count: None,
+            };
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("ddm-render G-buffer"),
+                entries: &[
+                    buffer_entry(
+                        0,
+                        wgpu::BufferBindingType::Uniform,
+                        wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
+                    ),
+                    buffer_entry(1, wgpu::BufferBindingType::Storage { read_only: true }, wgpu::ShaderStages::VERTEX),
+                ],
+            });
+            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("ddm-render G-buffer"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+            let targets: Vec<Option<wgpu::ColorTargetState>> =
+                (0..GBUFFER_TEXTURES).map(|_| Some(wgpu::ColorTargetState::from(GBUFFER_FORMAT))).collect();
+            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("ddm-render G-buffer"),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("base_vertex"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("base_fragment"),
+                    compilation_options: Default::default(),
+                    targets: &targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+            Self { pipeline, layout }
+        })?)
+    }
+}
+
+/// One base mesh rasterized into G-buffer textures of one size: the mesh's vertices
+/// ([`scaled_vertices`]) and indices uploaded once, the textures, the camera uniform and
+/// the bind group created once. [`encode`](Self::encode) writes the camera uniform and
+/// records the raster pass, nothing else. Cloning is cheap and shares the GPU objects.
+#[derive(Clone, Debug)]
+pub struct GBufferPass {
+    pipeline: GBufferPipeline,
+    camera: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+    bind_group: wgpu::BindGroup,
+    textures: [wgpu::Texture; GBUFFER_TEXTURES],
+    views: [wgpu::TextureView; GBUFFER_TEXTURES],
+    depth: wgpu::TextureView,
+    /// Centre and radius of a sphere around the mesh, for the clip planes.
+    bounds: (Vec3, f32),
+    width: u32,
+    height: u32,
+}
+
+impl GBufferPass {
+    /// Uploads `mesh` and creates `width × height` G-buffer textures (usages
+    /// `RENDER_ATTACHMENT | TEXTURE_BINDING | COPY_SRC`) for `pipeline`. Errors name the
+    /// problem: an empty size or one beyond `max_texture_dimension_2d`, a mesh that is
+    /// empty, whose frames cannot be scaled ([`scaled_vertices`]) or whose buffers exceed
+    /// the device's buffer limits.
+    pub fn new(
+        device: &wgpu::Device,
+        pipeline: &GBufferPipeline,
+        mesh: &BaseMesh,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, DdmRenderError> {
+        let limits = device.limits();
+        if width == 0 || height == 0 {
+            return Err(DdmRenderError::EmptySize { width, height });
+        }
+        check_limit(
+            "G-buffer side in texels (max_texture_dimension_2d)",
+            width.max(height).into(),
+            limits.max_texture_dimension_2d.into(),
+        )?;
+        if mesh.positions.is_empty() || mesh.indices.is_empty() {
+            return Err(DdmRenderError::InvalidMesh("no vertices or no triangles"));
+        }
+        let vertices = scaled_vertices(mesh).ok_or(DdmRenderError::InvalidMesh(
+            "attribute lists of different lengths, an index out of range, or a vertex whose \
+             one-ring does not span both texture directions",
+        ))?;
+        let indices: Vec<u32> = mesh.indices.iter().flatten().copied().collect();
+        let vertex_bytes = (vertices.len() * size_of::<BaseVertex>()) as u64;
+        check_limit(
+            "base mesh vertices in bytes (max_storage_buffer_binding_size)",
+            vertex_bytes,
+            limits.max_storage_buffer_binding_size,
+        )?;
+        check_limit("base mesh vertices in bytes (max_buffer_size)", vertex_bytes, limits.max_buffer_size)?;
+        let index_bytes = (indices.len() * size_of::<u32>()) as u64;
+        check_limit("base mesh indices in bytes (max_buffer_size)", index_bytes, limits.max_buffer_size)?;
+        let index_count = u32::try_from(indices.len()).map_err(|_| DdmRenderError::TooLarge {
+            what: "base mesh indices (u32 draw count)",
+            requested: indices.len() as u64,
+            limit: u32::MAX.into(),
+        })?;
+        let bounds =
+            bounding_sphere(&mesh.positions).ok_or(DdmRenderError::InvalidMesh("a vertex position is not finite"))?;
+        let extent = wgpu::Extent3d { width, height, depth_or_array_layers: 1 };
+        let pass = error_scoped(device, || {
+            let camera = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("ddm-render G-buffer camera"),
+                size: size_of::<BaseCamera>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("ddm-render base mesh vertices"),
+                contents: bytemuck::cast_slice(&vertices),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+            let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("ddm-render base mesh indices"),
+                contents: bytemuck::cast_slice(&indices),
+                usage: wgpu::BufferUsages::INDEX,
+            });
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ddm-render G-buffer"),
+                layout: &pipeline.layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: camera.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: vertex_buffer.as_entire_binding() },
+                ],
+            });
+            let texture = |label, format, usage| {
+                device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: extent,
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage,
+                    view_formats: &[],
+                })
+            };
+            let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC;
+            let textures: [wgpu::Texture; GBUFFER_TEXTURES] =
+                std::array::from_fn(|_| texture("ddm-render G-buffer", GBUFFER_FORMAT, usage));
+            let views = std::array::from_fn(|k| textures[k].create_view(&Default::default()));
+            let depth = texture("ddm-render G-buffer depth", DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT)
+                .create_view(&Default::default());
+            Self {
+                pipeline: pipeline.clone(),
+                camera,
+                indices: index_buffer,
+                index_count,
+                bind_group,
+                textures,
+                views,
+                depth,
+                bounds,
+                width,
+                height,
+            }
+        })?;
+        Ok(pass)
+    }
+
     /// Width in pixels.
-    pub width: u32,
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
     /// Height in pixels.
-    pub height: u32,
-    /// Row-major texels, row 0 on top.
-    pub texels: Vec<BaseGBufferTexel>,
-    /// Wall-clock seconds of the raster submission (no timestamps on render passes here).
-    pub raster_seconds: f64,
-}
+    pub fn height(&self) -> u32 {
+        self.height
+    }
 
-/// The raster shader with its generated declarations.
-pub fn raster_shader() -> Result<String, HarnessError> {
-    let declarations = generate_declarations(
-        "ddm_render_raster",
-        &[StructDecl::of::<BaseCamera>(), StructDecl::of::<BaseVertex>()],
-        &[],
-    )
-    .map_err(|e| HarnessError::InvalidRequest(e.to_string()))?;
-    Ok(format!("{declarations}\n{RASTER_WGSL}"))
-}
+    /// The G-buffer textures, in the field order of [`BaseGBufferTexel`] (uncovered
+    /// texels are zero after a frame).
+    pub fn textures(&self) -> &[wgpu::Texture; GBUFFER_TEXTURES] {
+        &self.textures
+    }
 
-/// Rasterizes `mesh` seen by `camera` into a G-buffer (depth test, no culling; uncovered
-/// texels are zero). Errors name the limit or the wgpu problem: an image larger than the
-/// adapter's 2-D textures, more colour bytes per sample than it allows, a mesh whose
-/// frames cannot be scaled ([`scaled_vertices`]).
-pub fn rasterize_gbuffer(gpu: &Gpu, mesh: &BaseMesh, camera: &Camera) -> Result<GBuffer, HarnessError> {
-    let (width, height) = (camera.width, camera.height);
-    let limits = gpu.limits();
-    if width == 0 || height == 0 {
-        return Err(HarnessError::InvalidRequest(format!("G-buffer {width}×{height} is empty")));
+    /// Views of [`textures`](Self::textures), as the per-pixel pass binds them.
+    pub fn views(&self) -> &[wgpu::TextureView; GBUFFER_TEXTURES] {
+        &self.views
     }
-    if width.max(height) > limits.max_texture_dimension_2d {
-        return Err(HarnessError::TooLarge {
-            what: "G-buffer side in texels".into(),
-            requested: u64::from(width.max(height)),
-            limit: u64::from(limits.max_texture_dimension_2d),
-        });
+
+    /// The raster uniforms for `camera`: clip planes around the mesh's bounding sphere
+    /// (`near = max(10⁻³ reach, 10⁻³)`, `far = 1.5 reach + 1`, `reach` the distance from
+    /// the eye to the sphere's far side). Errors name the camera field that is unusable.
+    pub fn camera_uniforms(&self, camera: &Camera) -> Result<BaseCamera, DdmRenderError> {
+        if (camera.width, camera.height) != (self.width, self.height) {
+            return Err(DdmRenderError::SizeMismatch {
+                what: "the camera's image",
+                expected: (self.width, self.height),
+                found: (camera.width, camera.height),
+            });
+        }
+        if !(camera.eye.is_finite() && camera.target.is_finite() && camera.up.is_finite()) {
+            return Err(DdmRenderError::InvalidCamera("eye, target and up must be finite"));
+        }
+        let forward = camera.target - camera.eye;
+        if forward.length_squared() == 0.0 {
+            return Err(DdmRenderError::InvalidCamera("target equals eye"));
+        }
+        if forward.cross(camera.up).length_squared() == 0.0 {
+            return Err(DdmRenderError::InvalidCamera("up is zero or parallel to the view direction"));
+        }
+        if !(camera.half_fov_y > 0.0 && camera.half_fov_y < std::f32::consts::FRAC_PI_2) {
+            return Err(DdmRenderError::InvalidCamera("half_fov_y must lie in (0, π/2)"));
+        }
+        let (centre, radius) = self.bounds;
+        let reach = (camera.eye - centre).length() + radius;
+        let uniforms = camera.uniforms((reach * 1e-3).max(1e-3), reach * 1.5 + 1.0);
+        if !uniforms.clip_from_world.iter().all(|c| c.is_finite()) {
+            return Err(DdmRenderError::InvalidCamera("the view-projection matrix is not finite"));
+        }
+        Ok(uniforms)
     }
-    let sample_bytes = TARGET_BYTES * TARGETS as u32;
-    if sample_bytes > limits.max_color_attachment_bytes_per_sample || TARGETS as u32 > limits.max_color_attachments {
-        return Err(HarnessError::TooLarge {
-            what: "G-buffer colour bytes per sample".into(),
-            requested: u64::from(sample_bytes),
-            limit: u64::from(limits.max_color_attachment_bytes_per_sample),
-        });
-    }
-    let vertices =
-        scaled_vertices(mesh).ok_or_else(|| HarnessError::InvalidRequest("base mesh frames are degenerate".into()))?;
-    let indices: Vec<u32> = mesh.indices.iter().flatten().copied().collect();
-    if vertices.is_empty() || indices.is_empty() {
-        return Err(HarnessError::InvalidRequest("base mesh is empty".into()));
-    }
-    let vertex_bytes = (vertices.len() * size_of::<BaseVertex>()) as u64;
-    let storage_limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
-    if vertex_bytes > storage_limit {
-        return Err(HarnessError::TooLarge {
-            what: "base mesh vertices in bytes".into(),
-            requested: vertex_bytes,
-            limit: storage_limit,
-        });
-    }
-    let index_count = u32::try_from(indices.len()).map_err(|_| HarnessError::TooLarge {
-        what: "base mesh indices".into(),
-        requested: indices.len() as u64,
-        limit: u64::from(u32::MAX),
-    })?;
-    let reach = mesh.positions.iter().map(|p| (*p - camera.eye).length()).fold(0.0_f32, f32::max);
-    let uniforms = camera.uniforms((reach * 1e-3).max(1e-3), reach * 1.5 + 1.0);
-    let source = raster_shader()?;
-    let row_bytes = width * TARGET_BYTES;
-    let padded_row_bytes = row_bytes.next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-    let extent = wgpu::Extent3d { width, height, depth_or_array_layers: 1 };
-    let (readbacks, started) = gpu.scoped(|| {
-        let device = &gpu.device;
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("base G-buffer"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
-        let targets: Vec<Option<wgpu::ColorTargetState>> =
-            (0..TARGETS).map(|_| Some(wgpu::ColorTargetState::from(GBUFFER_FORMAT))).collect();
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("base G-buffer"),
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("base_vertex"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: wgpu::TextureFormat::Depth32Float,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("base_fragment"),
-                compilation_options: Default::default(),
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        let camera_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("base G-buffer camera"),
-            contents: bytemuck::bytes_of(&uniforms),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("base G-buffer vertices"),
-            contents: bytemuck::cast_slice(&vertices),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("base G-buffer indices"),
-            contents: bytemuck::cast_slice(&indices),
-            usage: wgpu::BufferUsages::INDEX,
-        });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("base G-buffer"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: camera_buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: vertex_buffer.as_entire_binding() },
-            ],
-        });
-        let texture = |format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("base G-buffer target"),
-                size: extent,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let color_usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-        let textures: Vec<wgpu::Texture> = (0..TARGETS).map(|_| texture(GBUFFER_FORMAT, color_usage)).collect();
-        let depth = texture(wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT);
-        let views: Vec<wgpu::TextureView> = textures.iter().map(|t| t.create_view(&Default::default())).collect();
-        let depth_view = depth.create_view(&Default::default());
-        let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = views
+
+    /// Records the raster pass for `camera` (its size must be the G-buffer's) into
+    /// `encoder`, after writing the camera uniform with `queue.write_buffer`. That write
+    /// lands at the next `queue.submit`, before any of its command buffers run: submit
+    /// each frame before encoding the next one with the same pass. `timestamps`, when
+    /// given, receives the pass's beginning and end.
+    pub fn encode(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        camera: &Camera,
+        timestamps: Option<PassTimestamps<'_>>,
+    ) -> Result<(), DdmRenderError> {
+        let uniforms = self.camera_uniforms(camera)?;
+        if let Some(t) = &timestamps {
+            t.check()?;
+        }
+        queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(&uniforms));
+        let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = self
+            .views
             .iter()
             .map(|view| {
                 Some(wgpu::RenderPassColorAttachment {
@@ -218,86 +384,141 @@ pub fn rasterize_gbuffer(gpu: &Gpu, mesh: &BaseMesh, camera: &Camera) -> Result<
                 })
             })
             .collect();
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("base G-buffer"),
-                color_attachments: &attachments,
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
-                    stencil_ops: None,
-                }),
-                ..Default::default()
-            });
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.set_index_buffer(index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..index_count, 0, 0..1);
-        }
-        let readbacks: Vec<wgpu::Buffer> = textures
-            .iter()
-            .map(|t| {
-                let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("base G-buffer readback"),
-                    size: u64::from(padded_row_bytes) * u64::from(height),
-                    usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                encoder.copy_texture_to_buffer(
-                    t.as_image_copy(),
-                    wgpu::TexelCopyBufferInfo {
-                        buffer: &buffer,
-                        layout: wgpu::TexelCopyBufferLayout {
-                            offset: 0,
-                            bytes_per_row: Some(padded_row_bytes),
-                            rows_per_image: Some(height),
-                        },
-                    },
-                    extent,
-                );
-                buffer
-            })
-            .collect();
-        let started = std::time::Instant::now();
-        gpu.queue.submit([encoder.finish()]);
-        (readbacks, started)
-    })?;
-    gpu.wait()?;
-    let raster_seconds = started.elapsed().as_secs_f64();
-    let size = u64::from(padded_row_bytes) * u64::from(height);
-    let mut layers: Vec<Vec<glam::Vec4>> = Vec::with_capacity(TARGETS);
-    for buffer in &readbacks {
-        let padded = gpu.read_buffer(buffer, size)?;
-        let mut texels = Vec::with_capacity((width * height) as usize);
-        for row in padded.chunks_exact(padded_row_bytes as usize) {
-            texels.extend(bytemuck::pod_collect_to_vec::<u8, glam::Vec4>(&row[..row_bytes as usize]));
-        }
-        layers.push(texels);
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("ddm-render G-buffer"),
+            color_attachments: &attachments,
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps.as_ref().map(PassTimestamps::render_writes),
+            ..Default::default()
+        });
+        pass.set_pipeline(&self.pipeline.pipeline);
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..self.index_count, 0, 0..1);
+        Ok(())
     }
-    let texels = (0..(width * height) as usize)
-        .map(|i| BaseGBufferTexel {
-            position_coverage: layers[0][i],
-            tangent_u: layers[1][i],
-            bitangent_v: layers[2][i],
-            normal_depth: layers[3][i],
-        })
-        .collect();
-    Ok(GBuffer { width, height, texels, raster_seconds })
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use wgsl_gen::{ComposedShader, check_layout};
-
-    #[test]
-    fn raster_shader_validates_and_matches_the_rust_layouts() {
-        let source = raster_shader().unwrap();
-        let shader = ComposedShader::new("ddm_render_raster").with_part("gbuffer.rs", &source);
-        shader.validate().unwrap_or_else(|e| panic!("{e}"));
-        let module = shader.parse().unwrap();
-        check_layout(&module, &[StructDecl::of::<BaseCamera>(), StructDecl::of::<BaseVertex>()])
-            .unwrap_or_else(|e| panic!("{e:?}"));
+/// The centre of the positions' bounding box and the largest distance from it; `None`
+/// when a position is not finite (or there is none).
+fn bounding_sphere(positions: &[Vec3]) -> Option<(Vec3, f32)> {
+    if positions.is_empty() || !positions.iter().all(|p| p.is_finite()) {
+        return None;
     }
+    let (min, max) =
+        positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let centre = (min + max) * 0.5;
+    let radius = positions.iter().map(|p| (*p - centre).length()).fold(0.0_f32, f32::max);
+    Some((centre, radius))
+}
+
+/// A read-back G-buffer.
+#[derive(Clone, Debug)]
+pub struct GBuffer {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Row-major texels, row 0 on top.
+    pub texels: Vec<BaseGBufferTexel>,
+}
+
+/// The texels of `texture` (mip 0, layer 0) as bytes, rows unpadded, row 0 on top, after
+/// all submitted work. The texture needs `COPY_SRC` usage and an uncompressed colour
+/// format (its texel size is the format's block copy size).
+pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Vec<u8>, DdmRenderError> {
+    let bytes_per_texel = match texture.format().block_copy_size(None) {
+        Some(bytes) if texture.format().block_dimensions() == (1, 1) => bytes,
+        _ => {
+            return Err(DdmRenderError::InvalidTarget {
+                what: "texture to read back",
+                problem: format!("format {:?} has no single-texel copy size", texture.format()),
+            });
+        }
+    };
+    let (width, height) = (texture.width(), texture.height());
+    let row_bytes = width.checked_mul(bytes_per_texel).ok_or(DdmRenderError::TooLarge {
+        what: "texture row in bytes",
+        requested: u64::from(width) * u64::from(bytes_per_texel),
+        limit: u32::MAX.into(),
+    })?;
+    let padded_row_bytes = row_bytes.next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+    let size = u64::from(padded_row_bytes) * u64::from(height);
+    check_limit("texture readback in bytes (max_buffer_size)", size, gpu.limits().max_buffer_size)?;
+    let buffer = gpu.scoped(|| {
+        let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ddm-render texture readback"),
+            size,
+            usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        encoder.copy_texture_to_buffer(
+            texture.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buffer,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(padded_row_bytes),
+                    rows_per_image: Some(height),
+                },
+            },
+            wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        );
+        gpu.queue.submit([encoder.finish()]);
+        buffer
+    })?;
+    let padded = gpu.read_buffer(&buffer, size)?;
+    let mut bytes = Vec::with_capacity(row_bytes as usize * height as usize);
+    for row in padded.chunks_exact(padded_row_bytes as usize) {
+        bytes.extend_from_slice(&row[..row_bytes as usize]);
+    }
+    Ok(bytes)
+}
+
+/// The G-buffer of `pass` as the last submitted frame left it, copied back (the exact
+/// `f32` values that the per-pixel pass reads with `textureLoad`).
+pub fn read_gbuffer(gpu: &Gpu, pass: &GBufferPass) -> Result<GBuffer, DdmRenderError> {
+    let [position_coverage, tangent_u, bitangent_v, normal_depth] = &pass.textures;
+    let read = |texture| -> Result<Vec<Vec4>, DdmRenderError> {
+        Ok(bytemuck::pod_collect_to_vec(&read_texture(gpu, texture)?))
+    };
+    let layers = [read(position_coverage)?, read(tangent_u)?, read(bitangent_v)?, read(normal_depth)?];
+    let count = pass.width as usize * pass.height as usize;
+    if layers.iter().any(|layer| layer.len() != count) {
+        return Err(DdmRenderError::Gpu(gpu_harness::HarnessError::Readback(format!(
+            "a G-buffer texture read back with the wrong texel count (expected {count})"
+        ))));
+    }
+    let [p, t, b, n] = layers;
+    let texels = p
+        .into_iter()
+        .zip(t)
+        .zip(b)
+        .zip(n)
+        .map(|(((position_coverage, tangent_u), bitangent_v), normal_depth)| BaseGBufferTexel {
+            position_coverage,
+            tangent_u,
+            bitangent_v,
+            normal_depth,
+        })
+        .collect();
+    Ok(GBuffer { width: pass.width, height: pass.height, texels })
+}
+
+/// Rasterizes `mesh` seen by `camera` into a G-buffer of the camera's size and reads it
+/// back (depth test, no culling; uncovered texels are zero): a [`GBufferPipeline`] and a
+/// [`GBufferPass`] built for this one frame. To rasterize many frames, build those once
+/// and call [`GBufferPass::encode`] per frame.
+pub fn rasterize_gbuffer(gpu: &Gpu, mesh: &BaseMesh, camera: &Camera) -> Result<GBuffer, DdmRenderError> {
+    let pipeline = GBufferPipeline::new(&gpu.device)?;
+    let pass = GBufferPass::new(&gpu.device, &pipeline, mesh, camera.width, camera.height)?;
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    pass.encode(&gpu.queue, &mut encoder, camera, None)?;
+    gpu.scoped(|| gpu.queue.submit([encoder.finish()]))?;
+    read_gbuffer(gpu, &pass)
 }

@@ -1,6 +1,7 @@
 //! Adapter choice and device creation.
 
 use crate::HarnessError;
+use crate::compute::KernelCache;
 
 /// The environment variable that forces the adapter choice: `hardware`, `software` or
 /// `any` (the default: hardware if there is one, else software).
@@ -65,6 +66,10 @@ fn describe_info(info: &wgpu::AdapterInfo) -> String {
 }
 
 /// A headless device and queue on the chosen adapter.
+///
+/// It keeps every compute kernel it compiles (see [`Gpu::compute_map`]), keyed by the WGSL
+/// source, the entry point and the number of scene buffers, so that calling a kernel again
+/// reuses its pipeline: a timed call after the first one times a warm pipeline.
 #[derive(Debug)]
 pub struct Gpu {
     /// The adapter.
@@ -74,6 +79,8 @@ pub struct Gpu {
     /// The device's queue.
     pub queue: wgpu::Queue,
     info: wgpu::AdapterInfo,
+    /// The compiled kernels of this device.
+    pub(crate) kernels: KernelCache,
 }
 
 impl Gpu {
@@ -90,10 +97,18 @@ impl Gpu {
         let available: Vec<String> = adapters.iter().map(|a| describe_info(&a.get_info())).collect();
         let adapter = adapters
             .into_iter()
+            // wgpu's noop backend (enabled by `WGPU_NOOP_BACKEND=1` where compiled in) runs
+            // nothing: never an adapter to test or measure on.
+            .filter(|a| a.get_info().backend != wgpu::Backend::Noop)
             .filter(|a| preference.accepts(a.get_info().device_type))
             .filter(|a| a.features().contains(features))
             .min_by_key(|a| rank(a.get_info().device_type))
             .ok_or_else(|| HarnessError::NoAdapter { wanted: preference.describe().to_owned(), available })?;
+        Self::on_adapter(adapter, features)
+    }
+
+    /// A device on `adapter` with `features` plus timestamp queries when it has them.
+    pub(crate) fn on_adapter(adapter: wgpu::Adapter, features: wgpu::Features) -> Result<Self, HarnessError> {
         let optional = wgpu::Features::TIMESTAMP_QUERY & adapter.features();
         let descriptor = wgpu::DeviceDescriptor {
             label: Some("gpu-harness"),
@@ -104,7 +119,7 @@ impl Gpu {
         let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))
             .map_err(|e| HarnessError::RequestDevice(e.to_string()))?;
         let info = adapter.get_info();
-        Ok(Self { adapter, device, queue, info })
+        Ok(Self { adapter, device, queue, info, kernels: KernelCache::default() })
     }
 
     /// The adapter's information.

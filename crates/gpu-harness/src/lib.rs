@@ -27,6 +27,19 @@
 //! `id.x + id.y * num_workgroups.x * WORKGROUP_SIZE` and returns when that is past
 //! `arrayLength` of its input. Inputs larger than the adapter's storage-binding limit are
 //! split into chunks; each chunk is a separate dispatch over its own buffers.
+//!
+//! # Warm calls
+//!
+//! A [`Gpu`] compiles each kernel once: its pipeline is cached (for the device's
+//! lifetime), keyed by the WGSL source, the entry point and the number of scene buffers,
+//! and every later call with the same three reuses it, so call sites stay one line. Before
+//! a pipeline's first timed dispatch, one untimed workgroup runs it into a scratch output
+//! (whatever a driver defers to first use stays out of the timing), so every timed
+//! dispatch ([`Gpu::compute_map_timed`] and all calls returning a [`GpuTiming`]) is one of
+//! a warm pipeline, the first call's included. Scene buffers that several calls bind can
+//! be uploaded once ([`Gpu::upload_storage`], then
+//! [`Gpu::compute_map_with_uploaded_storage`]); [`Gpu::compute_map_with_storage`] uploads
+//! them per call. Timings never include compilation, uploads or readback.
 
 mod bound;
 mod compute;
@@ -36,6 +49,7 @@ mod readback;
 mod render;
 mod timing;
 
+pub use bound::UploadedStorage;
 pub use compute::WORKGROUP_SIZE;
 pub use context::{ADAPTER_ENV, AdapterPreference, Gpu, error_scoped};
 pub use error::HarnessError;

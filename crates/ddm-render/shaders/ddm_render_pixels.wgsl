@@ -1,0 +1,94 @@
+// The per-pixel pass of ddm-render (Mehra & Kumar §3; crates/ddm-render/src/renderer.rs):
+// one invocation per G-buffer texel, in workgroups of RENDER_TILE × RENDER_TILE. Composed
+// after the registered ddm_render module (the generated declarations of
+// ddm_tracer::tangent_space and shaders/ddm_render.wgsl, after the ddm_tracer module,
+// whose scene is bound at group 0, bindings 3-8) and the generated constants of this pass.
+//
+// Group 0 (one bind group per renderer): 0 the tracer's uniforms, 9 the render parameters,
+// 10-13 the G-buffer textures (Rgba32Float, the fields of BaseGBufferTexel in order, read
+// with textureLoad: the values the raster pass wrote, bit for bit).
+// Group 1 (one bind group per target): binding 0, the shaded pixels (render_pixels), or
+// binding 1, a colour texture (render_color).
+
+@group(0) @binding(0) var<uniform> uniforms: TraceUniforms;
+@group(0) @binding(9) var<uniform> render_params: BaseRenderParams;
+@group(0) @binding(10) var gbuffer_position_coverage: texture_2d<f32>;
+@group(0) @binding(11) var gbuffer_tangent_u: texture_2d<f32>;
+@group(0) @binding(12) var gbuffer_bitangent_v: texture_2d<f32>;
+@group(0) @binding(13) var gbuffer_normal_depth: texture_2d<f32>;
+@group(1) @binding(0) var<storage, read_write> target_pixels: array<BaseRenderPixel>;
+@group(1) @binding(1) var target_color: texture_storage_2d<rgba16float, write>;
+
+// The G-buffer texel at `p` (inside the textures).
+fn load_gbuffer_texel(p: vec2<u32>) -> BaseGBufferTexel {
+    return BaseGBufferTexel(
+        textureLoad(gbuffer_position_coverage, p, 0),
+        textureLoad(gbuffer_tangent_u, p, 0),
+        textureLoad(gbuffer_bitangent_v, p, 0),
+        textureLoad(gbuffer_normal_depth, p, 0),
+    );
+}
+
+// Traces and shades one texel: its tangent-space ray (render_tangent_ray, CPU reference
+// ddm_tracer::tangent_space::tangent_space_ray), the hit's shading normal in world space,
+// Lambert + ambient, and a shadow ray toward the light (render_in_shadow).
+fn shade_texel(texel: BaseGBufferTexel) -> BaseRenderPixel {
+    let params = render_params;
+    if texel.position_coverage.w <= 0.0 {
+        return BaseRenderPixel(vec4<f32>(0.0, 0.0, 0.0, RENDER_PIXEL_UNCOVERED), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
+    }
+    let slab = params.slab.xyz;
+    let frame = render_tangent_frame(texel, slab);
+    let ray = render_tangent_ray(texel, frame, params.eye.xyz, slab, f32(uniforms.dims_max_steps.z));
+    let result = trace_ray(uniforms, ray[0], ray[1]);
+    let light = params.light.xyz;
+    let ambient = params.light.w;
+    if result.normal_hit.w != 1.0 {
+        // The ray leaves the slab (bottom, or past the step budget): the base mesh's own colour.
+        let base_normal = normalize(texel.normal_depth.xyz);
+        let diffuse = max(dot(base_normal, light), 0.0);
+        let color = params.miss_color.xyz * (ambient + (1.0 - ambient) * diffuse);
+        return BaseRenderPixel(vec4<f32>(color, RENDER_PIXEL_MISS), vec4<f32>(ray[0], f32(result.counts.x)), vec4<f32>(ray[1], 0.0), vec4<f32>(0.0));
+    }
+    let normal = render_normal_to_world(frame, result.normal_hit.xyz);
+    var diffuse = max(dot(normal, light), 0.0);
+    var shadowed = 0.0;
+    if params.slab.w >= 0.0 && diffuse > 0.0 {
+        if render_in_shadow(uniforms, result.point_t.xyz, render_to_tangent(frame, light), params.slab.w) {
+            diffuse = 0.0;
+            shadowed = 1.0;
+        }
+    }
+    // Albedo: warm, tinted by the normal so the relief reads in the images.
+    let albedo = vec3<f32>(0.85, 0.72, 0.5) * 0.7 + (normal * 0.5 + 0.5) * 0.3;
+    let color = albedo * (ambient + (1.0 - ambient) * diffuse);
+    return BaseRenderPixel(
+        vec4<f32>(color, RENDER_PIXEL_HIT),
+        vec4<f32>(ray[0], f32(result.counts.x)),
+        vec4<f32>(ray[1], shadowed),
+        result.point_t,
+    );
+}
+
+// Every texel into `target_pixels`, row-major (index x + y * width, row 0 on top).
+@compute @workgroup_size(RENDER_TILE, RENDER_TILE)
+fn render_pixels(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(gbuffer_position_coverage);
+    if id.x >= size.x || id.y >= size.y {
+        return;
+    }
+    target_pixels[id.x + id.y * size.x] = shade_texel(load_gbuffer_texel(id.xy));
+}
+
+// Every texel into `target_color`: linear colour, alpha 1 where the base mesh covers the
+// pixel and 0 (with colour 0) elsewhere.
+@compute @workgroup_size(RENDER_TILE, RENDER_TILE)
+fn render_color(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(gbuffer_position_coverage);
+    if id.x >= size.x || id.y >= size.y {
+        return;
+    }
+    let pixel = shade_texel(load_gbuffer_texel(id.xy));
+    let coverage = select(1.0, 0.0, pixel.color.w == RENDER_PIXEL_UNCOVERED);
+    textureStore(target_color, id.xy, vec4<f32>(pixel.color.xyz, coverage));
+}

@@ -1,0 +1,834 @@
+//! The embeddable renderer: the base mesh's G-buffer raster pass, then the per-pixel
+//! compute pass that reads the G-buffer textures on the GPU (`textureLoad`), builds each
+//! covered pixel's tangent-space ray, traces it through the distance maps with the WGSL
+//! tracer of `ddm-tracer`, shades the hit and casts a shadow ray, and writes a target.
+//!
+//! # Objects, and when each is built
+//!
+//! | object | built | holds |
+//! |---|---|---|
+//! | [`DdmRenderPipelines`] | once per device | the raster and compute pipelines, their bind group layouts |
+//! | [`GBufferPass`] | once per base mesh and size | the mesh's vertex and index buffers, the G-buffer textures, the camera uniform |
+//! | [`GpuSceneBuffers`] | once per tracer scene | the [`GpuScene`]'s uniforms and six storage buffers |
+//! | [`DdmRenderer`] | once per (G-buffer, scene) | the render-parameter uniform, the compute bind group |
+//! | [`DdmTarget`] | once per output | the target's bind group: a [`BaseRenderPixel`] buffer or an [`COLOR_TARGET_FORMAT`] texture |
+//!
+//! Every frame, [`DdmRenderer::encode`] writes two small uniforms with
+//! `queue.write_buffer` (the camera, the [`BaseRenderParams`]) and records the two passes:
+//! no pipeline, buffer, texture or bind group is created, nothing is read back. Those
+//! writes land at the next `queue.submit`, before any of its command buffers run, so
+//! frames of one renderer (or of renderers sharing a [`GBufferPass`]) go in separate
+//! submissions. Readback for tests and tools is in [`crate::readback`].
+//!
+//! # Targets
+//!
+//! - [`DdmRenderer::pixel_target`]: a storage buffer of `width × height`
+//!   [`BaseRenderPixel`]s, row-major, row 0 on top: colour and its class
+//!   ([`PIXEL_UNCOVERED`](ddm_tracer::tangent_space::PIXEL_UNCOVERED), `PIXEL_MISS`,
+//!   `PIXEL_HIT`), tangent-space ray, steps, shadow flag and hit. What tests and tools read.
+//! - [`DdmRenderer::color_target`]: a `width × height` [`COLOR_TARGET_FORMAT`]
+//!   (`Rgba16Float`) storage texture: linear colour, alpha 1 where the base mesh covers the
+//!   pixel, `(0, 0, 0, 0)` elsewhere. What an application composites or tone-maps.
+
+use ddm_tracer::GpuScene;
+use ddm_tracer::tangent_space::{BaseRenderParams, BaseRenderPixel};
+use glam::Vec3;
+use gpu_harness::error_scoped;
+use wgpu::util::DeviceExt;
+
+use crate::camera::Camera;
+use crate::error::{DdmRenderError, check_limit};
+use crate::gbuffer::{GBUFFER_TEXTURES, GBufferPass, GBufferPipeline, PassTimestamps};
+use crate::shaders::{PIXEL_SHADER, RENDER_TILE, pixel_shader};
+
+/// The format of [`DdmRenderer::color_target`]'s texture.
+pub const COLOR_TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// Binding of the tracer's uniforms in group 0.
+const TRACE_UNIFORMS_BINDING: u32 = 0;
+/// First binding of the tracer's scene buffers in group 0 (`shaders/ddm_tracer.wgsl`).
+const SCENE_FIRST_BINDING: u32 = 3;
+/// Number of scene storage buffers ([`GpuScene::storage_bytes`]).
+const SCENE_BUFFERS: usize = 6;
+/// Binding of the [`BaseRenderParams`] uniform in group 0.
+const PARAMS_BINDING: u32 = 9;
+/// First binding of the G-buffer textures in group 0.
+const GBUFFER_FIRST_BINDING: u32 = 10;
+/// Binding of the pixel buffer in group 1.
+const PIXELS_BINDING: u32 = 0;
+/// Binding of the colour texture in group 1.
+const COLOR_BINDING: u32 = 1;
+
+fn compute_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None }
+}
+
+fn buffer_type(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None }
+}
+
+/// The compiled pipelines of both passes and their bind group layouts, created once per
+/// device and shared by every [`GBufferPass`] and [`DdmRenderer`] built from them. Cloning
+/// is cheap and shares the GPU objects.
+#[derive(Clone, Debug)]
+pub struct DdmRenderPipelines {
+    gbuffer: GBufferPipeline,
+    scene_layout: wgpu::BindGroupLayout,
+    pixels_layout: wgpu::BindGroupLayout,
+    color_layout: wgpu::BindGroupLayout,
+    pixels: wgpu::ComputePipeline,
+    color: wgpu::ComputePipeline,
+}
+
+impl DdmRenderPipelines {
+    /// Validates both composed shaders with naga and builds the pipelines. Errors name the
+    /// device limit the passes exceed (bind groups, bindings per group, storage buffers,
+    /// sampled and storage textures, uniform buffers per stage, workgroup size) or the
+    /// shader problem.
+    pub fn new(device: &wgpu::Device) -> Result<Self, DdmRenderError> {
+        let gbuffer = GBufferPipeline::new(device)?;
+        let limits = device.limits();
+        check_limit("bind groups of the per-pixel pass (max_bind_groups)", 2, limits.max_bind_groups.into())?;
+        check_limit(
+            "bindings in the per-pixel pass's group 0 (max_bindings_per_bind_group)",
+            u64::from(GBUFFER_FIRST_BINDING) + GBUFFER_TEXTURES as u64,
+            limits.max_bindings_per_bind_group.into(),
+        )?;
+        check_limit(
+            "storage buffers of the per-pixel pass (max_storage_buffers_per_shader_stage)",
+            SCENE_BUFFERS as u64 + 1,
+            limits.max_storage_buffers_per_shader_stage.into(),
+        )?;
+        check_limit(
+            "G-buffer textures read by the per-pixel pass (max_sampled_textures_per_shader_stage)",
+            GBUFFER_TEXTURES as u64,
+            limits.max_sampled_textures_per_shader_stage.into(),
+        )?;
+        check_limit(
+            "storage textures of the per-pixel pass (max_storage_textures_per_shader_stage)",
+            1,
+            limits.max_storage_textures_per_shader_stage.into(),
+        )?;
+        check_limit(
+            "uniform buffers of the per-pixel pass (max_uniform_buffers_per_shader_stage)",
+            2,
+            limits.max_uniform_buffers_per_shader_stage.into(),
+        )?;
+        check_limit(
+            "per-pixel workgroup side (max_compute_workgroup_size_x)",
+            RENDER_TILE.into(),
+            limits.max_compute_workgroup_size_x.into(),
+        )?;
+        check_limit(
+            "per-pixel workgroup side (max_compute_workgroup_size_y)",
+            RENDER_TILE.into(),
+            limits.max_compute_workgroup_size_y.into(),
+        )?;
+        check_limit(
+            "per-pixel workgroup invocations (max_compute_invocations_per_workgroup)",
+            u64::from(RENDER_TILE) * u64::from(RENDER_TILE),
+            limits.max_compute_invocations_per_workgroup.into(),
+        )?;
+        let shader = pixel_shader()?;
+        shader
+            .validate()
+            .map_err(|e| DdmRenderError::InvalidShader { shader: PIXEL_SHADER, message: e.to_string() })?;
+        Ok(error_scoped(device, || {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(PIXEL_SHADER),
+                source: wgpu::ShaderSource::Wgsl(shader.source().into()),
+            });
+            let uniform = buffer_type(wgpu::BufferBindingType::Uniform);
+            let mut entries = vec![compute_entry(TRACE_UNIFORMS_BINDING, uniform)];
+            entries.extend((0..SCENE_BUFFERS as u32).map(|k| {
+                compute_entry(
+                    SCENE_FIRST_BINDING + k,
+                    buffer_type(wgpu::BufferBindingType::Storage { read_only: true }),
+                )
+            }));
+            entries.push(compute_entry(PARAMS_BINDING, uniform));
+            entries.extend((0..GBUFFER_TEXTURES as u32).map(|k| {
+                compute_entry(
+                    GBUFFER_FIRST_BINDING + k,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                )
+            }));
+            let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("ddm-render per-pixel scene and G-buffer"),
+                entries: &entries,
+            });
+            let pixels_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("ddm-render pixel target"),
+                entries: &[compute_entry(
+                    PIXELS_BINDING,
+                    buffer_type(wgpu::BufferBindingType::Storage { read_only: false }),
+                )],
+            });
+            let color_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("ddm-render colour target"),
+                entries: &[compute_entry(
+                    COLOR_BINDING,
+                    wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: COLOR_TARGET_FORMAT,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    },
+                )],
+            });
+            let pipeline = |entry: &str, target_layout: &wgpu::BindGroupLayout| {
+                let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some(entry),
+                    bind_group_layouts: &[Some(&scene_layout), Some(target_layout)],
+                    immediate_size: 0,
+                });
+                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(entry),
+                    layout: Some(&layout),
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
+            };
+            let pixels = pipeline("render_pixels", &pixels_layout);
+            let color = pipeline("render_color", &color_layout);
+            Self { gbuffer, scene_layout, pixels_layout, color_layout, pixels, color }
+        })?)
+    }
+
+    /// The raster pipeline, for [`GBufferPass::new`].
+    pub fn gbuffer(&self) -> &GBufferPipeline {
+        &self.gbuffer
+    }
+}
+
+/// A [`GpuScene`] uploaded once: its uniforms (`ray_count` 0: the tracer's WGSL does not
+/// read it, the pass covers the G-buffer) and its six storage buffers (bindings 3–8 of
+/// `shaders/ddm_tracer.wgsl`). Cloning is cheap and shares the buffers.
+#[derive(Clone, Debug)]
+pub struct GpuSceneBuffers {
+    uniforms: wgpu::Buffer,
+    storage: [wgpu::Buffer; SCENE_BUFFERS],
+}
+
+impl GpuSceneBuffers {
+    /// Uploads `scene`. Errors name the storage buffer (binding) that exceeds the device's
+    /// storage-binding or buffer-size limit, or is empty.
+    pub fn new(device: &wgpu::Device, scene: &GpuScene) -> Result<Self, DdmRenderError> {
+        let limits = device.limits();
+        let bytes = scene.storage_bytes();
+        const NAMES: [&str; SCENE_BUFFERS] = [
+            "scene cone maps (binding 3)",
+            "scene lookup grid (binding 4)",
+            "scene atlas (binding 5)",
+            "scene patch offsets (binding 6)",
+            "scene patches (binding 7)",
+            "scene relief heights (binding 8)",
+        ];
+        for (name, data) in NAMES.iter().zip(bytes) {
+            if data.is_empty() {
+                return Err(DdmRenderError::EmptySceneBuffer(name));
+            }
+            check_limit(name, data.len() as u64, limits.max_storage_buffer_binding_size.min(limits.max_buffer_size))?;
+        }
+        Ok(error_scoped(device, || {
+            let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("ddm-render tracer uniforms"),
+                contents: bytemuck::bytes_of(&scene.uniforms(0)),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let storage = std::array::from_fn(|k| {
+                let mut padded = bytes[k].to_vec();
+                padded.resize(padded.len().next_multiple_of(4), 0);
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(NAMES[k]),
+                    contents: &padded,
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+            });
+            Self { uniforms, storage }
+        })?)
+    }
+}
+
+/// Everything the per-pixel pass needs per frame besides the camera: the mapping of the
+/// mesostructure's slab onto the base mesh, the light, shadows and the miss colour
+/// (written with the camera's eye as the frame's [`BaseRenderParams`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// `(L_x, L_y, L_z / h)`: voxels per texture unit along `u` and `v`, voxels per world
+    /// unit along `−N` (see `ddm_tracer::tangent_space`). Finite and positive.
+    pub slab: Vec3,
+    /// Direction toward the (directional) light, world space, normally unit. Finite, non-zero.
+    pub light: Vec3,
+    /// Ambient term in `[0, 1]`.
+    pub ambient: f32,
+    /// Shadow rays: how far short of the shaded point (voxels) a hit must be to shadow it
+    /// (finite, ≥ 0); `None` casts no shadow ray.
+    pub shadow_tolerance: Option<f32>,
+    /// Colour of the base mesh where the ray misses the mesostructure (linear RGB, finite).
+    pub miss_color: Vec3,
+}
+
+impl RenderSettings {
+    /// The frame's [`BaseRenderParams`] for a camera at `eye`. Errors name the field that
+    /// is out of range.
+    pub fn params(&self, eye: Vec3) -> Result<BaseRenderParams, DdmRenderError> {
+        if !(self.slab.is_finite() && self.slab.min_element() > 0.0) {
+            return Err(DdmRenderError::InvalidSettings("slab must be finite and positive"));
+        }
+        if !(self.light.is_finite() && self.light.length_squared() > 0.0) {
+            return Err(DdmRenderError::InvalidSettings("light must be finite and non-zero"));
+        }
+        if !(0.0..=1.0).contains(&self.ambient) {
+            return Err(DdmRenderError::InvalidSettings("ambient must lie in [0, 1]"));
+        }
+        let tolerance = match self.shadow_tolerance {
+            Some(t) if t.is_finite() && t >= 0.0 => t,
+            Some(_) => return Err(DdmRenderError::InvalidSettings("shadow_tolerance must be finite and ≥ 0")),
+            None => -1.0,
+        };
+        if !self.miss_color.is_finite() {
+            return Err(DdmRenderError::InvalidSettings("miss_color must be finite"));
+        }
+        if !eye.is_finite() {
+            return Err(DdmRenderError::InvalidCamera("eye must be finite"));
+        }
+        Ok(BaseRenderParams {
+            eye: eye.extend(0.0),
+            light: self.light.extend(self.ambient),
+            slab: self.slab.extend(tolerance),
+            miss_color: self.miss_color.extend(0.0),
+        })
+    }
+}
+
+/// One frame's inputs.
+#[derive(Clone, Copy, Debug)]
+pub struct DdmFrame<'a> {
+    /// The camera; its size must be the G-buffer's.
+    pub camera: &'a Camera,
+    /// Slab mapping, light, shadows, miss colour.
+    pub settings: RenderSettings,
+    /// Where the raster pass writes its beginning and end timestamps, if anywhere.
+    pub raster_timestamps: Option<PassTimestamps<'a>>,
+    /// Where the per-pixel pass writes its beginning and end timestamps, if anywhere.
+    pub trace_timestamps: Option<PassTimestamps<'a>>,
+}
+
+impl<'a> DdmFrame<'a> {
+    /// A frame without timestamps.
+    pub fn new(camera: &'a Camera, settings: RenderSettings) -> Self {
+        Self { camera, settings, raster_timestamps: None, trace_timestamps: None }
+    }
+}
+
+/// What a [`DdmTarget`] writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TargetKind {
+    /// A storage buffer of [`BaseRenderPixel`]s.
+    Pixels,
+    /// A [`COLOR_TARGET_FORMAT`] storage texture.
+    Color,
+}
+
+/// The output of the per-pixel pass: its bind group, built once by
+/// [`DdmRenderer::pixel_target`] or [`DdmRenderer::color_target`] for a G-buffer size.
+#[derive(Clone, Debug)]
+pub struct DdmTarget {
+    bind_group: wgpu::BindGroup,
+    kind: TargetKind,
+    width: u32,
+    height: u32,
+}
+
+impl DdmTarget {
+    /// What the target receives.
+    pub fn kind(&self) -> TargetKind {
+        self.kind
+    }
+
+    /// `(width, height)` in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+}
+
+/// A tracer scene mapped onto a base mesh, rendered per frame into a target (see the
+/// [module documentation](self)). Cloning is cheap and shares the GPU objects.
+#[derive(Clone, Debug)]
+pub struct DdmRenderer {
+    pipelines: DdmRenderPipelines,
+    gbuffer: GBufferPass,
+    params: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    workgroups: (u32, u32),
+}
+
+impl DdmRenderer {
+    /// The renderer of `scene` on `gbuffer`'s base mesh and size, with `pipelines` (the
+    /// ones `gbuffer` was built with). Errors name the device limit the size exceeds
+    /// (workgroups per dimension).
+    pub fn new(
+        device: &wgpu::Device,
+        pipelines: &DdmRenderPipelines,
+        gbuffer: &GBufferPass,
+        scene: &GpuSceneBuffers,
+    ) -> Result<Self, DdmRenderError> {
+        let limits = device.limits();
+        let workgroups = (gbuffer.width().div_ceil(RENDER_TILE), gbuffer.height().div_ceil(RENDER_TILE));
+        check_limit(
+            "per-pixel workgroups per dimension (max_compute_workgroups_per_dimension)",
+            workgroups.0.max(workgroups.1).into(),
+            limits.max_compute_workgroups_per_dimension.into(),
+        )?;
+        Ok(error_scoped(device, || {
+            let params = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("ddm-render parameters"),
+                size: size_of::<BaseRenderParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut entries = vec![
+                wgpu::BindGroupEntry { binding: TRACE_UNIFORMS_BINDING, resource: scene.uniforms.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: PARAMS_BINDING, resource: params.as_entire_binding() },
+            ];
+            entries.extend(
+                scene
+                    .storage
+                    .iter()
+                    .zip(SCENE_FIRST_BINDING..)
+                    .map(|(buffer, binding)| wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }),
+            );
+            entries.extend(gbuffer.views().iter().zip(GBUFFER_FIRST_BINDING..).map(|(view, binding)| {
+                wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(view) }
+            }));
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ddm-render per-pixel scene and G-buffer"),
+                layout: &pipelines.scene_layout,
+                entries: &entries,
+            });
+            Self { pipelines: pipelines.clone(), gbuffer: gbuffer.clone(), params, bind_group, workgroups }
+        })?)
+    }
+
+    /// The G-buffer pass (its textures, its size).
+    pub fn gbuffer(&self) -> &GBufferPass {
+        &self.gbuffer
+    }
+
+    /// `(width, height)` in pixels: the G-buffer's and every target's.
+    pub fn size(&self) -> (u32, u32) {
+        (self.gbuffer.width(), self.gbuffer.height())
+    }
+
+    /// Bytes of the pixel target: `width × height` [`BaseRenderPixel`]s.
+    pub fn pixel_bytes(&self) -> u64 {
+        let (width, height) = self.size();
+        u64::from(width) * u64::from(height) * size_of::<BaseRenderPixel>() as u64
+    }
+
+    /// A target writing [`BaseRenderPixel`]s into the first [`pixel_bytes`](Self::pixel_bytes)
+    /// bytes of `buffer`, which needs `STORAGE` usage. Errors name what the buffer lacks or
+    /// the storage-binding limit the size exceeds.
+    pub fn pixel_target(&self, device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<DdmTarget, DdmRenderError> {
+        let bytes = self.pixel_bytes();
+        check_limit(
+            "pixel target in bytes (max_storage_buffer_binding_size)",
+            bytes,
+            device.limits().max_storage_buffer_binding_size,
+        )?;
+        if !buffer.usage().contains(wgpu::BufferUsages::STORAGE) {
+            return Err(DdmRenderError::InvalidTarget {
+                what: "pixel target buffer",
+                problem: "it lacks STORAGE usage".into(),
+            });
+        }
+        if buffer.size() < bytes {
+            return Err(DdmRenderError::InvalidTarget {
+                what: "pixel target buffer",
+                problem: format!(
+                    "{} bytes, {bytes} needed for {}×{} pixels",
+                    buffer.size(),
+                    self.size().0,
+                    self.size().1
+                ),
+            });
+        }
+        let size = wgpu::BufferSize::new(bytes)
+            .ok_or(DdmRenderError::InvalidTarget { what: "pixel target buffer", problem: "zero bytes".into() })?;
+        let bind_group = error_scoped(device, || {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ddm-render pixel target"),
+                layout: &self.pipelines.pixels_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: PIXELS_BINDING,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer,
+                        offset: 0,
+                        size: Some(size),
+                    }),
+                }],
+            })
+        })?;
+        let (width, height) = self.size();
+        Ok(DdmTarget { bind_group, kind: TargetKind::Pixels, width, height })
+    }
+
+    /// A target writing colours into mip 0 of `texture`: a 2-D, single-sampled,
+    /// [`COLOR_TARGET_FORMAT`] texture of the G-buffer's size with `STORAGE_BINDING` usage.
+    /// Errors name what the texture lacks.
+    pub fn color_target(&self, device: &wgpu::Device, texture: &wgpu::Texture) -> Result<DdmTarget, DdmRenderError> {
+        let what = "colour target texture";
+        if texture.format() != COLOR_TARGET_FORMAT {
+            return Err(DdmRenderError::InvalidTarget {
+                what,
+                problem: format!("format {:?}, {COLOR_TARGET_FORMAT:?} needed", texture.format()),
+            });
+        }
+        if !texture.usage().contains(wgpu::TextureUsages::STORAGE_BINDING) {
+            return Err(DdmRenderError::InvalidTarget { what, problem: "it lacks STORAGE_BINDING usage".into() });
+        }
+        if texture.dimension() != wgpu::TextureDimension::D2
+            || texture.depth_or_array_layers() != 1
+            || texture.sample_count() != 1
+        {
+            return Err(DdmRenderError::InvalidTarget {
+                what,
+                problem: "it is not a single-layer, single-sampled 2-D texture".into(),
+            });
+        }
+        if (texture.width(), texture.height()) != self.size() {
+            return Err(DdmRenderError::SizeMismatch {
+                what,
+                expected: self.size(),
+                found: (texture.width(), texture.height()),
+            });
+        }
+        let bind_group = error_scoped(device, || {
+            let view = texture.create_view(&wgpu::TextureViewDescriptor {
+                label: Some("ddm-render colour target"),
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_mip_level: 0,
+                mip_level_count: Some(1),
+                ..Default::default()
+            });
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ddm-render colour target"),
+                layout: &self.pipelines.color_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: COLOR_BINDING,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                }],
+            })
+        })?;
+        let (width, height) = self.size();
+        Ok(DdmTarget { bind_group, kind: TargetKind::Color, width, height })
+    }
+
+    /// Records one frame into `encoder`: the G-buffer raster pass for `frame.camera`, then
+    /// the per-pixel pass into `target`. Writes the camera and [`BaseRenderParams`] uniforms
+    /// with `queue.write_buffer` (they land at the next `queue.submit`: one frame per
+    /// submission). Nothing is created or read back. Errors (before anything is written or
+    /// recorded) name the camera or settings field, the target size or the timestamp set
+    /// that is wrong.
+    pub fn encode(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &DdmFrame<'_>,
+        target: &DdmTarget,
+    ) -> Result<(), DdmRenderError> {
+        if target.size() != self.size() {
+            return Err(DdmRenderError::SizeMismatch {
+                what: "the target",
+                expected: self.size(),
+                found: target.size(),
+            });
+        }
+        let params = frame.settings.params(frame.camera.eye)?;
+        self.gbuffer.camera_uniforms(frame.camera)?;
+        if let Some(t) = &frame.trace_timestamps {
+            t.check()?;
+        }
+        self.gbuffer.encode(queue, encoder, frame.camera, frame.raster_timestamps)?;
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        let pipeline = match target.kind {
+            TargetKind::Pixels => &self.pipelines.pixels,
+            TargetKind::Color => &self.pipelines.color,
+        };
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("ddm-render per-pixel trace"),
+            timestamp_writes: frame.trace_timestamps.as_ref().map(PassTimestamps::compute_writes),
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_bind_group(1, &target.bind_group, &[]);
+        pass.dispatch_workgroups(self.workgroups.0, self.workgroups.1, 1);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::base_mesh::plane_base_mesh;
+    use ddm_tracer::{TraceConeMap, TracePatch, TraceUniforms};
+    use glam::{UVec2, UVec3};
+
+    /// A device on wgpu's noop backend with `limits`: wgpu validates every object and
+    /// command but runs nothing, so these tests need no adapter (the GPU tests in
+    /// `tests/ddm_render_gpu.rs` check what the passes compute).
+    fn noop_device(limits: wgpu::Limits) -> (wgpu::Device, wgpu::Queue) {
+        let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
+        descriptor.backends = wgpu::Backends::NOOP;
+        descriptor.backend_options.noop =
+            wgpu::NoopBackendOptions { limits: Some(limits.clone()), ..wgpu::NoopBackendOptions::enabled() };
+        let instance = wgpu::Instance::new(descriptor);
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
+            .expect("the noop backend always has an adapter");
+        let descriptor = wgpu::DeviceDescriptor {
+            required_features: wgpu::Features::TIMESTAMP_QUERY,
+            required_limits: limits,
+            ..Default::default()
+        };
+        pollster::block_on(adapter.request_device(&descriptor)).expect("the noop adapter creates devices")
+    }
+
+    /// WebGPU's default limits with room for the G-buffer's 64 colour bytes per sample.
+    fn limits() -> wgpu::Limits {
+        wgpu::Limits { max_color_attachment_bytes_per_sample: 64, ..wgpu::Limits::default() }
+    }
+
+    /// A scene that packs (nothing runs on the noop device, so its contents do not matter).
+    fn scene() -> GpuScene {
+        use bytemuck::Zeroable;
+        GpuScene {
+            uniforms: TraceUniforms::zeroed(),
+            cone_maps: vec![TraceConeMap::zeroed()],
+            grid: vec![0],
+            atlas: vec![0.0],
+            patch_offsets: vec![0, 0],
+            patches: vec![TracePatch::zeroed()],
+            heights: vec![0.0],
+        }
+    }
+
+    fn settings() -> RenderSettings {
+        RenderSettings {
+            slab: Vec3::new(8.0, 8.0, 1.0),
+            light: Vec3::new(0.0, 0.6, 0.8),
+            ambient: 0.2,
+            shadow_tolerance: Some(0.02),
+            miss_color: Vec3::splat(0.3),
+        }
+    }
+
+    fn view(width: u32, height: u32) -> Camera {
+        Camera {
+            eye: Vec3::new(-4.0, -6.0, 14.0),
+            target: Vec3::new(8.0, 8.0, 4.0),
+            up: Vec3::Z,
+            half_fov_y: 0.4,
+            width,
+            height,
+        }
+    }
+
+    struct Setup {
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        renderer: DdmRenderer,
+    }
+
+    fn setup(width: u32, height: u32) -> Setup {
+        let (device, queue) = noop_device(limits());
+        let pipelines = DdmRenderPipelines::new(&device).unwrap();
+        let mesh = plane_base_mesh(UVec3::new(8, 8, 4), UVec2::new(2, 2)).unwrap();
+        let gbuffer = GBufferPass::new(&device, pipelines.gbuffer(), &mesh, width, height).unwrap();
+        let scene = GpuSceneBuffers::new(&device, &scene()).unwrap();
+        let renderer = DdmRenderer::new(&device, &pipelines, &gbuffer, &scene).unwrap();
+        Setup { device, queue, renderer }
+    }
+
+    fn texture(device: &wgpu::Device, width: u32, height: u32, format: wgpu::TextureFormat) -> wgpu::Texture {
+        device.create_texture(&wgpu::TextureDescriptor {
+            label: None,
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::STORAGE_BINDING,
+            view_formats: &[],
+        })
+    }
+
+    fn storage_buffer(device: &wgpu::Device, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+        device.create_buffer(&wgpu::BufferDescriptor { label: None, size, usage, mapped_at_creation: false })
+    }
+
+    #[test]
+    fn settings_become_the_frame_parameters_or_name_the_bad_field() {
+        let eye = Vec3::new(1.0, 2.0, 3.0);
+        let params = settings().params(eye).unwrap();
+        assert_eq!(params.eye, eye.extend(0.0));
+        assert_eq!(params.light, Vec3::new(0.0, 0.6, 0.8).extend(0.2));
+        assert_eq!(params.slab, Vec3::new(8.0, 8.0, 1.0).extend(0.02));
+        assert_eq!(params.miss_color, Vec3::splat(0.3).extend(0.0));
+        let unshadowed = RenderSettings { shadow_tolerance: None, ..settings() }.params(eye).unwrap();
+        assert!(unshadowed.slab.w < 0.0, "no shadow rays: negative tolerance");
+        let bad = [
+            (RenderSettings { slab: Vec3::new(8.0, 0.0, 1.0), ..settings() }, "slab"),
+            (RenderSettings { slab: Vec3::new(8.0, f32::NAN, 1.0), ..settings() }, "slab"),
+            (RenderSettings { light: Vec3::ZERO, ..settings() }, "light"),
+            (RenderSettings { light: Vec3::new(f32::INFINITY, 0.0, 1.0), ..settings() }, "light"),
+            (RenderSettings { ambient: 1.5, ..settings() }, "ambient"),
+            (RenderSettings { ambient: f32::NAN, ..settings() }, "ambient"),
+            (RenderSettings { shadow_tolerance: Some(-0.1), ..settings() }, "shadow_tolerance"),
+            (RenderSettings { miss_color: Vec3::splat(f32::NAN), ..settings() }, "miss_color"),
+        ];
+        for (settings, field) in bad {
+            match settings.params(eye) {
+                Err(DdmRenderError::InvalidSettings(message)) => assert!(message.starts_with(field), "{message}"),
+                other => panic!("{field}: {other:?}"),
+            }
+        }
+        assert!(matches!(settings().params(Vec3::NAN), Err(DdmRenderError::InvalidCamera(_))));
+    }
+
+    #[test]
+    fn device_limits_decide_what_can_be_built() {
+        // WebGPU's default 32 colour bytes per sample cannot hold four Rgba32Float targets.
+        let (device, _) = noop_device(wgpu::Limits::default());
+        match DdmRenderPipelines::new(&device) {
+            Err(DdmRenderError::TooLarge { what, requested: 64, limit: 32 }) => {
+                assert!(what.contains("max_color_attachment_bytes_per_sample"), "{what}");
+            }
+            other => panic!("{other:?}"),
+        }
+        let (device, _) = noop_device(wgpu::Limits { max_storage_buffers_per_shader_stage: 6, ..limits() });
+        match DdmRenderPipelines::new(&device) {
+            Err(DdmRenderError::TooLarge { what, requested: 7, limit: 6 }) => {
+                assert!(what.contains("max_storage_buffers_per_shader_stage"), "{what}");
+            }
+            other => panic!("{other:?}"),
+        }
+        let (device, _) = noop_device(limits());
+        let pipelines = DdmRenderPipelines::new(&device).unwrap();
+        let mesh = plane_base_mesh(UVec3::new(8, 8, 4), UVec2::ONE).unwrap();
+        let side = device.limits().max_texture_dimension_2d + 1;
+        match GBufferPass::new(&device, pipelines.gbuffer(), &mesh, side, 4) {
+            Err(DdmRenderError::TooLarge { what, .. }) => assert!(what.contains("max_texture_dimension_2d"), "{what}"),
+            other => panic!("{other:?}"),
+        }
+        assert!(matches!(
+            GBufferPass::new(&device, pipelines.gbuffer(), &mesh, 0, 4),
+            Err(DdmRenderError::EmptySize { width: 0, height: 4 })
+        ));
+        let mut broken = mesh.clone();
+        broken.indices.push([0, 1, 99]);
+        assert!(matches!(
+            GBufferPass::new(&device, pipelines.gbuffer(), &broken, 4, 4),
+            Err(DdmRenderError::InvalidMesh(_))
+        ));
+        broken.indices.pop();
+        broken.positions[0].x = f32::NAN;
+        assert!(matches!(
+            GBufferPass::new(&device, pipelines.gbuffer(), &broken, 4, 4),
+            Err(DdmRenderError::InvalidMesh(_))
+        ));
+    }
+
+    #[test]
+    fn targets_must_fit_the_renderer() {
+        let s = setup(40, 24);
+        let (device, renderer) = (&s.device, &s.renderer);
+        let storage = wgpu::BufferUsages::STORAGE;
+        assert_eq!(renderer.pixel_bytes(), 40 * 24 * 64);
+        let small = storage_buffer(device, renderer.pixel_bytes() - 4, storage);
+        assert!(matches!(renderer.pixel_target(device, &small), Err(DdmRenderError::InvalidTarget { .. })));
+        let not_storage = storage_buffer(device, renderer.pixel_bytes(), wgpu::BufferUsages::COPY_SRC);
+        assert!(matches!(renderer.pixel_target(device, &not_storage), Err(DdmRenderError::InvalidTarget { .. })));
+        let target = renderer.pixel_target(device, &storage_buffer(device, renderer.pixel_bytes(), storage)).unwrap();
+        assert_eq!((target.kind(), target.size()), (TargetKind::Pixels, (40, 24)));
+        let rgba8 = texture(device, 40, 24, wgpu::TextureFormat::Rgba8Unorm);
+        assert!(matches!(renderer.color_target(device, &rgba8), Err(DdmRenderError::InvalidTarget { .. })));
+        let wrong_size = texture(device, 41, 24, COLOR_TARGET_FORMAT);
+        assert!(matches!(
+            renderer.color_target(device, &wrong_size),
+            Err(DdmRenderError::SizeMismatch { expected: (40, 24), found: (41, 24), .. })
+        ));
+        let color = renderer.color_target(device, &texture(device, 40, 24, COLOR_TARGET_FORMAT)).unwrap();
+        assert_eq!(color.kind(), TargetKind::Color);
+    }
+
+    #[test]
+    fn frames_encode_into_both_targets_and_bad_frames_are_errors() {
+        let s = setup(40, 24);
+        let (device, queue, renderer) = (&s.device, &s.queue, &s.renderer);
+        let pixels = renderer
+            .pixel_target(device, &storage_buffer(device, renderer.pixel_bytes(), wgpu::BufferUsages::STORAGE))
+            .unwrap();
+        let color = renderer.color_target(device, &texture(device, 40, 24, COLOR_TARGET_FORMAT)).unwrap();
+        let queries = device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: None,
+            ty: wgpu::QueryType::Timestamp,
+            count: 4,
+        });
+        let camera = view(40, 24);
+        let moved = Camera { eye: Vec3::new(20.0, -3.0, 9.0), ..camera };
+        // Frames for both targets and two cameras, with timestamps, pass wgpu's validation.
+        let recorded = error_scoped(device, || {
+            for (camera, target) in [(&camera, &pixels), (&moved, &color)] {
+                let frame = DdmFrame {
+                    raster_timestamps: Some(PassTimestamps { query_set: &queries, first: 0 }),
+                    trace_timestamps: Some(PassTimestamps { query_set: &queries, first: 2 }),
+                    ..DdmFrame::new(camera, settings())
+                };
+                let mut encoder = device.create_command_encoder(&Default::default());
+                renderer.encode(queue, &mut encoder, &frame, target).unwrap();
+                queue.submit([encoder.finish()]);
+            }
+        });
+        assert!(recorded.is_ok(), "{recorded:?}");
+        let mut encoder = device.create_command_encoder(&Default::default());
+        let mut encode = |frame: &DdmFrame<'_>, target: &DdmTarget| renderer.encode(queue, &mut encoder, frame, target);
+        let wrong_camera = view(40, 25);
+        assert!(matches!(
+            encode(&DdmFrame::new(&wrong_camera, settings()), &pixels),
+            Err(DdmRenderError::SizeMismatch { expected: (40, 24), found: (40, 25), .. })
+        ));
+        let blind = Camera { target: camera.eye, ..camera };
+        assert!(matches!(encode(&DdmFrame::new(&blind, settings()), &pixels), Err(DdmRenderError::InvalidCamera(_))));
+        let flat = Camera { half_fov_y: 0.0, ..camera };
+        assert!(matches!(encode(&DdmFrame::new(&flat, settings()), &pixels), Err(DdmRenderError::InvalidCamera(_))));
+        let dark = RenderSettings { ambient: -1.0, ..settings() };
+        assert!(matches!(encode(&DdmFrame::new(&camera, dark), &pixels), Err(DdmRenderError::InvalidSettings(_))));
+        let late = DdmFrame {
+            trace_timestamps: Some(PassTimestamps { query_set: &queries, first: 3 }),
+            ..DdmFrame::new(&camera, settings())
+        };
+        assert!(matches!(encode(&late, &pixels), Err(DdmRenderError::InvalidTimestamps(_))));
+        // A target of another renderer's size.
+        let other = setup(8, 8);
+        let other_target = other
+            .renderer
+            .pixel_target(
+                &other.device,
+                &storage_buffer(&other.device, other.renderer.pixel_bytes(), wgpu::BufferUsages::STORAGE),
+            )
+            .unwrap();
+        assert!(matches!(
+            encode(&DdmFrame::new(&camera, settings()), &other_target),
+            Err(DdmRenderError::SizeMismatch { expected: (40, 24), found: (8, 8), .. })
+        ));
+        // Nothing was recorded by the failed frames: the encoder finishes empty and valid.
+        let finished = error_scoped(device, || queue.submit([encoder.finish()]));
+        assert!(finished.is_ok(), "{finished:?}");
+    }
+}

@@ -1,51 +1,19 @@
 //! Running a compute kernel over a slice, chunked to the adapter's limits.
 
-use std::collections::HashMap;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::PoisonError;
+use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use bytemuck::Pod;
 use wgpu::util::DeviceExt;
 
+use crate::kernel_cache::Kernel;
 use crate::timing::PassTimer;
 use crate::{Gpu, GpuTiming, HarnessError, TimingSource};
 
 /// Invocations per workgroup that [`Gpu::compute_map`] assumes: kernels declare
 /// `@workgroup_size(64)`.
 pub const WORKGROUP_SIZE: u32 = 64;
-
-/// A compiled kernel and its explicit bind group layout (cheap to clone: wgpu handles).
-#[derive(Clone, Debug)]
-pub(crate) struct Kernel {
-    pub(crate) pipeline: wgpu::ComputePipeline,
-    pub(crate) layout: wgpu::BindGroupLayout,
-    /// Whether the pipeline has been dispatched (warmed up) once; shared by the clones.
-    warm: Arc<AtomicBool>,
-}
-
-/// What decides a kernel's pipeline: the WGSL source, the entry point and the number of
-/// scene buffers bound at `3..` (the bind group layout).
-type KernelKey = (String, String, usize);
-
-/// The kernels a [`Gpu`] has compiled, kept for its lifetime: pipelines are never
-/// evicted (a process compiles a bounded set of kernels; each entry is a pipeline and its
-/// source text). Behind a mutex because the device is shared between threads (tests).
-#[derive(Default)]
-pub(crate) struct KernelCache {
-    kernels: Mutex<HashMap<KernelKey, Kernel>>,
-    /// How many kernels were compiled (cache misses that succeeded), for the unit tests.
-    compilations: AtomicUsize,
-    /// How many warm-up dispatches ran (one per compiled kernel that was then dispatched).
-    warm_ups: AtomicUsize,
-}
-
-impl std::fmt::Debug for KernelCache {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let kernels = self.kernels.lock().unwrap_or_else(PoisonError::into_inner).len();
-        f.debug_struct("KernelCache").field("kernels", &kernels).finish()
-    }
-}
 
 fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
@@ -128,7 +96,7 @@ impl Gpu {
                 compilation_options: Default::default(),
                 cache: None,
             });
-            Kernel { pipeline, layout, warm: Arc::new(AtomicBool::new(false)) }
+            Kernel::new(pipeline, layout)
         })
     }
 

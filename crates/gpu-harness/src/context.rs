@@ -1,7 +1,7 @@
 //! Adapter choice and device creation.
 
 use crate::HarnessError;
-use crate::compute::KernelCache;
+use crate::kernel_cache::KernelCache;
 
 /// The environment variable that forces the adapter choice: `hardware`, `software` or
 /// `any` (the default: hardware if there is one, else software).

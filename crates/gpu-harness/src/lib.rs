@@ -45,6 +45,7 @@ mod bound;
 mod compute;
 mod context;
 mod error;
+mod kernel_cache;
 mod readback;
 mod render;
 mod timing;

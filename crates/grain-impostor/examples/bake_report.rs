@@ -44,7 +44,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 views.view_count(),
                 mib(memory.bytes_per_level[0]),
                 mib(memory.gpu_bytes),
-                memory.file_bytes
+                memory.file_bytes()
             );
         }
     }

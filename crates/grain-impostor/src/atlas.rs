@@ -21,67 +21,9 @@ use glam::{Vec3, Vec4};
 use octahedral_map::compact::{compact_view_count, listing_from_compact_index};
 use octahedral_map::{OctahedralViews, ViewLayout};
 
+pub use crate::atlas_image::{AtlasImage, AtlasTexel};
 use crate::half::{f16_bits_to_f32, f32_to_f16_bits};
 use crate::scene::ATLAS_LAYERS;
-
-/// One texel of an atlas, **un-premultiplied** (attributes of the covered part, and α).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct AtlasTexel {
-    /// Normal in the grain's local frame (unit at level 0 where covered; mip averages may
-    /// be shorter).
-    pub normal: Vec3,
-    /// Linear albedo.
-    pub albedo: Vec3,
-    /// Perceptual roughness.
-    pub roughness: f32,
-    /// Metallic.
-    pub metallic: f32,
-    /// Signed depth `dot(q, ω) / R` of [`octahedral_map::ViewFrame::depth`].
-    pub depth: f32,
-    /// Coverage α in `[0, 1]`.
-    pub alpha: f32,
-}
-
-impl AtlasTexel {
-    /// The attributes as one vector `(n, ρ, roughness, metallic, depth)`, for averaging.
-    pub fn attributes(&self) -> [f32; 9] {
-        let (n, a) = (self.normal, self.albedo);
-        [n.x, n.y, n.z, a.x, a.y, a.z, self.roughness, self.metallic, self.depth]
-    }
-
-    /// A texel from [`attributes`](Self::attributes) and α.
-    pub fn from_attributes(attributes: [f32; 9], alpha: f32) -> Self {
-        let [nx, ny, nz, ax, ay, az, roughness, metallic, depth] = attributes;
-        Self { normal: Vec3::new(nx, ny, nz), albedo: Vec3::new(ax, ay, az), roughness, metallic, depth, alpha }
-    }
-}
-
-/// One level of an atlas in `f32`: `views` views of `side × side` texels, view-major, rows
-/// top to bottom.
-#[derive(Clone, Debug, PartialEq)]
-pub struct AtlasImage {
-    /// Texels per side.
-    pub side: u32,
-    /// Number of views.
-    pub views: u32,
-    /// `views · side²` texels.
-    pub texels: Vec<AtlasTexel>,
-}
-
-impl AtlasImage {
-    /// The index of texel `(x, y)` of `view`, or `None` outside.
-    pub fn index(&self, view: u32, x: u32, y: u32) -> Option<usize> {
-        (view < self.views && x < self.side && y < self.side).then(|| {
-            ((u64::from(view) * u64::from(self.side) + u64::from(y)) * u64::from(self.side) + u64::from(x)) as usize
-        })
-    }
-
-    /// The texels of one view, or `None` when `view` is out of range.
-    pub fn view(&self, view: u32) -> Option<&[AtlasTexel]> {
-        let per_view = (self.side * self.side) as usize;
-        self.texels.get(view as usize * per_view..(view as usize + 1) * per_view)
-    }
-}
 
 /// The quantized texels of one mip level: one byte vector per entry of [`ATLAS_LAYERS`].
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -333,8 +275,6 @@ pub struct AtlasMemory {
     pub bytes_per_level: Vec<u64>,
     /// Sum of `bytes_per_level`: the GPU texture memory (before driver padding).
     pub gpu_bytes: u64,
-    /// Size of the saved file.
-    pub file_bytes: u64,
 }
 
 impl AtlasMemory {
@@ -354,7 +294,7 @@ impl AtlasMemory {
             })
             .collect();
         let gpu_bytes = bytes_per_level.iter().sum();
-        Self { file_bytes: gpu_bytes + crate::atlas_file::HEADER_BYTES as u64, bytes_per_level, gpu_bytes }
+        Self { bytes_per_level, gpu_bytes }
     }
 }
 

@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 
 use octahedral_map::{OctahedralViews, ViewLayout};
 
-use crate::atlas::{AtlasLevel, ImpostorAtlas, mip_count};
+use crate::atlas::{AtlasLevel, AtlasMemory, ImpostorAtlas, mip_count};
 use crate::scene::ATLAS_LAYERS;
 
 /// The file's magic bytes.
@@ -34,6 +34,13 @@ pub const MAGIC: [u8; 8] = *b"GRNIMPST";
 pub const FILE_VERSION: u32 = 1;
 /// Size of the header before the data.
 pub const HEADER_BYTES: usize = 64;
+
+impl AtlasMemory {
+    /// Size of the saved file ([`save_atlas`]): the header and every level's bytes.
+    pub fn file_bytes(&self) -> u64 {
+        self.gpu_bytes + HEADER_BYTES as u64
+    }
+}
 
 /// The code of a layer format in the file header: 1 `Rgba8Unorm`, 2 `Rgba8UnormSrgb`,
 /// 3 `Rg16Float`, 0 for any other.
@@ -232,7 +239,7 @@ pub fn decode_atlas(bytes: &[u8]) -> Result<ImpostorAtlas, AtlasFileProblem> {
     if levels != mip_count(p) {
         return Err(invalid(format!("{levels} mip levels, a {p}-texel atlas has {}", mip_count(p))));
     }
-    let expected_length = crate::atlas::AtlasMemory::of_layers(layers, p).gpu_bytes;
+    let expected_length = AtlasMemory::of_layers(layers, p).gpu_bytes;
     let data_length = u64_at(bytes, 48);
     if data_length != expected_length {
         return Err(invalid(format!("data length {data_length}, n = {n} and p = {p} need {expected_length}")));
@@ -312,7 +319,7 @@ mod tests {
         let atlas = small_atlas();
         let path = temp_path("roundtrip");
         save_atlas(&atlas, &path).unwrap();
-        assert_eq!(std::fs::metadata(&path).unwrap().len(), atlas.memory().file_bytes);
+        assert_eq!(std::fs::metadata(&path).unwrap().len(), atlas.memory().file_bytes());
         assert_eq!(load_atlas(&path).unwrap(), atlas);
         std::fs::remove_file(&path).unwrap();
     }
@@ -336,7 +343,7 @@ mod tests {
             }
         }
         assert_eq!(decode_atlas(&encode_atlas(&compact)).unwrap(), compact);
-        assert_eq!(encode_atlas(&compact).len() as u64, compact.memory().file_bytes);
+        assert_eq!(encode_atlas(&compact).len() as u64, compact.memory().file_bytes());
         let mut bad_layout = encode_atlas(&compact);
         bad_layout[46] = 7;
         assert!(matches!(decode_atlas(&bad_layout), Err(AtlasFileProblem::InvalidHeader(m)) if m.contains("layout")));

@@ -48,6 +48,7 @@ pub mod accuracy;
 pub mod atlas;
 pub mod atlas_file;
 pub mod atlas_gpu;
+pub mod atlas_image;
 pub mod bake;
 pub mod choice;
 pub mod cloud;

@@ -17,7 +17,7 @@
 //! silhouette. In the premultiplied [`crate::scene::ATLAS_LAYERS`] the stored value of an
 //! α = 0 texel is 0 whatever its attributes.
 
-use crate::atlas::{AtlasImage, AtlasTexel};
+use crate::atlas_image::{AtlasImage, AtlasTexel};
 
 /// How many rings of neighbour averaging [`dilate`] runs before filling the rest of a
 /// view with the mean of its covered texels.

@@ -25,7 +25,7 @@
 
 use glam::{DVec3, Vec3};
 
-use crate::mesh::MeshError;
+use crate::error::MeshError;
 use crate::topology::EdgeReport;
 
 /// Which centre a [`GrainBounds`] is measured about.

@@ -29,19 +29,25 @@
 //! - [`procedural`]: [`Ball`], [`CoffeeBean`], [`SandGrain`] (seeded rock) and [`HexNut`].
 //! - [`bounds`]: the centre (volume centroid of closed meshes, surface centroid otherwise),
 //!   `r`, `R`, `r/R`, and whether the inner ball is solid.
+//! - [`error`]: [`MeshError`], why a mesh could not be made.
+//! - [`material`]: [`VertexMaterial`], the per-vertex material of procedural grains.
 //! - [`topology`]: closedness and orientation of the triangles, by welded position.
 //!
 //! Bad input — an unreadable file, no triangles, a NaN vertex, a mesh with `r = R = 0` —
 //! is an error naming the file and the problem, never a panic.
 
 pub mod bounds;
+pub mod error;
+pub mod material;
 pub mod mesh;
 pub mod obj;
 pub mod procedural;
 pub mod topology;
 
 pub use bounds::{CentreKind, GrainBounds};
-pub use mesh::{GrainMesh, MeshError, VertexMaterial, area_weighted_normals};
+pub use error::MeshError;
+pub use material::VertexMaterial;
+pub use mesh::{GrainMesh, area_weighted_normals};
 pub use obj::{ObjError, ObjProblem, load_obj, parse_obj, write_obj, write_obj_to};
 pub use procedural::{Ball, CoffeeBean, HexNut, SandGrain};
 pub use topology::EdgeReport;

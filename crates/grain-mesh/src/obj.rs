@@ -14,7 +14,8 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
-use crate::mesh::{GrainMesh, MeshError};
+use crate::error::MeshError;
+use crate::mesh::GrainMesh;
 
 /// Why an OBJ file could not be read or written, naming the file.
 #[derive(Debug)]

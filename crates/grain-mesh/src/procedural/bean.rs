@@ -3,7 +3,9 @@
 use glam::{DVec3, Vec3};
 
 use super::{icosphere, mix_materials, require, require_positive};
-use crate::mesh::{GrainMesh, MeshError, VertexMaterial};
+use crate::error::MeshError;
+use crate::material::VertexMaterial;
+use crate::mesh::GrainMesh;
 
 /// A coffee bean, its long axis along `x`, its domed side towards `+z` and its flat side,
 /// with the crease along `x`, towards `−z`.

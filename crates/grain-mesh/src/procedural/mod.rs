@@ -22,7 +22,9 @@ use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
 
-use crate::mesh::{GrainMesh, MeshError, VertexMaterial};
+use crate::error::MeshError;
+use crate::material::VertexMaterial;
+use crate::mesh::GrainMesh;
 
 /// Most icosahedron subdivisions a procedural grain accepts (7: 327 680 triangles).
 pub const MAX_SUBDIVISIONS: u32 = 7;

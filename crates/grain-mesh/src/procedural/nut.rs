@@ -5,7 +5,9 @@ use std::f64::consts::PI;
 use glam::{DVec3, Vec3};
 
 use super::{require, require_positive};
-use crate::mesh::{GrainMesh, MeshError, VertexMaterial};
+use crate::error::MeshError;
+use crate::material::VertexMaterial;
+use crate::mesh::GrainMesh;
 
 /// A hex nut centred at the origin, its axis along `z`, two of its six corners on the
 /// `x` axis — the paper's example of a grain that breaks the quasi-spherical hypothesis

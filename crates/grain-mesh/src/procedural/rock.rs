@@ -5,7 +5,9 @@ use std::f64::consts::PI;
 use glam::{DVec3, Vec3};
 
 use super::{icosphere, mix_materials, require, require_positive};
-use crate::mesh::{GrainMesh, MeshError, VertexMaterial};
+use crate::error::MeshError;
+use crate::material::VertexMaterial;
+use crate::mesh::GrainMesh;
 
 /// Waves per noise octave.
 const WAVES_PER_OCTAVE: usize = 6;

@@ -128,7 +128,7 @@ fn baked_ball_views_are_analytic_discs_with_consistent_mips_upload_and_file() {
     // Save and load: the same atlas, of the reported size.
     let path = std::env::temp_dir().join(format!("grain-impostor-gpu-{}.atlas", std::process::id()));
     save_atlas(&atlas, &path).unwrap();
-    assert_eq!(std::fs::metadata(&path).unwrap().len(), atlas.memory().file_bytes);
+    assert_eq!(std::fs::metadata(&path).unwrap().len(), atlas.memory().file_bytes());
     assert_eq!(load_atlas(&path).unwrap(), atlas);
     std::fs::remove_file(&path).unwrap();
 }

@@ -24,8 +24,8 @@ fn strip_comments(source: &str) -> String {
         if after.starts_with("//") {
             rest = after.find('\n').map_or("", |end| &after[end..]);
             out.push(' ');
-        } else if after.starts_with("/*") {
-            rest = after[2..].find("*/").map_or("", |end| &after[end + 4..]);
+        } else if let Some(inside) = after.strip_prefix("/*") {
+            rest = inside.find("*/").map_or("", |end| &inside[end + 2..]);
             out.push(' ');
         } else {
             out.push('/');

@@ -37,11 +37,53 @@
 //! - [`table`]: the `(θ, v)` mask table, its GPU layout and its bit-exact lookup.
 //! - [`accuracy`]: coverage error of a table against the exact area.
 //!
+//! # Using the WGSL twin
+//!
+//! With the `wgsl` feature, [`WGSL`] is the crate's WGSL twin: the generated
+//! [`MaskTableUniforms`] and constants, and the table lookup (`abuffer_cell_index`,
+//! `abuffer_mask_word_offset`), the mask operations (`abuffer_mask_union`, `_difference`,
+//! `_intersection`, `_popcount`, `_coverage`) and the half-plane of a cone element
+//! (`abuffer_half_plane`), each named after the Rust function it mirrors. A mask is a
+//! `vec4<u32>` whatever `N`; the table is the flat `u32` buffer of [`MaskTable::words`],
+//! described to the shader by [`MaskTable::uniforms`]:
+//!
+//! ```
+//! # #[cfg(feature = "wgsl")] {
+//! use abuffer_mask::MaskTable;
+//!
+//! let table = MaskTable::<4>::paper().unwrap();
+//! let words: &[u32] = table.words(); // upload as a storage buffer
+//! let uniforms = table.uniforms(); // upload as a uniform buffer (a `bytemuck::Pod` struct)
+//! assert_eq!(words.len(), 256 * 256 * 4);
+//! assert_eq!(uniforms.sample_count, 128);
+//!
+//! let mut source = String::new();
+//! abuffer_mask::WGSL.write_source(&mut source).unwrap(); // no dependencies to compose first
+//! source.push_str(
+//!     "@group(0) @binding(0) var<uniform> table: MaskTableUniforms;
+//!      @group(0) @binding(1) var<storage, read> masks: array<u32>;
+//!      fn coverage_of(theta: f32, v: f32) -> f32 {
+//!          let first = abuffer_mask_word_offset(abuffer_cell_index(theta, v, table), table);
+//!          var mask = vec4<u32>(0u);
+//!          for (var w = 0u; w < table.words_per_mask; w++) { mask[w] = masks[first + w]; }
+//!          return abuffer_mask_coverage(mask, table);
+//!      }",
+//! );
+//! # let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+//! # naga::valid::Validator::new(naga::valid::ValidationFlags::all(), Default::default()).validate(&module).unwrap();
+//! assert!(source.contains("fn abuffer_cell_index"));
+//! # }
+//! ```
+//!
+//! Or register `WGSL.naga_oil_source` with a `naga_oil` composer under the name
+//! `abuffer_mask` and `#import abuffer_mask::{...}` what your shader uses.
+//!
 //! # Features
 //!
 //! - `std` (default): enables `std` in the dependencies. The crate is `#![no_std]`; the mask
 //!   table uses `alloc`. `cargo check -p abuffer-mask --no-default-features` builds it
 //!   without `std`.
+//! - `wgsl`: [`WGSL`], the WGSL twin (its sources are embedded; no extra dependency).
 #![no_std]
 
 extern crate alloc;

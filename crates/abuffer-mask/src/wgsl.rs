@@ -13,9 +13,10 @@ use crate::half_plane::V_SATURATION;
 use crate::samples::MAX_SAMPLES;
 use crate::table::{INDEX_CLAMP, MaskTableUniforms};
 
-/// The WGSL twin of this crate: table lookups (`abuffer_theta_index`, `abuffer_v_index`,
-/// `abuffer_mask_lookup`), mask operations and the cone accumulator of Algorithm 1; no
-/// dependencies.
+/// The WGSL twin of this crate: the table lookup (`abuffer_theta_index`, `abuffer_v_index`,
+/// `abuffer_cell_index`, `abuffer_mask_word_offset`), the mask operations of Algorithm 1
+/// (union, difference, intersection, popcount, coverage) and the half-plane of a cone
+/// element (`abuffer_half_plane`, §5.4); no dependencies.
 pub const WGSL: WgslModule = WgslModule {
     name: "abuffer_mask",
     declarations: include_str!("../wgsl/generated/abuffer_mask.wgsl"),

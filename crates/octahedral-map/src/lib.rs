@@ -40,11 +40,44 @@
 //! - [`sampling`]: planar, spherical and mixed sampling of a quasi-spherical impostor
 //!   (§5): the four views, their weights and the texture coordinates to read in each.
 //!
+//! # Using the WGSL twin
+//!
+//! With the `wgsl` feature, [`WGSL`] is the crate's WGSL twin: the generated declarations
+//! ([`ViewSample`], [`ImpostorSamplingUniforms`], [`ImpostorSample`], the limits and bit
+//! masks) and the functions, each named after the Rust function it mirrors
+//! (`octahedral_view_sample` is [`OctahedralViews::sample`], `impostor_sample` is
+//! [`sample_impostor`], …) and computing the same bits. Paste it before your own WGSL:
+//!
+//! ```
+//! # #[cfg(feature = "wgsl")] {
+//! let mut source = String::new();
+//! octahedral_map::WGSL.write_source(&mut source).unwrap(); // no dependencies to compose first
+//! source.push_str(
+//!     "@group(0) @binding(0) var<storage, read> directions: array<vec4<f32>>;
+//!      @group(0) @binding(1) var<storage, read_write> samples: array<ViewSample>;
+//!      @compute @workgroup_size(64)
+//!      fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+//!          samples[id.x] = octahedral_view_sample(directions[id.x].xyz, 8u);
+//!      }",
+//! );
+//! # let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+//! # naga::valid::Validator::new(naga::valid::ValidationFlags::all(), Default::default()).validate(&module).unwrap();
+//! // `source` is one WGSL module, ready for `wgpu::Device::create_shader_module`.
+//! assert!(source.contains("fn octahedral_view_sample(direction: vec3<f32>, subdivisions: u32) -> ViewSample"));
+//! # }
+//! ```
+//!
+//! Or register `WGSL.naga_oil_source` with a `naga_oil` composer (as Bevy does) under the
+//! name `octahedral_map` and write `#import octahedral_map::{octahedral_view_sample,
+//! ViewSample}` in your shader. The workspace's `examples/foreign-renderer` builds a wgpu
+//! compute pipeline from it and checks the GPU against the Rust bit for bit.
+//!
 //! # Features
 //!
 //! - `std` (default): enables `std` in the dependencies. The crate is `#![no_std]` and
 //!   needs no allocator; `cargo check -p octahedral-map --no-default-features` builds it
 //!   without `std`.
+//! - `wgsl`: [`WGSL`], the WGSL twin (its sources are embedded; no extra dependency).
 #![no_std]
 
 pub mod compact;

@@ -13,7 +13,16 @@
 //! `corrected_functions_match_the_cpu_reference`, with its tolerance in
 //! `correction_tolerances`. The correlated model (`VisibilityCorrection`: view and light
 //! tables and the light–view correlation `ρ(cos Δφ)`) has
-//! `correlated_functions_match_the_cpu_reference`, with `correlated_tolerances`.
+//! `correlated_functions_match_the_cpu_reference`, with `correlated_tolerances`, and the
+//! cubic (`CubicLambdaCorrection`) `cubic_correction_matches_the_cpu_reference`.
+//!
+//! The corrections are validated types: each case of those kernels is built from a
+//! correction its constructor accepted, the GPU gets its `to_gpu` form (which the WGSL
+//! twins do not re-check) and the CPU reference evaluates the correction itself
+//! ([`Validated`]). A special value that the constructor rejects gives no case (the
+//! constructors' own tests check that they reject it); slopes and attributes stay raw
+//! inputs of every kernel, checked on the GPU, and the reference gives `None` where their
+//! constructors reject them.
 
 use glam::{UVec4, Vec3, Vec4};
 use integration_tests::{gpu, random_unit_directions, special_directions};
@@ -26,13 +35,13 @@ use shader_registry::kernel_io::smith_micro::{
 use smith_micro::correction::MAX_CORRECTED_LAMBDA;
 
 use smith_micro::{
-    CubicLambdaCorrection, FilteredSurface, HeightCorrelatedAttribute, LambdaCorrection, NONE_BITS, SlopeDeviation,
-    VisibilityCorrection, attribute_at_height, convolved_slope_deviation, corrected_lambda,
-    corrected_visible_mean_attribute, correlated_lambda, correlated_visible_mean_attribute,
-    correlated_visible_mean_attribute_for_directions, cos_azimuth_difference, cubic_corrected_visible_mean_attribute,
-    encode, erf, erfc, erfcx, gaussian_slope_ndf, height_cdf, height_visibility, log_height_cdf, mean_visibility,
-    nu_of_direction, shade, smith_lambda, smith_lambda_direction, smith_lambda_from_nu, visible_mean_attribute,
-    visible_mean_attribute_for_directions,
+    CubicLambdaCorrection, FilteredSurface, GpuCubicLambdaCorrection, GpuLambdaCorrection, GpuVisibilityCorrection,
+    HeightCorrelatedAttribute, LambdaCorrection, NONE_BITS, SlopeDeviation, VisibilityCorrection, attribute_at_height,
+    convolved_slope_deviation, corrected_lambda, corrected_visible_mean_attribute, correlated_lambda,
+    correlated_visible_mean_attribute, correlated_visible_mean_attribute_for_directions, cos_azimuth_difference,
+    cubic_corrected_visible_mean_attribute, encode, erf, erfc, erfcx, gaussian_slope_ndf, height_cdf,
+    height_visibility, log_height_cdf, mean_visibility, nu_of_direction, shade, smith_lambda, smith_lambda_direction,
+    smith_lambda_from_nu, visible_mean_attribute, visible_mean_attribute_for_directions,
 };
 
 /// The CPU reference of the kernel `smith_values`: 16 encoded results,
@@ -45,14 +54,19 @@ fn reference_results(case: &SmithCase) -> SmithResults {
     let (view, light) = (case.view.truncate(), case.light.truncate());
     let [mu, sigma, height, height_deviation] = case.scalars.to_array();
     let [mean, correlation, radiance, lambda] = case.material.to_array();
-    let slopes = SlopeDeviation::new(case.slopes.x, case.slopes.y);
-    let brdf_slopes = SlopeDeviation::new(case.slopes.z, case.slopes.w);
-    let attribute = HeightCorrelatedAttribute { mean, height_correlation: correlation };
+    // The raw slopes and attribute as the constructors take them: `None` where they reject
+    // them (the WGSL twin checks the raw values on every call).
+    let slopes = SlopeDeviation::new(case.slopes.x, case.slopes.y).ok();
+    let brdf_slopes = SlopeDeviation::new(case.slopes.z, case.slopes.w).ok();
+    let attribute = HeightCorrelatedAttribute::new(mean, correlation).ok();
     let x = case.light.w;
     let lambda_of = |d: Vec3| slopes.and_then(|s| smith_lambda_direction(d, s));
     let convolved = slopes.zip(brdf_slopes).map(|(s, b)| convolved_slope_deviation(s, b));
-    let surface =
-        slopes.zip(brdf_slopes).map(|(slopes, brdf_slopes)| FilteredSurface { slopes, brdf_slopes, attribute });
+    let surface = slopes.zip(brdf_slopes).zip(attribute).map(|((slopes, brdf_slopes), attribute)| FilteredSurface {
+        slopes,
+        brdf_slopes,
+        attribute,
+    });
     let values = [
         erf(x),
         erfc(x),
@@ -65,8 +79,8 @@ fn reference_results(case: &SmithCase) -> SmithResults {
         height_cdf(height, height_deviation),
         log_height_cdf(height, height_deviation),
         height_visibility(lambda, height, height_deviation),
-        attribute_at_height(attribute, height, height_deviation),
-        slopes.and_then(|s| visible_mean_attribute_for_directions(attribute, view, light, s)),
+        attribute.and_then(|a| attribute_at_height(a, height, height_deviation)),
+        slopes.zip(attribute).and_then(|(s, a)| visible_mean_attribute_for_directions(a, view, light, s)),
         convolved.and_then(|c| gaussian_slope_ndf(view, c)),
         surface.and_then(|s| shade(view, light, s, radiance)),
         slopes.and_then(|s| nu_of_direction(view, s)),
@@ -76,21 +90,39 @@ fn reference_results(case: &SmithCase) -> SmithResults {
     SmithResults { values: [group(0), group(4), group(8), group(12)] }
 }
 
+/// A case of a correction kernel with the validated correction its correction fields were
+/// produced from (by `to_gpu`): the GPU reads `case`, the CPU reference evaluates
+/// `correction`.
+#[derive(Clone, Copy, Debug)]
+struct Validated<T, C> {
+    correction: T,
+    case: C,
+}
+
+/// The case of `smith_corrected_values` for `correction` (its [`GpuLambdaCorrection`]) and
+/// `(ā, a_s, Λ(v), Λ(l))`.
+fn correction_case(correction: LambdaCorrection, inputs: Vec4) -> Validated<LambdaCorrection, CorrectionCase> {
+    let [knots_low, knots_high]: [Vec4; 2] = bytemuck::cast::<GpuLambdaCorrection, _>(correction.to_gpu());
+    Validated { correction, case: CorrectionCase { knots_low, knots_high, inputs } }
+}
+
 /// The CPU reference of the kernel `smith_corrected_values`: 4 encoded results,
 /// `Λ'(v)`, `Λ'(l)`, `ā(v, l)` corrected on the sum
 /// ([`corrected_visible_mean_attribute`]) and corrected per direction
-/// (`visible_mean_attribute(a, Λ'(v), Λ'(l))`).
-fn reference_correction_results(case: &CorrectionCase) -> CorrectionResults {
-    let correction = LambdaCorrection { low: case.knots_low, high: case.knots_high };
+/// (`visible_mean_attribute(a, Λ'(v), Λ'(l))`); `None` for the attributes where
+/// [`HeightCorrelatedAttribute::new`] rejects `(ā, a_s)`.
+fn reference_correction_results(validated: &Validated<LambdaCorrection, CorrectionCase>) -> CorrectionResults {
+    let Validated { correction, case } = validated;
     let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array();
-    let attribute = HeightCorrelatedAttribute { mean, height_correlation: correlation };
-    let corrected_view = corrected_lambda(lambda_view, &correction);
-    let corrected_light = corrected_lambda(lambda_light, &correction);
-    let per_direction = corrected_view.zip(corrected_light).and_then(|(v, l)| visible_mean_attribute(attribute, v, l));
+    let attribute = HeightCorrelatedAttribute::new(mean, correlation).ok();
+    let corrected_view = corrected_lambda(lambda_view, correction);
+    let corrected_light = corrected_lambda(lambda_light, correction);
+    let per_direction =
+        corrected_view.zip(corrected_light).zip(attribute).and_then(|((v, l), a)| visible_mean_attribute(a, v, l));
     let values = [
         corrected_view,
         corrected_light,
-        corrected_visible_mean_attribute(attribute, lambda_view, lambda_light, &correction),
+        attribute.and_then(|a| corrected_visible_mean_attribute(a, lambda_view, lambda_light, correction)),
         per_direction,
     ]
     .map(encode);
@@ -101,19 +133,22 @@ fn reference_correction_results(case: &CorrectionCase) -> CorrectionResults {
 /// `c(u)` at `u = Λ(v)/(1 + Λ(v))` (`None` unless `Λ(v)` is finite, non-negative and at
 /// most [`MAX_CORRECTED_LAMBDA`]), and `ā(v, l)` corrected on the sum
 /// ([`cubic_corrected_visible_mean_attribute`]) for `(Λ(v), Λ(l))`, `(Λ(l), Λ(v))` and
-/// `(Λ(v), 0)`.
-fn reference_cubic_results(case: &CubicCase) -> CubicResults {
-    let correction = CubicLambdaCorrection { coefficients: case.coefficients };
+/// `(Λ(v), 0)` (`None` where [`HeightCorrelatedAttribute::new`] rejects `(ā, a_s)`).
+fn reference_cubic_results(validated: &Validated<CubicLambdaCorrection, CubicCase>) -> CubicResults {
+    let Validated { correction, case } = validated;
     let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array();
-    let attribute = HeightCorrelatedAttribute { mean, height_correlation: correlation };
+    let attribute = HeightCorrelatedAttribute::new(mean, correlation).ok();
     let factor = (0.0..=MAX_CORRECTED_LAMBDA)
         .contains(&lambda_view)
         .then(|| correction.factor(lambda_view / (1.0 + lambda_view)));
+    let corrected = |view: f32, light: f32| {
+        attribute.and_then(|a| cubic_corrected_visible_mean_attribute(a, view, light, correction))
+    };
     let values = [
         factor,
-        cubic_corrected_visible_mean_attribute(attribute, lambda_view, lambda_light, &correction),
-        cubic_corrected_visible_mean_attribute(attribute, lambda_light, lambda_view, &correction),
-        cubic_corrected_visible_mean_attribute(attribute, lambda_view, 0.0, &correction),
+        corrected(lambda_view, lambda_light),
+        corrected(lambda_light, lambda_view),
+        corrected(lambda_view, 0.0),
     ]
     .map(encode);
     CubicResults { values: UVec4::from_array(values) }
@@ -122,25 +157,23 @@ fn reference_cubic_results(case: &CubicCase) -> CubicResults {
 /// The CPU reference of the kernel `smith_correlated_values`: 4 encoded results,
 /// [`correlated_lambda`], [`correlated_visible_mean_attribute`],
 /// [`cos_azimuth_difference`] of the two directions, and
-/// [`correlated_visible_mean_attribute_for_directions`] over isotropic slopes `σ_n`.
-fn reference_correlated_results(case: &CorrelatedCase) -> CorrelatedResults {
-    let model = VisibilityCorrection {
-        view_low: case.view_low,
-        view_high: case.view_high,
-        light_low: case.light_low,
-        light_high: case.light_high,
-        correlation: case.correlation,
-    };
+/// [`correlated_visible_mean_attribute_for_directions`] over isotropic slopes `σ_n`
+/// (`None` where [`HeightCorrelatedAttribute::new`] or [`SlopeDeviation::new`] rejects
+/// the raw inputs).
+fn reference_correlated_results(validated: &Validated<VisibilityCorrection, CorrelatedCase>) -> CorrelatedResults {
+    let Validated { correction: model, case } = validated;
     let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array();
-    let attribute = HeightCorrelatedAttribute { mean, height_correlation: correlation };
+    let attribute = HeightCorrelatedAttribute::new(mean, correlation).ok();
     let cos = case.view.w;
     let (view, light) = (case.view.truncate(), case.light.truncate());
-    let slopes = SlopeDeviation::new(case.light.w, case.light.w);
+    let slopes = SlopeDeviation::isotropic(case.light.w).ok();
     let values = [
-        correlated_lambda(lambda_view, lambda_light, cos, &model),
-        correlated_visible_mean_attribute(attribute, lambda_view, lambda_light, cos, &model),
+        correlated_lambda(lambda_view, lambda_light, cos, model),
+        attribute.and_then(|a| correlated_visible_mean_attribute(a, lambda_view, lambda_light, cos, model)),
         Some(cos_azimuth_difference(view, light)),
-        slopes.and_then(|s| correlated_visible_mean_attribute_for_directions(attribute, view, light, s, &model)),
+        slopes
+            .zip(attribute)
+            .and_then(|(s, a)| correlated_visible_mean_attribute_for_directions(a, view, light, s, model)),
     ]
     .map(encode);
     CorrelatedResults { values: UVec4::from_array(values) }
@@ -307,7 +340,7 @@ fn exp_tolerance(argument: f64) -> f64 {
 /// decoded results.
 fn tolerances(case: &SmithCase, cpu: &[f32; 16]) -> [f64; 16] {
     let x = f64::from(case.light.w);
-    let slopes = SlopeDeviation::new(case.slopes.x, case.slopes.y);
+    let slopes = SlopeDeviation::new(case.slopes.x, case.slopes.y).ok();
     let nu_squared = |nu: Option<f32>| nu.filter(|n| n.is_finite()).map_or(0.0, |n| f64::from(n) * f64::from(n));
     let nu_light = slopes.and_then(|s| nu_of_direction(case.light.truncate(), s));
     let [mu, sigma, height, deviation] = case.scalars.to_array().map(f64::from);
@@ -485,36 +518,52 @@ fn random_lambda(rng: &mut SmallRng) -> f32 {
 }
 
 /// Knot values that stress the correction: the accepted range's ends and just outside,
-/// NaN, ±∞, zero, negative and subnormal.
+/// NaN, ±∞, zero, negative and subnormal. Only those [`LambdaCorrection::from_knots`]
+/// accepts give cases (the ends, 1 and 2); the others are the constructor's tests'.
 const SPECIAL_KNOTS: [f32; 12] =
     [0.25, 4.0, 1.0, 0.2499999, 4.0000005, f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 0.0, -1.0, 1e-40, 2.0];
 
-fn correction_cases() -> Vec<CorrectionCase> {
-    let mut rng = SmallRng::seed_from_u64(17);
-    let case = |rng: &mut SmallRng| {
-        let knots: [f32; 8] =
-            if rng.random_bool(0.05) { [1.0; 8] } else { std::array::from_fn(|_| log_uniform(rng, 0.25, 4.0)) };
-        CorrectionCase {
-            knots_low: Vec4::from_slice(&knots[..4]),
-            knots_high: Vec4::from_slice(&knots[4..]),
-            inputs: random_inputs(rng),
+/// A random valid table: knots log-uniform in the accepted range (drawn again in the rare
+/// case that rounding puts one outside), or (5 %) the identity.
+fn random_table(rng: &mut SmallRng) -> LambdaCorrection {
+    if rng.random_bool(0.05) {
+        return LambdaCorrection::IDENTITY;
+    }
+    loop {
+        let knots: [f32; 8] = std::array::from_fn(|_| log_uniform(rng, 0.25, 4.0));
+        if let Ok(table) = LambdaCorrection::from_knots(knots) {
+            return table;
         }
-    };
+    }
+}
+
+/// Cases of `smith_corrected_values`: random valid tables and inputs; every input set to
+/// each special scalar in turn, and every knot to each special knot (and scalar) that
+/// [`LambdaCorrection::from_knots`] accepts. Returns the cases and the number of special
+/// knot values the constructor rejected (no case: a GPU correction cannot hold them).
+fn correction_cases() -> (Vec<Validated<LambdaCorrection, CorrectionCase>>, usize) {
+    let mut rng = SmallRng::seed_from_u64(17);
     let mut cases = Vec::new();
-    // Every field set to each special scalar (and each knot to each special knot) in turn.
+    let mut rejected = 0;
     for &special in SPECIAL_SCALARS.iter().chain(&SPECIAL_KNOTS) {
         for field in 0..12 {
             for _ in 0..8 {
-                let mut floats: [f32; 12] = bytemuck::cast(case(&mut rng));
+                let base = correction_case(random_table(&mut rng), random_inputs(&mut rng));
+                let mut floats: [f32; 12] = bytemuck::cast(base.case);
                 floats[field] = special;
-                cases.push(bytemuck::cast(floats));
+                let mut knots = [0.0; 8];
+                knots.copy_from_slice(&floats[..8]);
+                match LambdaCorrection::from_knots(knots) {
+                    Ok(table) => cases.push(correction_case(table, Vec4::from_slice(&floats[8..]))),
+                    Err(_) => rejected += 1,
+                }
             }
         }
     }
     while cases.len() < 110_000 {
-        cases.push(case(&mut rng));
+        cases.push(correction_case(random_table(&mut rng), random_inputs(&mut rng)));
     }
-    cases
+    (cases, rejected)
 }
 
 /// Relative tolerances of the 4 corrected results of one case. `c(u)` interpolates the
@@ -524,9 +573,8 @@ fn correction_cases() -> Vec<CorrectionCase> {
 /// near a knot costs no more. Relative to `c` this is `30 ε |Δk|/c` (ε = 2⁻²³, generous),
 /// plus 4 ε for the products; `Λ'/(Λ'+2)` inherits at most `Λ'`'s relative error, and the
 /// attribute adds the cancellation of `ā + a_s x` as in `tolerances`.
-fn correction_tolerances(case: &CorrectionCase, cpu: &[f32; 4]) -> [f64; 4] {
-    let correction = LambdaCorrection { low: case.knots_low, high: case.knots_high };
-    let knots = correction.knots().map(f64::from);
+fn correction_tolerances(validated: &Validated<LambdaCorrection, CorrectionCase>, cpu: &[f32; 4]) -> [f64; 4] {
+    let knots = validated.correction.knots().map(f64::from);
     let epsilon = f64::from(f32::EPSILON);
     let lambda_tolerance = |lambda: f32| {
         let lambda = f64::from(lambda);
@@ -539,7 +587,7 @@ fn correction_tolerances(case: &CorrectionCase, cpu: &[f32; 4]) -> [f64; 4] {
         let factor = k0 + (t - index as f64) * (k1 - k0);
         BASE.max(4.0 * epsilon + 30.0 * epsilon * (k1 - k0).abs() / factor.abs().max(1e-30))
     };
-    let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array();
+    let [mean, correlation, lambda_view, lambda_light] = validated.case.inputs.to_array();
     let view = lambda_tolerance(lambda_view);
     let light = lambda_tolerance(lambda_light);
     let sum = lambda_tolerance(lambda_view + lambda_light);
@@ -551,11 +599,15 @@ fn correction_tolerances(case: &CorrectionCase, cpu: &[f32; 4]) -> [f64; 4] {
 fn corrected_functions_match_the_cpu_reference() {
     const CORRECTION_NAMES: [&str; 4] =
         ["corrected lambda(view)", "corrected lambda(light)", "abar corrected sum", "abar corrected per direction"];
-    let cases = correction_cases();
-    let gpu_bits =
-        run_kernel("smith_micro_corrected_differential", "smith_corrected_values", &cases, |r: &CorrectionResults| {
-            r.values.to_array()
-        });
+    let (cases, rejected) = correction_cases();
+    println!("{rejected} special knot values rejected by LambdaCorrection::from_knots (no case)");
+    let gpu_cases: Vec<CorrectionCase> = cases.iter().map(|v| v.case).collect();
+    let gpu_bits = run_kernel(
+        "smith_micro_corrected_differential",
+        "smith_corrected_values",
+        &gpu_cases,
+        |r: &CorrectionResults| r.values.to_array(),
+    );
     check_four_results(
         "correction",
         CORRECTION_NAMES,
@@ -568,40 +620,63 @@ fn corrected_functions_match_the_cpu_reference() {
 }
 
 /// Correlation coefficients that stress `ρ`: the accepted bound and just beyond, NaN, ±∞.
+/// Only those [`VisibilityCorrection::new`] accepts give cases.
 const SPECIAL_COEFFICIENTS: [f32; 8] = [16.0, -16.0, 16.000002, 0.0, 1.0, f32::NAN, f32::INFINITY, -1e-40];
 
-fn correlated_cases() -> Vec<CorrelatedCase> {
+/// The case of `smith_correlated_values` for `model` (its [`GpuVisibilityCorrection`]) and
+/// the other inputs, `(ā, a_s, Λ(v), Λ(l))`, `(view, cos Δφ)` and `(light, σ_n)`.
+fn correlated_case(
+    model: VisibilityCorrection,
+    inputs: Vec4,
+    view: Vec4,
+    light: Vec4,
+) -> Validated<VisibilityCorrection, CorrelatedCase> {
+    let [view_low, view_high, light_low, light_high, correlation]: [Vec4; 5] =
+        bytemuck::cast::<GpuVisibilityCorrection, _>(model.to_gpu());
+    let case = CorrelatedCase { view_low, view_high, light_low, light_high, correlation, inputs, view, light };
+    Validated { correction: model, case }
+}
+
+/// The model of the correction fields of a [`CorrelatedCase`] (the floats of its first
+/// five `vec4`s), if [`VisibilityCorrection::new`] and [`LambdaCorrection::from_knots`]
+/// accept it.
+fn correlated_model_of(floats: &[f32; 32]) -> Option<VisibilityCorrection> {
+    let table = |from: usize| {
+        let mut knots = [0.0; 8];
+        knots.copy_from_slice(&floats[from..from + 8]);
+        LambdaCorrection::from_knots(knots).ok()
+    };
+    // The fourth correlation component is unused (0 in `to_gpu`).
+    if floats[19] != 0.0 {
+        return None;
+    }
+    VisibilityCorrection::new(table(0)?, table(8)?, [floats[16], floats[17], floats[18]]).ok()
+}
+
+/// Cases of `smith_correlated_values`: random valid models, inputs and directions; every
+/// scalar field set to each special value in turn (where the field belongs to the model,
+/// only if its constructors accept it); each special direction against random ones.
+/// Returns the cases and the number of special values the model's constructors rejected.
+fn correlated_cases() -> (Vec<Validated<VisibilityCorrection, CorrelatedCase>>, usize) {
     let mut rng = SmallRng::seed_from_u64(23);
     let directions = random_unit_directions(4_096, 29);
     let mut specials = special_directions();
     specials.extend([Vec3::new(1e-40, 0.0, 1.0), Vec3::new(3e38, -3e38, 1.0), Vec3::new(f32::NAN, 0.0, 1.0)]);
     let case = |rng: &mut SmallRng, view: Vec3, light: Vec3| {
-        let table = |rng: &mut SmallRng| -> [f32; 8] {
-            if rng.random_bool(0.05) { [1.0; 8] } else { std::array::from_fn(|_| log_uniform(rng, 0.25, 4.0)) }
-        };
-        let (view_knots, light_knots) = (table(rng), table(rng));
-        CorrelatedCase {
-            view_low: Vec4::from_slice(&view_knots[..4]),
-            view_high: Vec4::from_slice(&view_knots[4..]),
-            light_low: Vec4::from_slice(&light_knots[..4]),
-            light_high: Vec4::from_slice(&light_knots[4..]),
-            correlation: Vec4::new(
-                rng.random_range(-16.0..16.0),
-                rng.random_range(-4.0..4.0),
-                rng.random_range(-4.0..4.0),
-                0.0,
-            ),
-            inputs: Vec4::new(
-                rng.random_range(-2.0..2.0),
-                rng.random_range(-2.0..2.0),
-                random_lambda(rng),
-                random_lambda(rng),
-            ),
-            view: view.extend(rng.random_range(-1.2..1.2)),
-            light: light.extend(log_uniform(rng, 1e-3, 10.0)),
-        }
+        let (view_table, light_table) = (random_table(rng), random_table(rng));
+        let rho = [rng.random_range(-16.0..16.0), rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0)];
+        let model = VisibilityCorrection::new(view_table, light_table, rho).expect("coefficients in range");
+        let inputs =
+            Vec4::new(rng.random_range(-2.0..2.0), rng.random_range(-2.0..2.0), random_lambda(rng), random_lambda(rng));
+        correlated_case(
+            model,
+            inputs,
+            view.extend(rng.random_range(-1.2..1.2)),
+            light.extend(log_uniform(rng, 1e-3, 10.0)),
+        )
     };
     let mut cases = Vec::new();
+    let mut rejected = 0;
     // Every scalar field set to each special value in turn (directions: each special
     // direction against random ones).
     let pick = |rng: &mut SmallRng| directions[rng.random_range(0..directions.len())];
@@ -609,9 +684,15 @@ fn correlated_cases() -> Vec<CorrelatedCase> {
         for field in 0..32 {
             for _ in 0..4 {
                 let (v, l) = (pick(&mut rng), pick(&mut rng));
-                let mut floats: [f32; 32] = bytemuck::cast(case(&mut rng, v, l));
+                let base = case(&mut rng, v, l).case;
+                let mut floats: [f32; 32] = bytemuck::cast(base);
                 floats[field] = special;
-                cases.push(bytemuck::cast(floats));
+                let Some(model) = correlated_model_of(&floats) else {
+                    rejected += 1;
+                    continue;
+                };
+                let vec = |i: usize| Vec4::from_slice(&floats[4 * i..4 * i + 4]);
+                cases.push(correlated_case(model, vec(5), vec(6), vec(7)));
             }
         }
     }
@@ -626,7 +707,7 @@ fn correlated_cases() -> Vec<CorrelatedCase> {
         let (v, l) = (pick(&mut rng), pick(&mut rng));
         cases.push(case(&mut rng, v, l));
     }
-    cases
+    (cases, rejected)
 }
 
 /// Tolerances of the 4 correlated results of one case: `Λ'` carries each table's
@@ -639,10 +720,11 @@ fn correlated_cases() -> Vec<CorrelatedCase> {
 /// `x = Λ'/(Λ' + 2)` times `Λ'`); `cos Δφ` is compared absolutely (1e-6: a few
 /// ulp of its inputs); the attributes add the cancellation of `ā + a_s x` (as
 /// `correction_tolerances`), and the directions' Λs the `exp` bound of `tolerances`.
-fn correlated_tolerances(case: &CorrelatedCase, cpu: &[f32; 4]) -> [f64; 4] {
+fn correlated_tolerances(validated: &Validated<VisibilityCorrection, CorrelatedCase>, cpu: &[f32; 4]) -> [f64; 4] {
+    let Validated { correction: model, case } = validated;
     let epsilon = f64::from(f32::EPSILON);
-    let table_tolerance = |low: Vec4, high: Vec4, lambda: f64| {
-        let knots = LambdaCorrection { low, high }.knots().map(f64::from);
+    let table_tolerance = |table: LambdaCorrection, lambda: f64| {
+        let knots = table.knots().map(f64::from);
         if !(lambda.is_finite() && lambda > 0.0) {
             return 0.0;
         }
@@ -654,31 +736,21 @@ fn correlated_tolerances(case: &CorrelatedCase, cpu: &[f32; 4]) -> [f64; 4] {
     };
     let [mean, correlation, lambda_view, lambda_light] = case.inputs.to_array().map(f64::from);
     let rho_rounding =
-        8.0 * epsilon * case.correlation.truncate().abs().to_array().iter().map(|&r| f64::from(r)).sum::<f64>();
+        8.0 * epsilon * model.correlation_coefficients().iter().map(|&r| f64::from(r).abs()).sum::<f64>();
     let lambda = |view: f64, light: f64| {
         BASE.max(
-            table_tolerance(case.view_low, case.view_high, view)
-                + table_tolerance(case.light_low, case.light_high, light)
-                + rho_rounding
-                + 8.0 * epsilon,
+            table_tolerance(model.view(), view) + table_tolerance(model.light(), light) + rho_rounding + 8.0 * epsilon,
         )
     };
     // The cancellation in Λ' (see above), from the CPU's corrected Λs; 1 where they are
     // not finite positive.
-    let model = VisibilityCorrection {
-        view_low: case.view_low,
-        view_high: case.view_high,
-        light_low: case.light_low,
-        light_high: case.light_high,
-        correlation: case.correlation,
-    };
     let corrected = |lambda: f64, table: LambdaCorrection| {
         corrected_lambda(lambda as f32, &table).map(f64::from).filter(|l| l.is_finite())
     };
     let (terms, lambda_prime) = match (
         corrected(lambda_view, model.view()),
         corrected(lambda_light, model.light()),
-        correlated_lambda(lambda_view as f32, lambda_light as f32, 0.0, &model),
+        correlated_lambda(lambda_view as f32, lambda_light as f32, 0.0, model),
     ) {
         (Some(a), Some(b), Some(_)) if cpu[0].is_finite() => (a + b + 2.0 * a.min(b), f64::from(cpu[0])),
         _ => (0.0, 0.0),
@@ -691,7 +763,7 @@ fn correlated_tolerances(case: &CorrelatedCase, cpu: &[f32; 4]) -> [f64; 4] {
         BASE.max(relative_to(correlation.abs() * lambda * attribute_amplification + sum_rounding, value))
     };
     // The directions' Λs: Λ(ν) through exp(−ν²), ν ≤ cot θ / (√2 σ).
-    let slopes = SlopeDeviation::new(case.light.w, case.light.w);
+    let slopes = SlopeDeviation::isotropic(case.light.w).ok();
     let nu_squared = |d: Vec3| {
         slopes.and_then(|s| nu_of_direction(d, s)).filter(|n| n.is_finite()).map_or(0.0, |n| f64::from(n).powi(2))
     };
@@ -710,11 +782,15 @@ fn correlated_tolerances(case: &CorrelatedCase, cpu: &[f32; 4]) -> [f64; 4] {
 fn correlated_functions_match_the_cpu_reference() {
     const CORRELATED_NAMES: [&str; 4] =
         ["correlated lambda", "abar correlated", "cos azimuth difference", "abar correlated (directions)"];
-    let cases = correlated_cases();
+    let (cases, rejected) = correlated_cases();
+    println!(
+        "{rejected} special model values rejected by VisibilityCorrection::new / LambdaCorrection::from_knots (no case)"
+    );
+    let gpu_cases: Vec<CorrelatedCase> = cases.iter().map(|v| v.case).collect();
     let gpu_bits = run_kernel(
         "smith_micro_correlated_differential",
         "smith_correlated_values",
-        &cases,
+        &gpu_cases,
         |r: &CorrelatedResults| r.values.to_array(),
     );
     // cos Δφ absolutely, the others relatively.
@@ -729,43 +805,45 @@ fn correlated_functions_match_the_cpu_reference() {
     );
 }
 
-/// Valid cubic corrections (the WGSL twin takes one checked once per material): random
-/// coefficients kept when [`CubicLambdaCorrection::is_valid`] accepts them, the identity,
-/// and cubics fitted to random tables; Λs and attributes as in `correction_cases`, with
-/// every input set to each special scalar in turn.
-fn cubic_cases() -> Vec<CubicCase> {
+/// Valid cubic corrections: random coefficients kept when
+/// [`CubicLambdaCorrection::from_coefficients`] accepts them, the identity, and cubics
+/// fitted to random tables; Λs and attributes as in `correction_cases`, with every input
+/// set to each special scalar in turn.
+fn cubic_cases() -> Vec<Validated<CubicLambdaCorrection, CubicCase>> {
     let mut rng = SmallRng::seed_from_u64(31);
-    let coefficients = |rng: &mut SmallRng| loop {
+    let correction = |rng: &mut SmallRng| loop {
         if rng.random_bool(0.05) {
-            return CubicLambdaCorrection::IDENTITY.coefficients;
+            return CubicLambdaCorrection::IDENTITY;
         }
         if rng.random_bool(0.3) {
-            let knots: [f32; 8] = std::array::from_fn(|_| log_uniform(rng, 0.25, 4.0));
-            let table = LambdaCorrection::from_knots(knots).expect("knots in range");
-            if let Some(cubic) = CubicLambdaCorrection::fit_to_table(&table) {
-                return cubic.coefficients;
+            if let Ok(cubic) = CubicLambdaCorrection::fit_to_table(&random_table(rng)) {
+                return cubic;
             }
             continue;
         }
         let candidate: [f32; 4] =
             std::array::from_fn(|i| if i == 0 { rng.random_range(0.25..4.0) } else { rng.random_range(-6.0..6.0) });
-        if let Some(cubic) = CubicLambdaCorrection::from_coefficients(candidate) {
-            return cubic.coefficients;
+        if let Ok(cubic) = CubicLambdaCorrection::from_coefficients(candidate) {
+            return cubic;
         }
     };
-    let case = |rng: &mut SmallRng| CubicCase { coefficients: coefficients(rng), inputs: random_inputs(rng) };
+    let case = |correction: CubicLambdaCorrection, inputs: Vec4| {
+        let coefficients: Vec4 = bytemuck::cast::<GpuCubicLambdaCorrection, _>(correction.to_gpu());
+        Validated { correction, case: CubicCase { coefficients, inputs } }
+    };
     let mut cases = Vec::new();
     for &special in &SPECIAL_SCALARS {
         for input in 0..4 {
             for _ in 0..8 {
-                let mut c = case(&mut rng);
-                c.inputs[input] = special;
-                cases.push(c);
+                let mut inputs = random_inputs(&mut rng);
+                inputs[input] = special;
+                cases.push(case(correction(&mut rng), inputs));
             }
         }
     }
     while cases.len() < 110_000 {
-        cases.push(case(&mut rng));
+        let c = correction(&mut rng);
+        cases.push(case(c, random_inputs(&mut rng)));
     }
     cases
 }
@@ -775,12 +853,12 @@ fn cubic_cases() -> Vec<CubicCase> {
 /// Horner's three multiply–adds (rounded or FMA-contracted) add at most
 /// `8 ε (|c₀| + |c₁| + |c₂| + |c₃|)`; relative to `c ≥ 0.25`. The attributes inherit it
 /// through `Λ'` as in `correction_tolerances`.
-fn cubic_tolerances(case: &CubicCase, cpu: &[f32; 4]) -> [f64; 4] {
-    let [c0, c1, c2, c3] = case.coefficients.to_array().map(|c| f64::from(c).abs());
+fn cubic_tolerances(validated: &Validated<CubicLambdaCorrection, CubicCase>, cpu: &[f32; 4]) -> [f64; 4] {
+    let Validated { correction, case } = validated;
+    let [c0, c1, c2, c3] = correction.coefficients().map(|c| f64::from(c).abs());
     let epsilon = f64::from(f32::EPSILON);
     let lambda_tolerance = |lambda: f32| {
-        let factor =
-            f64::from(CubicLambdaCorrection { coefficients: case.coefficients }.factor(lambda / (1.0 + lambda)));
+        let factor = f64::from(correction.factor(lambda / (1.0 + lambda)));
         BASE.max(
             4.0 * epsilon
                 + (3.0 * (c1 + 2.0 * c2 + 3.0 * c3) + 8.0 * (c0 + c1 + c2 + c3)) * epsilon / factor.abs().max(0.25),
@@ -797,8 +875,9 @@ fn cubic_tolerances(case: &CubicCase, cpu: &[f32; 4]) -> [f64; 4] {
 fn cubic_correction_matches_the_cpu_reference() {
     const CUBIC_NAMES: [&str; 4] = ["cubic factor", "abar cubic (v, l)", "abar cubic (l, v)", "abar cubic (v, 0)"];
     let cases = cubic_cases();
+    let gpu_cases: Vec<CubicCase> = cases.iter().map(|v| v.case).collect();
     let gpu_bits =
-        run_kernel("smith_micro_cubic_differential", "smith_cubic_corrected_values", &cases, |r: &CubicResults| {
+        run_kernel("smith_micro_cubic_differential", "smith_cubic_corrected_values", &gpu_cases, |r: &CubicResults| {
             r.values.to_array()
         });
     check_four_results(

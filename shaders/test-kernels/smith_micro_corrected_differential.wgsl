@@ -1,7 +1,8 @@
-// Differential-test kernel for the corrected eq. 17 of shaders/smith_micro.wgsl
+// Differential-test kernel for the corrected eq. 17 of shaders/smith-micro/smith_micro.wgsl
 // (gpu-harness convention: input at binding 1, output at 2, workgroups of 64 in a 2-D
-// grid; the uniform at binding 0 is unused). Rust:
-// smith_micro::gpu::reference_correction_results computes the same 4 results.
+// grid; the uniform at binding 0 is unused). Each case's correction is the
+// GpuLambdaCorrection of a validated smith_micro::LambdaCorrection (LambdaCorrection::to_gpu).
+// Rust: reference_correction_results in tests/smith_micro_gpu.rs computes the same 4 results.
 
 @group(0) @binding(1) var<storage, read> correction_cases: array<CorrectionCase>;
 @group(0) @binding(2) var<storage, read_write> correction_results: array<CorrectionResults>;
@@ -13,7 +14,7 @@ fn smith_corrected_values(@builtin(global_invocation_id) id: vec3<u32>, @builtin
         return;
     }
     let case_ = correction_cases[index];
-    let correction = LambdaCorrection(case_.knots_low, case_.knots_high);
+    let correction = GpuLambdaCorrection(case_.knots_low, case_.knots_high);
     let correlated_attribute = case_.inputs.xy;
     let lambda_view = smith_value_of(case_.inputs.z);
     let lambda_light = smith_value_of(case_.inputs.w);

@@ -1,7 +1,9 @@
 // Differential-test kernel for the corrected, correlated visibility model of
-// shaders/smith_micro.wgsl (gpu-harness convention: input at binding 1, output at 2,
-// workgroups of 64 in a 2-D grid; the uniform at binding 0 is unused). Rust:
-// smith_micro::gpu::reference_correlated_results computes the same 4 results.
+// shaders/smith-micro/smith_micro.wgsl (gpu-harness convention: input at binding 1, output
+// at 2, workgroups of 64 in a 2-D grid; the uniform at binding 0 is unused). Each case's
+// model is the GpuVisibilityCorrection of a validated smith_micro::VisibilityCorrection
+// (VisibilityCorrection::to_gpu). Rust: reference_correlated_results in
+// tests/smith_micro_gpu.rs computes the same 4 results.
 
 @group(0) @binding(1) var<storage, read> correlated_cases: array<CorrelatedCase>;
 @group(0) @binding(2) var<storage, read_write> correlated_results: array<CorrelatedResults>;
@@ -13,7 +15,7 @@ fn smith_correlated_values(@builtin(global_invocation_id) id: vec3<u32>, @builti
         return;
     }
     let case_ = correlated_cases[index];
-    let model = VisibilityCorrection(case_.view_low, case_.view_high, case_.light_low, case_.light_high, case_.correlation);
+    let model = GpuVisibilityCorrection(case_.view_low, case_.view_high, case_.light_low, case_.light_high, case_.correlation);
     let correlated_attribute = case_.inputs.xy;
     let lambda_view = smith_value_of(case_.inputs.z);
     let lambda_light = smith_value_of(case_.inputs.w);

@@ -1,6 +1,7 @@
-// Differential-test kernel for shaders/smith_micro.wgsl (gpu-harness convention: input
-// at binding 1, output at 2, workgroups of 64 in a 2-D grid; the uniform at binding 0 is
-// unused). Rust: smith_micro::gpu::reference_results computes the same 16 results.
+// Differential-test kernel for shaders/smith-micro/smith_micro.wgsl (gpu-harness
+// convention: input at binding 1, output at 2, workgroups of 64 in a 2-D grid; the uniform
+// at binding 0 is unused). Rust: reference_results in tests/smith_micro_gpu.rs computes the
+// same 16 results.
 
 @group(0) @binding(1) var<storage, read> cases: array<SmithCase>;
 @group(0) @binding(2) var<storage, read_write> results: array<SmithResults>;

@@ -325,10 +325,12 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         } else {
             &surface.fitting_fields[..]
         };
-        let model = fit_visibility_correction(fitting, fit_rays, 31).ok_or_else(degenerate)?;
+        let model = fit_visibility_correction(fitting, fit_rays, 31)
+            .map_err(|e| format!("{}: cannot fit the visibility model: {e}", surface.name))?;
         models.push((surface.name.clone(), surface.fitting_fields.len(), model));
         // The view table as a cubic (`smith_micro::cubic_correction`), on the sum of the Λs.
-        let cubic = CubicLambdaCorrection::fit_to_table(&model.view()).ok_or_else(degenerate)?;
+        let cubic = CubicLambdaCorrection::fit_to_table(&model.view())
+            .map_err(|e| format!("{}: no cubic through the view table: {e}", surface.name))?;
         let identity = LambdaCorrection::IDENTITY;
         let view_sweep = Sweep { angles_deg: &ALL_ANGLES, view_azimuth: 0.0, light: None, rays, seed: 17 };
         let view = compare_models(&surface.field, &view_sweep, &identity, &model).ok_or_else(degenerate)?;

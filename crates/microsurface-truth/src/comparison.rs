@@ -15,7 +15,8 @@
 
 use glam::{DVec3, Vec3};
 use smith_micro::{
-    CubicLambdaCorrection, HeightCorrelatedAttribute, LambdaCorrection, SlopeDeviation, VisibilityCorrection,
+    CubicLambdaCorrection, HeightCorrelatedAttribute, LambdaCorrection, SlopeDeviation, SlopeDeviationError,
+    VisibilityCorrection,
 };
 
 use crate::experiment::VisibleAverage;
@@ -75,14 +76,15 @@ impl AngleComparison {
 
     /// Eq. 17 with this row's `Λ(v) + Λ(l)` corrected by the cubic `correction`
     /// (`smith_micro::cubic_corrected_visible_mean_attribute`, the attribute `s` with its
-    /// mean as in the other models); `None` for an invalid correction.
+    /// mean as in the other models); `None` where the row's Λ or mean is not a valid input
+    /// (negative or NaN Λ, a mean `smith_micro::HeightCorrelatedAttribute::new` rejects).
     pub fn cubic_corrected(&self, correction: &CubicLambdaCorrection) -> Option<f64> {
-        let stored = HeightCorrelatedAttribute { mean: self.mip as f32, height_correlation: 1.0 };
+        let stored = HeightCorrelatedAttribute::new(self.mip as f32, 1.0).ok()?;
         smith_micro::cubic_corrected_visible_mean_attribute(stored, self.lambda as f32, 0.0, correction).map(f64::from)
     }
 
     /// The cubic correction's error as a fraction of the range (1, the largest possible,
-    /// for an invalid correction).
+    /// where [`AngleComparison::cubic_corrected`] has no value).
     pub fn cubic_error(&self, correction: &CubicLambdaCorrection) -> f64 {
         self.cubic_corrected(correction).map_or(1.0, |value| (value - self.truth).abs() / 2.0)
     }
@@ -109,8 +111,8 @@ pub fn attribute_s(stats: &SurfaceStatistics, height: f64) -> f64 {
     smith_micro::height_cdf(h, stats.height_sigma as f32).map_or(0.0, |g| 2.0 * f64::from(g) - 1.0)
 }
 
-/// The measured slope deviations as `smith-micro` takes them.
-pub fn slope_deviation(stats: &SurfaceStatistics) -> Option<SlopeDeviation> {
+/// The measured slope deviations as `smith-micro` takes them, or why they are not valid.
+pub fn slope_deviation(stats: &SurfaceStatistics) -> Result<SlopeDeviation, SlopeDeviationError> {
     SlopeDeviation::new(stats.slope_sigma.x as f32, stats.slope_sigma.y as f32)
 }
 
@@ -122,8 +124,7 @@ pub fn compare(field: &HeightField, sweep: &Sweep) -> Option<Vec<AngleComparison
 }
 
 /// [`compare`] with eq. 17 also evaluated with `correction` (on the sum of the Λs and per
-/// direction). Returns `None` when the statistics are degenerate or `correction` is
-/// invalid.
+/// direction). Returns `None` when the statistics are degenerate.
 pub fn compare_corrected(
     field: &HeightField,
     sweep: &Sweep,
@@ -134,7 +135,8 @@ pub fn compare_corrected(
 
 /// [`compare_corrected`] with the correlated model `visibility` evaluated as well (its
 /// column equals eq. 17 for [`VisibilityCorrection::IDENTITY`]). Returns `None` when the
-/// statistics are degenerate or a correction is invalid.
+/// statistics are degenerate (slope deviations or a mean attribute `smith-micro` rejects,
+/// a sweep without result).
 pub fn compare_models(
     field: &HeightField,
     sweep: &Sweep,
@@ -142,11 +144,11 @@ pub fn compare_models(
     visibility: &VisibilityCorrection,
 ) -> Option<Vec<AngleComparison>> {
     let stats = SurfaceStatistics::measure(field);
-    let slopes = slope_deviation(&stats)?;
+    let slopes = slope_deviation(&stats).ok()?;
     let samples: Vec<f64> = field.heights().iter().map(|&h| attribute_s(&stats, h)).collect();
     let mean = samples.iter().sum::<f64>() / samples.len() as f64;
     // With a = s, the projection a_s = ∫ s·a / ∫ s² is exactly 1.
-    let stored = HeightCorrelatedAttribute { mean: mean as f32, height_correlation: 1.0 };
+    let stored = HeightCorrelatedAttribute::new(mean as f32, 1.0).ok()?;
     let lambda_light = match sweep.light {
         Some(l) => smith_micro::smith_lambda_direction(l.as_vec3(), slopes)?,
         None => 0.0,

@@ -10,8 +10,10 @@
 //! data cannot (`u = 0`, where Λ = 0 makes `c` irrelevant); every step is clamped to
 //! `[MIN_FITTED_FACTOR, MAX_FITTED_FACTOR]`.
 
-use smith_micro::LambdaCorrection;
+use std::fmt;
+
 use smith_micro::correction::CORRECTION_KNOTS;
+use smith_micro::{LambdaCorrection, LambdaCorrectionError, VisibilityCorrectionError};
 
 use crate::comparison::{Sweep, compare};
 use crate::heightfield::HeightField;
@@ -40,6 +42,53 @@ const CURVATURE_PRIOR_DEVIATION: f64 = 0.15;
 const STANDARD_ERROR_FLOOR: f64 = 1e-3;
 const GAUSS_NEWTON_ITERATIONS: usize = 12;
 
+/// Why a fit of a correction to ray-traced ground truth failed
+/// ([`fit_lambda_correction`], [`fit_to_samples`], [`crate::fit_correlation`],
+/// [`crate::fit_samples`], [`crate::fit_visibility_correction`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FitError {
+    /// The surface's statistics give no sweep: its measured slope deviations are not valid
+    /// [`smith_micro::SlopeDeviation`]s, or a ray-traced sweep has no result.
+    DegenerateSurface,
+    /// No sample has a finite positive Λ (a flat field) and a finite ground truth, or no
+    /// held-out sample can be evaluated.
+    NoUsableSamples,
+    /// The normal equations of a Gauss–Newton step are singular.
+    Singular,
+    /// `smith-micro` rejects the fitted table (the fit keeps its knots in
+    /// `[MIN_FITTED_FACTOR, MAX_FITTED_FACTOR]`, inside the accepted range).
+    Correction(LambdaCorrectionError),
+    /// `smith-micro` rejects the fitted correlation coefficients (the fit keeps them in
+    /// `[−8, 8]`, inside the accepted range).
+    Visibility(VisibilityCorrectionError),
+}
+
+impl fmt::Display for FitError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            FitError::DegenerateSurface => write!(f, "degenerate surface: no sweep of its statistics"),
+            FitError::NoUsableSamples => write!(f, "no usable ground-truth sample (flat surface?)"),
+            FitError::Singular => write!(f, "singular normal equations"),
+            FitError::Correction(error) => write!(f, "fitted table rejected: {error}"),
+            FitError::Visibility(error) => write!(f, "fitted correlation rejected: {error}"),
+        }
+    }
+}
+
+impl std::error::Error for FitError {}
+
+impl From<LambdaCorrectionError> for FitError {
+    fn from(error: LambdaCorrectionError) -> Self {
+        FitError::Correction(error)
+    }
+}
+
+impl From<VisibilityCorrectionError> for FitError {
+    fn from(error: VisibilityCorrectionError) -> Self {
+        FitError::Visibility(error)
+    }
+}
+
 /// One ground-truth sample of the visible attribute: `x = E[s] − ā` at a Smith `Λ`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitSample {
@@ -53,8 +102,9 @@ pub struct FitSample {
 
 /// Fits a [`LambdaCorrection`] to view-only sweeps ([`FIT_ANGLES_DEG`] at each of
 /// [`FIT_AZIMUTHS_DEG`], `rays` rays per angle, ray seeds from `seed`) of `field`'s
-/// ground truth. Returns `None` for a flat field or a degenerate fit.
-pub fn fit_lambda_correction(field: &HeightField, rays: usize, seed: u64) -> Option<LambdaCorrection> {
+/// ground truth, or why not: degenerate statistics, a flat field (no usable sample) or a
+/// singular fit.
+pub fn fit_lambda_correction(field: &HeightField, rays: usize, seed: u64) -> Result<LambdaCorrection, FitError> {
     let mut samples = Vec::new();
     for (i, azimuth) in FIT_AZIMUTHS_DEG.iter().enumerate() {
         let sweep = Sweep {
@@ -64,7 +114,7 @@ pub fn fit_lambda_correction(field: &HeightField, rays: usize, seed: u64) -> Opt
             rays,
             seed: seed.wrapping_add(i as u64),
         };
-        let rows = compare(field, &sweep)?;
+        let rows = compare(field, &sweep).ok_or(FitError::DegenerateSurface)?;
         samples.extend(rows.iter().map(|r| FitSample {
             lambda: r.lambda,
             visible: r.truth - r.mip,
@@ -84,15 +134,16 @@ fn hat_weights(u: f64) -> [(usize, f64); 2] {
     [(index, 1.0 - fraction), (index + 1, fraction)]
 }
 
-/// Fits the knots to `samples` (see the module's documentation). Returns `None` when no
-/// sample has a finite positive Λ or the normal equations are singular.
-pub fn fit_to_samples(samples: &[FitSample]) -> Option<LambdaCorrection> {
+/// Fits the knots to `samples` (see the module's documentation), or why not: no sample
+/// has a finite positive Λ ([`FitError::NoUsableSamples`]) or the normal equations are
+/// singular ([`FitError::Singular`]).
+pub fn fit_to_samples(samples: &[FitSample]) -> Result<LambdaCorrection, FitError> {
     let usable: Vec<&FitSample> = samples
         .iter()
         .filter(|s| s.lambda.is_finite() && s.lambda > 0.0 && s.visible.is_finite() && s.standard_error.is_finite())
         .collect();
     if usable.is_empty() {
-        return None;
+        return Err(FitError::NoUsableSamples);
     }
     const N: usize = CORRECTION_KNOTS;
     let mut knots = [1.0_f64; N];
@@ -132,12 +183,12 @@ pub fn fit_to_samples(samples: &[FitSample]) -> Option<LambdaCorrection> {
                 }
             }
         }
-        let step = solve(matrix, gradient)?;
+        let step = solve(matrix, gradient).ok_or(FitError::Singular)?;
         for (knot, delta) in knots.iter_mut().zip(step) {
             *knot = (*knot + delta).clamp(MIN_FITTED_FACTOR, MAX_FITTED_FACTOR);
         }
     }
-    LambdaCorrection::from_knots(knots.map(|k| k as f32))
+    Ok(LambdaCorrection::from_knots(knots.map(|k| k as f32))?)
 }
 
 /// Solves `matrix · x = rhs` by Gaussian elimination with partial pivoting; `None` when a
@@ -190,7 +241,7 @@ mod tests {
         for sample in &samples {
             let model = f64::from(
                 smith_micro::corrected_visible_mean_attribute(
-                    smith_micro::HeightCorrelatedAttribute { mean: 0.0, height_correlation: 1.0 },
+                    smith_micro::HeightCorrelatedAttribute::new(0.0, 1.0).unwrap(),
                     sample.lambda as f32,
                     0.0,
                     &correction,
@@ -210,10 +261,12 @@ mod tests {
     }
 
     #[test]
-    fn degenerate_samples_give_none_and_extreme_data_stay_in_range() {
-        assert_eq!(fit_to_samples(&[]), None);
+    fn degenerate_samples_are_reported_and_extreme_data_stay_in_range() {
+        assert_eq!(fit_to_samples(&[]), Err(FitError::NoUsableSamples));
         let flat = [FitSample { lambda: 0.0, visible: 0.0, standard_error: 0.0 }];
-        assert_eq!(fit_to_samples(&flat), None);
+        assert_eq!(fit_to_samples(&flat), Err(FitError::NoUsableSamples));
+        let unmeasured = [FitSample { lambda: 0.5, visible: f64::NAN, standard_error: 1e-3 }];
+        assert_eq!(fit_to_samples(&unmeasured), Err(FitError::NoUsableSamples));
         let extreme = fit_to_samples(&synthetic(|_| 10.0)).unwrap();
         let range = MIN_FITTED_FACTOR as f32..=MAX_FITTED_FACTOR as f32;
         assert!(extreme.knots().iter().all(|k| range.contains(k)), "{:?}", extreme.knots());

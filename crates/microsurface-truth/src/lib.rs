@@ -37,7 +37,9 @@ mod raycast;
 mod statistics;
 mod visibility_fit;
 
-pub use correction_fit::{FIT_ANGLES_DEG, FIT_AZIMUTHS_DEG, FitSample, fit_lambda_correction, fit_to_samples};
+pub use correction_fit::{
+    FIT_ANGLES_DEG, FIT_AZIMUTHS_DEG, FitError, FitSample, fit_lambda_correction, fit_to_samples,
+};
 pub use experiment::{AttributeEstimate, VisibleAverage};
 pub use generate::{Spectrum, generate_cellular, generate_gaussian, generate_ridged};
 pub use heightfield::{HeightField, HeightFieldError};

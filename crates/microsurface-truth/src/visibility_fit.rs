@@ -22,7 +22,7 @@ use smith_micro::correlated::{MAX_CORRELATION, MIN_CORRELATION};
 use smith_micro::{LambdaCorrection, VisibilityCorrection, corrected_lambda, cos_azimuth_difference};
 
 use crate::comparison::{attribute_s, slope_deviation};
-use crate::correction_fit::{FIT_ANGLES_DEG, FIT_AZIMUTHS_DEG, FitSample, fit_to_samples, solve};
+use crate::correction_fit::{FIT_ANGLES_DEG, FIT_AZIMUTHS_DEG, FitError, FitSample, fit_to_samples, solve};
 use crate::experiment::VisibleAverage;
 use crate::heightfield::HeightField;
 use crate::statistics::SurfaceStatistics;
@@ -73,10 +73,11 @@ fn direction(theta_deg: f64, phi_deg: f64) -> DVec3 {
 }
 
 /// Measures the samples of [`VisibilitySamples`] on `field`, `rays` rays per direction
-/// pair, ray seeds from `seed`. `None` for a flat field.
+/// pair, ray seeds from `seed`. `None` for degenerate statistics (slope deviations
+/// `smith-micro` rejects).
 pub fn collect_samples(field: &HeightField, rays: usize, seed: u64) -> Option<VisibilitySamples> {
     let stats = SurfaceStatistics::measure(field);
-    let slopes = slope_deviation(&stats)?;
+    let slopes = slope_deviation(&stats).ok()?;
     let mean = field.heights().iter().map(|&h| attribute_s(&stats, h)).sum::<f64>() / field.heights().len() as f64;
     let lambda = |d: DVec3| smith_micro::smith_lambda_direction(d.as_vec3(), slopes);
     let mut next_seed = seed;
@@ -116,8 +117,13 @@ pub fn collect_samples(field: &HeightField, rays: usize, seed: u64) -> Option<Vi
 }
 
 /// Fits the correlation coefficients `(ρ₀, ρ₁, ρ₂)` to `pairs` with the tables `view`
-/// and `light` fixed. `None` when no pair is usable or the normal equations are singular.
-pub fn fit_correlation(pairs: &[PairSample], view: &LambdaCorrection, light: &LambdaCorrection) -> Option<[f64; 3]> {
+/// and `light` fixed, or why not: no pair is usable ([`FitError::NoUsableSamples`]) or the
+/// normal equations are singular ([`FitError::Singular`]).
+pub fn fit_correlation(
+    pairs: &[PairSample],
+    view: &LambdaCorrection,
+    light: &LambdaCorrection,
+) -> Result<[f64; 3], FitError> {
     let usable: Vec<(f64, f64, f64, &PairSample)> = pairs
         .iter()
         .filter(|p| p.visible.is_finite() && p.standard_error.is_finite())
@@ -133,7 +139,7 @@ pub fn fit_correlation(pairs: &[PairSample], view: &LambdaCorrection, light: &La
         })
         .collect();
     if usable.is_empty() {
-        return None;
+        return Err(FitError::NoUsableSamples);
     }
     let mut rho = [0.0_f64; 3];
     for _ in 0..GAUSS_NEWTON_ITERATIONS {
@@ -162,12 +168,12 @@ pub fn fit_correlation(pairs: &[PairSample], view: &LambdaCorrection, light: &La
             matrix[i][i] += ridge;
             gradient[i] -= ridge * rho[i];
         }
-        let step = solve(matrix, gradient)?;
+        let step = solve(matrix, gradient).ok_or(FitError::Singular)?;
         for (r, d) in rho.iter_mut().zip(step) {
             *r = (*r + d).clamp(-8.0, 8.0);
         }
     }
-    Some(rho)
+    Ok(rho)
 }
 
 /// Shrinkage steps toward eq. 17 tried by the leave-one-out validation of
@@ -176,7 +182,8 @@ pub const SHRINKAGE_STEPS: [f64; 9] = [0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75
 
 /// Fits a [`VisibilityCorrection`] to the pooled samples of `fields` (independent
 /// realizations of one material, of any sizes): `rays` rays per direction pair, ray
-/// seeds from `seed`. `None` for flat fields or a degenerate fit.
+/// seeds from `seed`; or why not ([`FitError`]: degenerate statistics, flat fields, a
+/// singular fit).
 ///
 /// Each part of the model (view table, light table, correlation) is then shrunk toward
 /// eq. 17 by the factor `α` of [`SHRINKAGE_STEPS`] that minimizes the worst held-out
@@ -189,22 +196,30 @@ pub const SHRINKAGE_STEPS: [f64; 9] = [0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75
 /// realizations differ from each other more than from eq. 17 (realization noise, not
 /// Monte-Carlo noise, which the weights already cover) so keeps eq. 17 where a
 /// correction would not transfer.
-pub fn fit_visibility_correction(fields: &[HeightField], rays: usize, seed: u64) -> Option<VisibilityCorrection> {
+pub fn fit_visibility_correction(
+    fields: &[HeightField],
+    rays: usize,
+    seed: u64,
+) -> Result<VisibilityCorrection, FitError> {
     let per_field: Vec<VisibilitySamples> = fields
         .iter()
         .enumerate()
         .map(|(i, field)| collect_samples(field, rays, seed.wrapping_add(10_000 * i as u64)))
-        .collect::<Option<_>>()?;
+        .collect::<Option<_>>()
+        .ok_or(FitError::DegenerateSurface)?;
     let full = fit_samples(&pool(per_field.iter()))?;
     // One field: two folds of alternate sample directions.
-    let fold_sets: Vec<VisibilitySamples> =
-        if per_field.len() < 2 { per_field.first().map(halves)?.into() } else { per_field };
+    let fold_sets: Vec<VisibilitySamples> = if per_field.len() < 2 {
+        per_field.first().map(halves).ok_or(FitError::NoUsableSamples)?.into()
+    } else {
+        per_field
+    };
     let folds: Vec<(VisibilityCorrection, &VisibilitySamples)> = (0..fold_sets.len())
         .map(|held_out| {
             let rest = fold_sets.iter().enumerate().filter(|&(i, _)| i != held_out).map(|(_, s)| s);
             fit_samples(&pool(rest)).map(|model| (model, &fold_sets[held_out]))
         })
-        .collect::<Option<_>>()?;
+        .collect::<Result<_, _>>()?;
     // Each part in turn: the view table, the light table, then ρ with both tables shrunk.
     let mut alphas = [1.0_f64; 3];
     for part in 0..3 {
@@ -214,13 +229,14 @@ pub fn fit_visibility_correction(fields: &[HeightField], rays: usize, seed: u64)
             // The worst fold: shrink until the correction helps every held-out realization.
             folds
                 .iter()
-                .map(|(model, held_out)| held_out_error(&shrink(model, trial)?, held_out, part))
+                .map(|(model, held_out)| held_out_error(&shrink(model, trial).ok()?, held_out, part))
                 .try_fold(0.0_f64, |worst, e| e.map(|e| worst.max(e)))
         };
         let best = SHRINKAGE_STEPS
             .iter()
             .filter_map(|&alpha| error(alpha).map(|e| (alpha, e)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))?;
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .ok_or(FitError::NoUsableSamples)?;
         alphas[part] = best.0;
     }
     // The whole model, toward eq. 17 (α = 0) when the parts together do not transfer.
@@ -229,7 +245,7 @@ pub fn fit_visibility_correction(fields: &[HeightField], rays: usize, seed: u64)
         folds
             .iter()
             .map(|(model, held_out)| {
-                let shrunk = shrink(model, trial)?;
+                let shrunk = shrink(model, trial).ok()?;
                 (0..3).map(|part| held_out_error(&shrunk, held_out, part)).sum::<Option<f64>>()
             })
             .try_fold(0.0_f64, |worst, e| e.map(|e| worst.max(e)))
@@ -237,7 +253,8 @@ pub fn fit_visibility_correction(fields: &[HeightField], rays: usize, seed: u64)
     let common = SHRINKAGE_STEPS
         .iter()
         .filter_map(|&alpha| total_error(alpha).map(|e| (alpha, e)))
-        .min_by(|a, b| a.1.total_cmp(&b.1))?
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .ok_or(FitError::NoUsableSamples)?
         .0;
     shrink(&full, alphas.map(|a| a * common))
 }
@@ -267,13 +284,14 @@ fn pool<'a>(sets: impl Iterator<Item = &'a VisibilitySamples>) -> VisibilitySamp
     pooled
 }
 
-/// `model` shrunk toward eq. 17 by `[α_view, α_light, α_ρ]`.
-fn shrink(model: &VisibilityCorrection, alphas: [f64; 3]) -> Option<VisibilityCorrection> {
+/// `model` shrunk toward eq. 17 by `[α_view, α_light, α_ρ]` (valid for `α ∈ [0, 1]`:
+/// each knot moves toward 1, each coefficient toward 0).
+fn shrink(model: &VisibilityCorrection, alphas: [f64; 3]) -> Result<VisibilityCorrection, FitError> {
     let table = |table: LambdaCorrection, alpha: f64| {
         LambdaCorrection::from_knots(table.knots().map(|k| (1.0 + alpha * (f64::from(k) - 1.0)) as f32))
     };
     let rho = model.correlation_coefficients().map(|r| (alphas[2] * f64::from(r)) as f32);
-    VisibilityCorrection::new(table(model.view(), alphas[0])?, table(model.light(), alphas[1])?, rho)
+    Ok(VisibilityCorrection::new(table(model.view(), alphas[0])?, table(model.light(), alphas[1])?, rho)?)
 }
 
 /// The sum of squared errors of `model` on one part of `samples` (0: view, 1: light,
@@ -304,12 +322,13 @@ fn held_out_error(model: &VisibilityCorrection, samples: &VisibilitySamples, par
     }
 }
 
-/// Fits a [`VisibilityCorrection`] to `samples` (see the module documentation).
-pub fn fit_samples(samples: &VisibilitySamples) -> Option<VisibilityCorrection> {
+/// Fits a [`VisibilityCorrection`] to `samples` (see the module documentation), or why
+/// not ([`fit_to_samples`], [`fit_correlation`]).
+pub fn fit_samples(samples: &VisibilitySamples) -> Result<VisibilityCorrection, FitError> {
     let view = fit_to_samples(&samples.view)?;
     let light = fit_to_samples(&samples.light)?;
     let rho = fit_correlation(&samples.pairs, &view, &light)?;
-    VisibilityCorrection::new(view, light, rho.map(|r| r as f32))
+    Ok(VisibilityCorrection::new(view, light, rho.map(|r| r as f32))?)
 }
 
 #[cfg(test)]
@@ -339,6 +358,9 @@ mod tests {
         for (fitted, expected) in rho.iter().zip([0.3, 0.95, -0.2]) {
             assert!((fitted - expected).abs() < 0.02, "{rho:?}");
         }
-        assert_eq!(fit_correlation(&[], &view, &light), None);
+        assert_eq!(fit_correlation(&[], &view, &light), Err(FitError::NoUsableSamples));
+        // Pairs with a direction at the normal (min(A, B) = 0) say nothing about ρ.
+        let at_normal: Vec<PairSample> = pairs.iter().map(|p| PairSample { lambda_light: 0.0, ..*p }).collect();
+        assert_eq!(fit_correlation(&at_normal, &view, &light), Err(FitError::NoUsableSamples));
     }
 }

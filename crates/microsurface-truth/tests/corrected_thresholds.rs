@@ -92,7 +92,7 @@ fn measure(name: &str, fitting: &[HeightField], evaluation: &HeightField) -> [f6
         100.0 * errors[5],
         100.0 * errors[6],
         100.0 * errors[7],
-        cubic.coefficients.to_array(),
+        cubic.coefficients(),
         100.0 * errors[8],
         100.0 * errors[9],
     );

@@ -91,12 +91,16 @@
 //!
 //! Cost in WGSL over eq. 17, counted on naga's IR (`wgsl_gen::operation_count`, test
 //! `smith_micro_cost` in `shader-registry`; arithmetic per component, indexed loads and
-//! branches, callees inlined): eq. 17 61 operations, the corrected model 167 per call
-//! (106 more), of which 53 validate the model (16 knots, 3 coefficients, a per-material
-//! constant); `smith_correlated_visible_mean_attribute_of_valid_model`, for a model
-//! checked once (as [`VisibilityCorrection::new`] does), costs 114: 53 more than eq. 17
-//! (two table lookups with their `Λ/(1 + Λ)` divisions, about 16 each; `ρ` from `cos Δφ`
-//! with its special cases; `min`, the combination and three flushes of subnormals). The
+//! branches, callees inlined): eq. 17 61 operations, the corrected model
+//! (`smith_correlated_visible_mean_attribute`) 114, 53 more than eq. 17 (two table
+//! lookups with their `Λ/(1 + Λ)` divisions, about 16 each; `ρ` from `cos Δφ` with its
+//! special cases; `min`, the combination and three flushes of subnormals). The model is
+//! not validated on the GPU: a [`VisibilityCorrection`] is valid by construction (its
+//! tables are [`LambdaCorrection`]s, its coefficients are checked by
+//! [`VisibilityCorrection::new`], [`VisibilityCorrectionError`] naming the one it
+//! rejects), and the GPU reads it as a [`GpuVisibilityCorrection`]
+//! ([`VisibilityCorrection::to_gpu`]). Before the type guaranteed it, the WGSL twin
+//! re-validated the 16 knots and 3 coefficients on every call (167 operations). The
 //! view-only correction on the sum ([`crate::corrected_visible_mean_attribute`], one
 //! table) costs 22 more than eq. 17. The caller supplies `cos Δφ` (102 operations from
 //! two directions; [`correlated_visible_mean_attribute_for_directions`] computes it).
@@ -107,8 +111,15 @@
 //! | `Λ(v) = 0` or `Λ(l) = 0` | `ā + a_s x(B)` or `ā + a_s x(A)`: `ρ` plays no role |
 //! | a Λ `= +∞` or above `MAX_CORRECTED_LAMBDA` | `ā + a_s` |
 //! | `cos Δφ` NaN | treated as 0; outside `[−1, 1]` clamped |
-//! | a Λ negative or NaN, an invalid table, a `ρ` coefficient NaN, ±∞ or above [`MAX_CORRELATION_COEFFICIENT`] in magnitude | `None` |
-//! | `|ā|` or `|a_s|` above `2⁶⁴` or NaN | `None` |
+//! | a Λ negative or NaN | `None` |
+//!
+//! | coefficient `ρᵢ` given to [`VisibilityCorrection::new`] | result |
+//! |---|---|
+//! | all three at most [`MAX_CORRELATION_COEFFICIENT`] in magnitude | the model |
+//! | `ρᵢ` NaN | [`VisibilityCorrectionError::CoefficientNotANumber`] |
+//! | `|ρᵢ|` above `MAX_CORRELATION_COEFFICIENT` (±∞ included) | [`VisibilityCorrectionError::CoefficientTooLarge`] |
+
+use core::fmt;
 
 use glam::{Vec3, Vec4};
 use gpu_layout::gpu_struct;
@@ -125,79 +136,131 @@ pub const MAX_CORRELATION: f32 = 2.0;
 /// Largest accepted magnitude of a `ρ` coefficient.
 pub const MAX_CORRELATION_COEFFICIENT: f32 = 16.0;
 
+/// A per-material corrected visibility model (see the module documentation): the view
+/// table `c_v`, the light table `c_l` (each a [`LambdaCorrection`]: factors at `u = i/7`)
+/// and the coefficients of `ρ(cos Δφ)`, each at most [`MAX_CORRELATION_COEFFICIENT`] in
+/// magnitude. Built only by [`VisibilityCorrection::new`] and
+/// [`VisibilityCorrection::IDENTITY`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VisibilityCorrection {
+    view: LambdaCorrection,
+    light: LambdaCorrection,
+    correlation: [f32; 3],
+}
+
+/// Why [`VisibilityCorrection::new`] rejected its coefficients: the first invalid one, by
+/// index (`ρ₀, ρ₁, ρ₂`). The tables cannot be invalid: they are [`LambdaCorrection`]s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum VisibilityCorrectionError {
+    /// `ρ_index` is NaN.
+    CoefficientNotANumber {
+        /// The coefficient's index.
+        index: usize,
+    },
+    /// `|ρ_index|` is above [`MAX_CORRELATION_COEFFICIENT`] (±∞ included).
+    CoefficientTooLarge {
+        /// The coefficient's index.
+        index: usize,
+        /// Its value.
+        value: f32,
+    },
+}
+
+impl fmt::Display for VisibilityCorrectionError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            VisibilityCorrectionError::CoefficientNotANumber { index } => {
+                write!(f, "correlation coefficient ρ{index} is NaN")
+            }
+            VisibilityCorrectionError::CoefficientTooLarge { index, value } => write!(
+                f,
+                "correlation coefficient ρ{index} is {value}, above {MAX_CORRELATION_COEFFICIENT} in magnitude"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for VisibilityCorrectionError {}
+
 gpu_struct! {
-    /// A per-material corrected visibility model (see the module documentation): the
-    /// view table `c_v`, the light table `c_l` (each as a [`LambdaCorrection`]: factors at
-    /// `u = i/7`) and the coefficients of `ρ(cos Δφ)`.
-    pub struct VisibilityCorrection {
+    /// A [`VisibilityCorrection`] as the GPU reads it ([`VisibilityCorrection::to_gpu`]),
+    /// the model argument of the WGSL twins, which assume it came from a validated model
+    /// and do not re-check it. Its fields are private: safe Rust gets one only from
+    /// [`VisibilityCorrection::to_gpu`] (reinterpreting other bytes with `bytemuck` voids
+    /// that guarantee).
+    pub struct GpuVisibilityCorrection {
         /// `c_v` at knots 0 … 3.
-        pub view_low: Vec4,
+        view_low: Vec4,
         /// `c_v` at knots 4 … 7.
-        pub view_high: Vec4,
+        view_high: Vec4,
         /// `c_l` at knots 0 … 3.
-        pub light_low: Vec4,
+        light_low: Vec4,
         /// `c_l` at knots 4 … 7.
-        pub light_high: Vec4,
-        /// `(ρ₀, ρ₁, ρ₂, unused)`: `ρ(c) = ρ₀ + ρ₁ c + ρ₂ c²`, `c = cos Δφ`.
-        pub correlation: Vec4,
+        light_high: Vec4,
+        /// `(ρ₀, ρ₁, ρ₂, 0)`: `ρ(c) = ρ₀ + ρ₁ c + ρ₂ c²`, `c = cos Δφ`.
+        correlation: Vec4,
     }
 }
 
 impl VisibilityCorrection {
     /// No correction: eq. 17 (both tables the identity, `ρ = 0`).
-    pub const IDENTITY: Self = Self {
-        view_low: Vec4::ONE,
-        view_high: Vec4::ONE,
-        light_low: Vec4::ONE,
-        light_high: Vec4::ONE,
-        correlation: Vec4::ZERO,
-    };
+    pub const IDENTITY: Self =
+        Self { view: LambdaCorrection::IDENTITY, light: LambdaCorrection::IDENTITY, correlation: [0.0; 3] };
 
-    /// The model from its parts, or `None` when a table or a coefficient is invalid (see
-    /// [`VisibilityCorrection::is_valid`]).
-    pub fn new(view: LambdaCorrection, light: LambdaCorrection, correlation: [f32; 3]) -> Option<Self> {
-        let [r0, r1, r2] = correlation;
-        let model = Self {
+    /// The model from its tables and `(ρ₀, ρ₁, ρ₂)`, or the first coefficient that is NaN
+    /// or above [`MAX_CORRELATION_COEFFICIENT`] in magnitude, and why.
+    pub fn new(
+        view: LambdaCorrection,
+        light: LambdaCorrection,
+        correlation: [f32; 3],
+    ) -> Result<Self, VisibilityCorrectionError> {
+        for (index, &value) in correlation.iter().enumerate() {
+            if is_nan_bits(value) {
+                return Err(VisibilityCorrectionError::CoefficientNotANumber { index });
+            }
+            if value.abs() > MAX_CORRELATION_COEFFICIENT {
+                return Err(VisibilityCorrectionError::CoefficientTooLarge { index, value });
+            }
+        }
+        Ok(Self { view, light, correlation })
+    }
+
+    /// The view table `c_v`.
+    pub fn view(&self) -> LambdaCorrection {
+        self.view
+    }
+
+    /// The light table `c_l`.
+    pub fn light(&self) -> LambdaCorrection {
+        self.light
+    }
+
+    /// `(ρ₀, ρ₁, ρ₂)`.
+    pub fn correlation_coefficients(&self) -> [f32; 3] {
+        self.correlation
+    }
+
+    /// The model as the GPU reads it: each table as [`LambdaCorrection::to_gpu`] lays it
+    /// out, then `(ρ₀, ρ₁, ρ₂, 0)`.
+    pub fn to_gpu(&self) -> GpuVisibilityCorrection {
+        let (view, light) = (self.view.to_gpu(), self.light.to_gpu());
+        let [r0, r1, r2] = self.correlation;
+        GpuVisibilityCorrection {
             view_low: view.low,
             view_high: view.high,
             light_low: light.low,
             light_high: light.high,
             correlation: Vec4::new(r0, r1, r2, 0.0),
-        };
-        model.is_valid().then_some(model)
-    }
-
-    /// The view table `c_v`.
-    pub fn view(&self) -> LambdaCorrection {
-        LambdaCorrection { low: self.view_low, high: self.view_high }
-    }
-
-    /// The light table `c_l`.
-    pub fn light(&self) -> LambdaCorrection {
-        LambdaCorrection { low: self.light_low, high: self.light_high }
-    }
-
-    /// `(ρ₀, ρ₁, ρ₂)`.
-    pub fn correlation_coefficients(&self) -> [f32; 3] {
-        [self.correlation.x, self.correlation.y, self.correlation.z]
-    }
-
-    /// Whether both tables are valid and `|ρᵢ| ≤ MAX_CORRELATION_COEFFICIENT` (false for
-    /// NaN).
-    pub fn is_valid(&self) -> bool {
-        let coefficient = |r: f32| !is_nan_bits(r) && r.abs() <= MAX_CORRELATION_COEFFICIENT;
-        self.view().is_valid()
-            && self.light().is_valid()
-            && self.correlation_coefficients().into_iter().all(coefficient)
+        }
     }
 
     /// `ρ(cos Δφ)`, clamped to `[MIN_CORRELATION, MAX_CORRELATION]` (`cos Δφ` clamped to
-    /// `[−1, 1]`, NaN read as 0). Does not check validity.
+    /// `[−1, 1]`, NaN read as 0).
     ///
     /// WGSL twin: `smith_view_light_correlation`.
     pub fn correlation_at(&self, cos_azimuth_difference: f32) -> f32 {
         let c = if is_nan_bits(cos_azimuth_difference) { 0.0 } else { cos_azimuth_difference.clamp(-1.0, 1.0) };
-        let [r0, r1, r2] = self.correlation_coefficients();
+        let [r0, r1, r2] = self.correlation;
         (r0 + c * (r1 + c * r2)).clamp(MIN_CORRELATION, MAX_CORRELATION)
     }
 }
@@ -209,8 +272,7 @@ impl Default for VisibilityCorrection {
 }
 
 /// The corrected and correlated `Λ' = A + B − ρ min(A, B)` (see the module
-/// documentation): `None` for a negative or NaN Λ or an invalid model, `+∞` when `A` or
-/// `B` is.
+/// documentation): `None` for a negative or NaN Λ, `+∞` when `A` or `B` is.
 ///
 /// WGSL twin: `smith_correlated_lambda`.
 pub fn correlated_lambda(
@@ -219,11 +281,8 @@ pub fn correlated_lambda(
     cos_azimuth_difference: f32,
     correction: &VisibilityCorrection,
 ) -> Option<f32> {
-    if !correction.is_valid() {
-        return None;
-    }
-    let view = corrected_lambda(lambda_view, &correction.view())?;
-    let light = corrected_lambda(lambda_light, &correction.light())?;
+    let view = corrected_lambda(lambda_view, &correction.view)?;
+    let light = corrected_lambda(lambda_light, &correction.light)?;
     if is_infinite_bits(view) || is_infinite_bits(light) {
         return Some(f32::INFINITY);
     }
@@ -244,13 +303,10 @@ pub fn correlated_visible_mean_attribute(
     cos_azimuth_difference: f32,
     correction: &VisibilityCorrection,
 ) -> Option<f32> {
-    if !attribute.is_valid() {
-        return None;
-    }
     let lambda = correlated_lambda(lambda_view, lambda_light, cos_azimuth_difference, correction)?;
     // As eq. 17: 0 gives 0, ∞ gives 1, a normal Λ' keeps 2/Λ' finite.
     let visible_fraction = if is_infinite_bits(lambda) { 1.0 } else { visible_fraction_of_finite(lambda) };
-    Some(attribute.mean + attribute.height_correlation * visible_fraction)
+    Some(attribute.at(visible_fraction))
 }
 
 /// `cos Δφ` between the azimuths of `view` and `light` (their xy projections), 1 when
@@ -308,7 +364,7 @@ mod tests {
 
     #[test]
     fn identity_is_eq17_bit_for_bit() {
-        let attribute = HeightCorrelatedAttribute { mean: 0.4, height_correlation: 0.3 };
+        let attribute = HeightCorrelatedAttribute::new(0.4, 0.3).unwrap();
         let mut lambdas: std::vec::Vec<f32> = (0..300).map(|i| 1e-4 * 1.06_f32.powi(i)).collect();
         lambdas.extend([0.0, f32::MIN_POSITIVE, 1e19, 3e30, f32::MAX, f32::INFINITY]);
         for &view in &lambdas {
@@ -342,7 +398,7 @@ mod tests {
         assert_eq!(model([9.0, 0.0, 0.0]).correlation_at(0.0), MAX_CORRELATION);
         // A negative ρ sees higher points than the sum.
         let anti = model([-0.9, 0.0, 0.0]);
-        let attribute = HeightCorrelatedAttribute { mean: 0.0, height_correlation: 1.0 };
+        let attribute = HeightCorrelatedAttribute::new(0.0, 1.0).unwrap();
         let sum = correlated_visible_mean_attribute(attribute, 0.3, 0.2, -1.0, &none).unwrap();
         assert!(correlated_visible_mean_attribute(attribute, 0.3, 0.2, -1.0, &anti).unwrap() > sum);
     }
@@ -379,21 +435,12 @@ mod tests {
     #[test]
     fn special_inputs_have_defined_results() {
         let m = model([0.3, 0.9, -0.9]);
-        let attribute = HeightCorrelatedAttribute { mean: 0.5, height_correlation: -0.2 };
+        let attribute = HeightCorrelatedAttribute::new(0.5, -0.2).unwrap();
         assert_eq!(correlated_visible_mean_attribute(attribute, 0.0, 0.0, 0.0, &m), Some(0.5));
         assert_eq!(correlated_visible_mean_attribute(attribute, f32::INFINITY, 0.1, 0.0, &m), Some(0.3));
         assert_eq!(correlated_visible_mean_attribute(attribute, 0.1, f32::MAX, 0.0, &m), Some(0.3));
         assert_eq!(correlated_visible_mean_attribute(attribute, -1.0, 0.1, 0.0, &m), None);
         assert_eq!(correlated_visible_mean_attribute(attribute, 0.1, f32::NAN, 0.0, &m), None);
-        let broken = HeightCorrelatedAttribute { mean: f32::NAN, height_correlation: 0.0 };
-        assert_eq!(correlated_visible_mean_attribute(broken, 0.1, 0.1, 0.0, &m), None);
-        for bad in [f32::NAN, f32::INFINITY, 17.0] {
-            assert_eq!(VisibilityCorrection::new(m.view(), m.light(), [0.0, bad, 0.0]), None);
-            let invalid = VisibilityCorrection { correlation: Vec4::new(bad, 0.0, 0.0, 0.0), ..m };
-            assert_eq!(correlated_lambda(0.1, 0.1, 0.0, &invalid), None);
-        }
-        let bad_table = VisibilityCorrection { light_low: Vec4::splat(0.1), ..m };
-        assert_eq!(correlated_lambda(0.1, 0.1, 0.0, &bad_table), None);
         // Every accepted input gives a finite value between ā and ā + a_s.
         let extreme = VisibilityCorrection::new(
             LambdaCorrection::from_knots([4.0; 8]).unwrap(),
@@ -412,6 +459,42 @@ mod tests {
     }
 
     #[test]
+    fn invalid_coefficients_are_rejected_by_index_value_and_reason() {
+        use VisibilityCorrectionError::{CoefficientNotANumber, CoefficientTooLarge};
+        let m = model([0.3, 0.9, -0.9]);
+        for index in 0..3 {
+            let with = |value: f32| {
+                let mut rho = [0.0; 3];
+                rho[index] = value;
+                VisibilityCorrection::new(m.view(), m.light(), rho)
+            };
+            assert_eq!(with(f32::NAN), Err(CoefficientNotANumber { index }));
+            for value in [16.000_002, -16.000_002, 17.0, f32::INFINITY, f32::NEG_INFINITY, f32::MAX] {
+                assert_eq!(with(value), Err(CoefficientTooLarge { index, value }), "{value}");
+            }
+            for value in [MAX_CORRELATION_COEFFICIENT, -MAX_CORRELATION_COEFFICIENT, -1e-40, 0.0] {
+                assert_eq!(with(value).map(|model| model.correlation_coefficients()[index]), Ok(value));
+            }
+        }
+        // The first invalid coefficient is reported; the tables come through unchanged.
+        assert_eq!(
+            VisibilityCorrection::new(m.view(), m.light(), [0.0, 20.0, f32::NAN]),
+            Err(CoefficientTooLarge { index: 1, value: 20.0 })
+        );
+        assert_eq!((m.view(), m.light()), (model([0.0; 3]).view(), model([0.0; 3]).light()));
+        assert_eq!(VisibilityCorrection::default(), VisibilityCorrection::IDENTITY);
+    }
+
+    #[test]
+    fn the_gpu_form_holds_both_tables_then_the_coefficients() {
+        let m = model([0.3, 0.9, -0.9]);
+        let floats: [f32; 20] = bytemuck::cast(m.to_gpu());
+        assert_eq!(floats[..8], m.view().knots());
+        assert_eq!(floats[8..16], m.light().knots());
+        assert_eq!(floats[16..], [0.3, 0.9, -0.9, 0.0]);
+    }
+
+    #[test]
     fn azimuth_difference_of_directions() {
         let cos = |a: Vec3, b: Vec3| cos_azimuth_difference(a, b);
         assert_eq!(cos(Vec3::new(1.0, 0.0, 1.0), Vec3::new(3.0, 0.0, 0.2)), 1.0);
@@ -422,7 +505,7 @@ mod tests {
         assert_eq!(cos(Vec3::new(1e-30, 1e-30, 1.0), Vec3::new(3e30, -3e30, 1.0)).to_bits(), 0.0_f32.to_bits());
         assert_eq!(cos(Vec3::new(f32::NAN, 0.0, 1.0), Vec3::Z), 0.0);
         let slopes = SlopeDeviation::new(0.5, 0.5).unwrap();
-        let attribute = HeightCorrelatedAttribute { mean: 0.0, height_correlation: 1.0 };
+        let attribute = HeightCorrelatedAttribute::new(0.0, 1.0).unwrap();
         let below = Vec3::new(0.0, 1.0, -0.1);
         assert_eq!(
             correlated_visible_mean_attribute_for_directions(attribute, Vec3::Z, below, slopes, &model([0.0; 3])),

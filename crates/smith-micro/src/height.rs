@@ -114,10 +114,13 @@ pub fn height_visibility(lambda: f32, height: f32, height_deviation: f32) -> Opt
 }
 
 /// The attribute at height `h` under hypothesis H5bis: `a(h) = ā + a_s s(h)` with
-/// `s(h) = 2g(h) − 1`. `None` as [`height_cdf`], or when the attribute is not [valid](HeightCorrelatedAttribute::is_valid).
+/// `s(h) = 2g(h) − 1`. `None` as [`height_cdf`] (the attribute is valid by construction,
+/// [`HeightCorrelatedAttribute::new`]; the WGSL twin checks the raw `(ā, a_s)` it is given).
+///
+/// WGSL twin: `smith_attribute_at_height`.
 pub fn attribute_at_height(attribute: HeightCorrelatedAttribute, height: f32, height_deviation: f32) -> Option<f32> {
     let s = 2.0 * height_cdf(height, height_deviation)? - 1.0;
-    attribute.is_valid().then_some(attribute.mean + attribute.height_correlation * s)
+    Some(attribute.at(s))
 }
 
 #[cfg(test)]

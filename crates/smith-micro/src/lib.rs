@@ -16,7 +16,7 @@
 //!
 //! // Grooves along x: flat along x, rough along y (Fig. 5 of the paper).
 //! let slopes = SlopeDeviation::new(0.0, 0.5).unwrap();
-//! let green = HeightCorrelatedAttribute { mean: 0.5, height_correlation: 0.4 };
+//! let green = HeightCorrelatedAttribute::new(0.5, 0.4).unwrap();
 //!
 //! // Normal incidence sees the mean; grazing light across the grooves only lights the
 //! // bumps, so the visible attribute tends to ā + a_s.
@@ -57,6 +57,20 @@
 //! ≤ 2⁶⁴) so that no intermediate overflows f32: WGSL cannot represent the overflow, and
 //! the WGSL twin must compute the same result.
 //!
+//! # Validated types
+//!
+//! What a function relies on and a caller builds once is a type with private fields and
+//! validating constructors, which say why they reject an input (an error enum): the slope
+//! deviations ([`SlopeDeviation`], [`SlopeDeviationError`]), the attribute
+//! ([`HeightCorrelatedAttribute`], [`AttributeError`]) and the per-material corrections
+//! ([`LambdaCorrection`], [`VisibilityCorrection`], [`CubicLambdaCorrection`] with
+//! [`LambdaCorrectionError`], [`VisibilityCorrectionError`], [`CubicCorrectionError`],
+//! [`CubicFitError`]). No function re-checks them. Each correction has a separate `Pod`
+//! GPU form ([`GpuLambdaCorrection`], [`GpuVisibilityCorrection`],
+//! [`GpuCubicLambdaCorrection`], made by `to_gpu`) whose WGSL declaration is generated;
+//! the WGSL twins take it and do not re-check it either. The slopes and the attribute
+//! reach the WGSL twins as raw voxel data and are checked there.
+//!
 //! # Features
 //!
 //! - `std` (default): enables `std` in the dependencies. The crate is `#![no_std]` and
@@ -79,21 +93,27 @@ pub mod shading;
 #[cfg(feature = "wgsl")]
 mod wgsl;
 
-pub use attribute::{HeightCorrelatedAttribute, visible_mean_attribute, visible_mean_attribute_for_directions};
-pub use correction::{LambdaCorrection, corrected_lambda, corrected_visible_mean_attribute};
+pub use attribute::{
+    AttributeComponent, AttributeError, HeightCorrelatedAttribute, visible_mean_attribute,
+    visible_mean_attribute_for_directions,
+};
+pub use correction::{
+    GpuLambdaCorrection, LambdaCorrection, LambdaCorrectionError, corrected_lambda, corrected_visible_mean_attribute,
+};
 pub use correlated::{
-    VisibilityCorrection, correlated_lambda, correlated_visible_mean_attribute,
-    correlated_visible_mean_attribute_for_directions, cos_azimuth_difference,
+    GpuVisibilityCorrection, VisibilityCorrection, VisibilityCorrectionError, correlated_lambda,
+    correlated_visible_mean_attribute, correlated_visible_mean_attribute_for_directions, cos_azimuth_difference,
 };
 pub use cubic_correction::{
-    CUBIC_DEVIATION_BUDGET, CheckedCubicCorrection, CubicLambdaCorrection, cubic_corrected_visible_mean_attribute,
+    CUBIC_DEVIATION_BUDGET, CubicCorrectionError, CubicFitError, CubicLambdaCorrection, GpuCubicLambdaCorrection,
+    cubic_corrected_visible_mean_attribute,
 };
 pub use encoding::{NONE_BITS, encode};
 pub use erf::{erf, erfc, erfcx};
 pub use height::{attribute_at_height, height_cdf, height_visibility, log_height_cdf};
 pub use masking::{
-    SlopeDeviation, mean_visibility, nu_of_direction, projected_slope_deviation, smith_lambda, smith_lambda_direction,
-    smith_lambda_from_nu,
+    SlopeAxis, SlopeDeviation, SlopeDeviationError, mean_visibility, nu_of_direction, projected_slope_deviation,
+    smith_lambda, smith_lambda_direction, smith_lambda_from_nu,
 };
 pub use shading::{FilteredSurface, convolved_slope_deviation, gaussian_slope_ndf, shade};
 #[cfg(feature = "wgsl")]

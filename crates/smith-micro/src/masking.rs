@@ -71,38 +71,136 @@ pub const MIN_SLOPE_DEVIATION: f32 = 1.0 / 4_294_967_296.0;
 
 /// Standard deviations of the slopes of a Gaussian surface along the tangent axes x and
 /// y of its mean-normal frame (`σ_nx`, `σ_ny` of §5.2; equal for an isotropic surface).
+///
+/// Each deviation is `0` or in `[MIN_SLOPE_DEVIATION, √2 MAX_SLOPE_DEVIATION]`, never NaN:
+/// the constructors accept `[0, MAX_SLOPE_DEVIATION]` (and flush what is below
+/// [`MIN_SLOPE_DEVIATION`] to `0`), and the §5.5 convolution of two accepted deviations
+/// ([`crate::convolved_slope_deviation`]) reaches at most `√2` times the bound. Every
+/// function of the crate relies on it: with it no product overflows f32.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SlopeDeviation {
-    /// `σ_nx`, the standard deviation of `∂h/∂x`.
-    pub x: f32,
-    /// `σ_ny`, the standard deviation of `∂h/∂y`.
-    pub y: f32,
+    x: f32,
+    y: f32,
 }
 
+/// The tangent axis a [`SlopeDeviationError`] is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SlopeAxis {
+    /// `σ_nx`.
+    X,
+    /// `σ_ny`.
+    Y,
+}
+
+/// Why a [`SlopeDeviation`] constructor rejected its input. `value` is the value given: a
+/// deviation, or a variance for [`SlopeDeviation::from_variances`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SlopeDeviationError {
+    /// The value is NaN.
+    NotANumber {
+        /// The axis.
+        axis: SlopeAxis,
+    },
+    /// The value is negative (`−∞` included; `−0.0` is accepted, as `0`).
+    Negative {
+        /// The axis.
+        axis: SlopeAxis,
+        /// The value given.
+        value: f32,
+    },
+    /// The deviation is above [`MAX_SLOPE_DEVIATION`] (`+∞` included).
+    TooLarge {
+        /// The axis.
+        axis: SlopeAxis,
+        /// The value given.
+        value: f32,
+    },
+}
+
+impl core::fmt::Display for SlopeDeviationError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let name = |axis: &SlopeAxis| match axis {
+            SlopeAxis::X => "x",
+            SlopeAxis::Y => "y",
+        };
+        match self {
+            SlopeDeviationError::NotANumber { axis } => write!(f, "the slope deviation along {} is NaN", name(axis)),
+            SlopeDeviationError::Negative { axis, value } => {
+                write!(f, "the slope deviation along {} is negative ({value})", name(axis))
+            }
+            SlopeDeviationError::TooLarge { axis, value } => {
+                write!(f, "the slope deviation along {} ({value}) is above {MAX_SLOPE_DEVIATION}", name(axis))
+            }
+        }
+    }
+}
+
+impl core::error::Error for SlopeDeviationError {}
+
 impl SlopeDeviation {
-    /// The deviations `(σ_nx, σ_ny)`, or `None` unless both are in
-    /// `[0, MAX_SLOPE_DEVIATION]`. Values below [`MIN_SLOPE_DEVIATION`] become `0`.
+    /// The deviations `(σ_nx, σ_ny)`, or why not: NaN, negative or above
+    /// [`MAX_SLOPE_DEVIATION`] (`x` is checked first). Values below
+    /// [`MIN_SLOPE_DEVIATION`] become `0`.
     ///
     /// WGSL twin: `smith_slope_deviation`.
-    pub fn new(x: f32, y: f32) -> Option<Self> {
-        let valid = |s: f32| !is_nan_bits(s) && (0.0..=MAX_SLOPE_DEVIATION).contains(&s);
-        let flat_below_minimum = |s: f32| if s < MIN_SLOPE_DEVIATION { 0.0 } else { s };
-        (valid(x) && valid(y)).then(|| Self { x: flat_below_minimum(x), y: flat_below_minimum(y) })
+    pub fn new(x: f32, y: f32) -> Result<Self, SlopeDeviationError> {
+        let check = |axis: SlopeAxis, s: f32| {
+            if is_nan_bits(s) {
+                Err(SlopeDeviationError::NotANumber { axis })
+            } else if s < 0.0 {
+                Err(SlopeDeviationError::Negative { axis, value: s })
+            } else if s > MAX_SLOPE_DEVIATION {
+                Err(SlopeDeviationError::TooLarge { axis, value: s })
+            } else {
+                Ok(if s < MIN_SLOPE_DEVIATION { 0.0 } else { s })
+            }
+        };
+        Ok(Self { x: check(SlopeAxis::X, x)?, y: check(SlopeAxis::Y, y)? })
     }
 
-    /// An isotropic surface, `σ_nx = σ_ny = sigma` (see [`Self::new`]).
-    pub fn isotropic(sigma: f32) -> Option<Self> {
+    /// An isotropic surface, `σ_nx = σ_ny = sigma` (see [`Self::new`]; an error names
+    /// the x axis).
+    pub fn isotropic(sigma: f32) -> Result<Self, SlopeDeviationError> {
         Self::new(sigma, sigma)
     }
 
     /// Deviations built from slope variances `(σ_nx², σ_ny²)`, the quantities a voxel
-    /// stores and interpolates (§5.2).
-    pub fn from_variances(x: f32, y: f32) -> Option<Self> {
-        let valid = |v: f32| is_finite_bits(v) && v >= 0.0;
-        if !(valid(x) && valid(y)) {
-            return None;
-        }
-        Self::new(libm::sqrtf(flush_subnormal(x)), libm::sqrtf(flush_subnormal(y)))
+    /// stores and interpolates (§5.2), or why not: a variance NaN, negative, or whose
+    /// square root is above [`MAX_SLOPE_DEVIATION`] (`+∞` included; the error holds the
+    /// variance).
+    pub fn from_variances(x: f32, y: f32) -> Result<Self, SlopeDeviationError> {
+        let deviation = |axis: SlopeAxis, variance: f32| {
+            if is_nan_bits(variance) {
+                return Err(SlopeDeviationError::NotANumber { axis });
+            }
+            if variance < 0.0 {
+                return Err(SlopeDeviationError::Negative { axis, value: variance });
+            }
+            let deviation = libm::sqrtf(flush_subnormal(variance));
+            if is_infinite_bits(variance) || deviation > MAX_SLOPE_DEVIATION {
+                return Err(SlopeDeviationError::TooLarge { axis, value: variance });
+            }
+            Ok(deviation)
+        };
+        let (x, y) = (deviation(SlopeAxis::X, x)?, deviation(SlopeAxis::Y, y)?);
+        Self::new(x, y)
+    }
+
+    /// `σ_nx`, the standard deviation of `∂h/∂x`.
+    pub fn x(&self) -> f32 {
+        self.x
+    }
+
+    /// `σ_ny`, the standard deviation of `∂h/∂y`.
+    pub fn y(&self) -> f32 {
+        self.y
+    }
+
+    /// The per-axis convolution of §5.5 (see [`crate::convolved_slope_deviation`]):
+    /// deviations that are `0` or at least [`MIN_SLOPE_DEVIATION`] and at most `√2` times
+    /// [`MAX_SLOPE_DEVIATION`] when both inputs were accepted.
+    pub(crate) fn convolved(x: f32, y: f32) -> Self {
+        Self { x, y }
     }
 }
 
@@ -162,7 +260,7 @@ fn continued_fraction_tail(nu: f32) -> f32 {
 ///
 /// WGSL twin: `smith_lambda_isotropic`.
 pub fn smith_lambda(mu: f32, sigma: f32) -> Option<f32> {
-    let sigma = SlopeDeviation::isotropic(sigma)?.x;
+    let sigma = SlopeDeviation::isotropic(sigma).ok()?.x;
     if is_nan_bits(mu) {
         return None;
     }
@@ -379,17 +477,45 @@ mod tests {
         let grooves = SlopeDeviation::new(0.0, 0.5).unwrap();
         assert_eq!(smith_lambda_direction(Vec3::new(1.0, 0.0, 0.1), grooves), Some(0.0));
         assert!(smith_lambda_direction(Vec3::new(0.0, 1.0, 0.1), grooves).unwrap() > 1.0);
-        assert_eq!(SlopeDeviation::new(-1.0, 0.0), None);
-        assert_eq!(SlopeDeviation::new(f32::INFINITY, 0.0), None);
-        assert_eq!(SlopeDeviation::new(f32::NAN, 0.0), None);
+        assert_eq!(
+            SlopeDeviation::new(-1.0, 0.0),
+            Err(SlopeDeviationError::Negative { axis: SlopeAxis::X, value: -1.0 })
+        );
+        assert_eq!(
+            SlopeDeviation::new(0.0, f32::INFINITY),
+            Err(SlopeDeviationError::TooLarge { axis: SlopeAxis::Y, value: f32::INFINITY })
+        );
+        assert_eq!(SlopeDeviation::new(f32::NAN, 0.0), Err(SlopeDeviationError::NotANumber { axis: SlopeAxis::X }));
+        assert_eq!(SlopeDeviation::new(-0.0, 0.5).map(|s| s.x().to_bits()), Ok(0.0_f32.to_bits()));
         assert_eq!(smith_lambda(f32::INFINITY, 0.3), Some(0.0));
         assert_eq!(smith_lambda(0.0, 0.3), Some(f32::INFINITY));
         assert_eq!(smith_lambda(0.0, 0.0), Some(0.0));
         assert_eq!(smith_lambda(-1.0, 0.3), None);
         assert_eq!(smith_lambda(1.0, f32::INFINITY), None);
         assert_eq!(smith_lambda(f32::MAX, 1e-9), Some(0.0));
-        assert_eq!(SlopeDeviation::new(1e-10, 5e9), None);
-        assert_eq!(SlopeDeviation::new(1e-10, 1.0), Some(SlopeDeviation { x: 0.0, y: 1.0 }));
+        assert_eq!(
+            SlopeDeviation::new(1e-10, 5e9),
+            Err(SlopeDeviationError::TooLarge { axis: SlopeAxis::Y, value: 5e9 })
+        );
+        assert_eq!(SlopeDeviation::new(1e-10, 1.0), Ok(SlopeDeviation { x: 0.0, y: 1.0 }));
+        // Variances: the error holds the variance given.
+        assert_eq!(SlopeDeviation::from_variances(0.25, 0.0), SlopeDeviation::new(0.5, 0.0));
+        assert_eq!(
+            SlopeDeviation::from_variances(0.25, -1e-3),
+            Err(SlopeDeviationError::Negative { axis: SlopeAxis::Y, value: -1e-3 })
+        );
+        assert_eq!(
+            SlopeDeviation::from_variances(1e30, 0.0),
+            Err(SlopeDeviationError::TooLarge { axis: SlopeAxis::X, value: 1e30 })
+        );
+        assert_eq!(
+            SlopeDeviation::from_variances(f32::INFINITY, 0.0),
+            Err(SlopeDeviationError::TooLarge { axis: SlopeAxis::X, value: f32::INFINITY })
+        );
+        assert_eq!(
+            SlopeDeviation::from_variances(0.0, f32::NAN),
+            Err(SlopeDeviationError::NotANumber { axis: SlopeAxis::Y })
+        );
         assert_eq!(smith_lambda_from_nu(f32::INFINITY), Some(0.0));
         assert_eq!(smith_lambda_from_nu(f32::from_bits(1)), Some(f32::INFINITY));
         assert!(smith_lambda_from_nu(2e-38).unwrap().is_finite());

@@ -22,7 +22,11 @@
 //! | convolved `σ_x` or `σ_y` = 0 | `None`: the lobe is a Dirac |
 //! | `2π σ_x σ_y m_z⁴` below `2⁻¹²⁶` | `None` (numerically a Dirac) |
 //! | the radiance overflows f32 | `None` |
-//! | `Ē` negative, NaN or above `2⁶⁴`, invalid attribute | `None` |
+//! | `Ē` negative, NaN or above `2⁶⁴` | `None` |
+//!
+//! The slopes and the attribute are valid by construction ([`SlopeDeviation::new`],
+//! [`HeightCorrelatedAttribute::new`]); the WGSL twin takes them raw and returns `None`
+//! where those constructors return an error.
 
 use glam::Vec3;
 
@@ -34,11 +38,12 @@ pub const MAX_LIGHT_RADIANCE: f32 = 18_446_744_073_709_551_616.0;
 use crate::masking::{SlopeDeviation, canonical_direction, mean_visibility, smith_lambda_direction};
 
 /// The slopes of the surface's NDF convolved with the BRDF's microfacet slopes (§5.5):
-/// `√(σ_n² + σ_np²)` per axis.
+/// `√(σ_n² + σ_np²)` per axis: at most `√2` [`MAX_SLOPE_DEVIATION`](crate::masking::MAX_SLOPE_DEVIATION),
+/// which [`SlopeDeviation`]'s invariant allows.
 ///
 /// WGSL twin: `smith_convolved_slope_deviation`.
 pub fn convolved_slope_deviation(surface: SlopeDeviation, brdf: SlopeDeviation) -> SlopeDeviation {
-    SlopeDeviation { x: scaled_hypot(surface.x, brdf.x), y: scaled_hypot(surface.y, brdf.y) }
+    SlopeDeviation::convolved(scaled_hypot(surface.x(), brdf.x()), scaled_hypot(surface.y(), brdf.y()))
 }
 
 /// `√(a² + b²)` for `a, b ≥ 0`, as `m √(1 + (n/m)²)` with `m = max`, `n = min` (the
@@ -71,7 +76,8 @@ fn checked_div(a: f32, b: f32) -> Option<f32> {
 /// WGSL twin: `smith_gaussian_slope_ndf`.
 pub fn gaussian_slope_ndf(normal: Vec3, slopes: SlopeDeviation) -> Option<f32> {
     let m = canonical_direction(normal)?;
-    if slopes.x == 0.0 || slopes.y == 0.0 {
+    let (sigma_x, sigma_y) = (slopes.x(), slopes.y());
+    if sigma_x == 0.0 || sigma_y == 0.0 {
         return None;
     }
     if m.z <= 0.0 {
@@ -80,7 +86,7 @@ pub fn gaussian_slope_ndf(normal: Vec3, slopes: SlopeDeviation) -> Option<f32> {
     let m = (m / m.length()).map(flush_subnormal);
     // q / m_z² is the exponent s_x²/2σ_x² + s_y²/2σ_y²; |m_x/σ_x| ≤ 2³² so q is finite,
     // and comparing q with 104 m_z² avoids dividing by a tiny m_z².
-    let (x, y) = (m.x / slopes.x, m.y / slopes.y);
+    let (x, y) = (m.x / sigma_x, m.y / sigma_y);
     let q = 0.5 * (x * x + y * y);
     let z_squared = flush_subnormal(m.z * m.z);
     if q >= EXP_ZERO_FROM * z_squared {
@@ -88,7 +94,7 @@ pub fn gaussian_slope_ndf(normal: Vec3, slopes: SlopeDeviation) -> Option<f32> {
     }
     let gaussian = flush_subnormal(libm::expf(-(q / z_squared)));
     let denominator =
-        flush_subnormal(core::f32::consts::TAU * slopes.x * slopes.y * flush_subnormal(z_squared * z_squared));
+        flush_subnormal(core::f32::consts::TAU * sigma_x * sigma_y * flush_subnormal(z_squared * z_squared));
     if denominator == 0.0 {
         return None;
     }
@@ -96,7 +102,9 @@ pub fn gaussian_slope_ndf(normal: Vec3, slopes: SlopeDeviation) -> Option<f32> {
     Some(flush_subnormal(gaussian / denominator))
 }
 
-/// The statistics of a pre-filtered surface element that eq. 13 needs.
+/// The statistics of a pre-filtered surface element that eq. 13 needs. Its fields are
+/// public: it has no invariant of its own, each field's type guarantees its validity
+/// ([`SlopeDeviation`], [`HeightCorrelatedAttribute`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FilteredSurface {
     /// `σ_nx, σ_ny`: the slopes of the filtered surface (masking, eq. 6, and the NDF).
@@ -167,7 +175,14 @@ mod tests {
     fn convolution_adds_variances() {
         let c =
             convolved_slope_deviation(SlopeDeviation::new(0.3, 0.0).unwrap(), SlopeDeviation::new(0.4, 0.2).unwrap());
-        assert!((c.x - 0.5).abs() < 1e-7 && (c.y - 0.2).abs() < 1e-7);
+        assert!((c.x() - 0.5).abs() < 1e-7 && (c.y() - 0.2).abs() < 1e-7);
+        // The largest accepted deviations convolve to √2 times the bound, finite, and the
+        // NDF and Λ stay finite on them.
+        let steep = SlopeDeviation::isotropic(crate::masking::MAX_SLOPE_DEVIATION).unwrap();
+        let widest = convolved_slope_deviation(steep, steep);
+        assert!((widest.x() / crate::masking::MAX_SLOPE_DEVIATION - core::f32::consts::SQRT_2).abs() < 1e-6);
+        assert!(gaussian_slope_ndf(Vec3::new(0.3, 0.2, 1.0), widest).is_some_and(|d| d.is_finite() && d > 0.0));
+        assert!(smith_lambda_direction(Vec3::new(1.0, 0.0, 1.0), widest).is_some_and(f32::is_finite));
     }
 
     #[test]
@@ -175,7 +190,7 @@ mod tests {
         let surface = FilteredSurface {
             slopes: SlopeDeviation::new(0.2, 0.4).unwrap(),
             brdf_slopes: SlopeDeviation::isotropic(0.1).unwrap(),
-            attribute: HeightCorrelatedAttribute { mean: 0.6, height_correlation: 0.2 },
+            attribute: HeightCorrelatedAttribute::new(0.6, 0.2).unwrap(),
         };
         let normal_incidence = shade(Vec3::Z, Vec3::Z, surface, 1.0).unwrap();
         // At v = l = n: D(n) / 4 · ā with Λ = 0.

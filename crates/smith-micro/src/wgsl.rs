@@ -1,5 +1,6 @@
 //! The crate's WGSL twin (feature `wgsl`): the generated declarations of the structs and
-//! constants below (approximation coefficients, thresholds, float bit masks) and the
+//! constants below (the GPU forms of the validated corrections, approximation
+//! coefficients, thresholds, float bit masks) and the
 //! functions of `wgsl/smith_micro.wgsl`, each the twin of the Rust function named in its
 //! comment, with the same formulas in the same order.
 
@@ -8,10 +9,10 @@ use gpu_layout::{StructDecl, WgslModule, gpu_const};
 
 use crate::attribute::MAX_ATTRIBUTE_MAGNITUDE;
 use crate::correction::{
-    CORRECTION_KNOTS, LambdaCorrection, MAX_CORRECTED_LAMBDA, MAX_CORRECTION_FACTOR, MIN_CORRECTION_FACTOR,
+    CORRECTION_KNOTS, GpuLambdaCorrection, MAX_CORRECTED_LAMBDA, MAX_CORRECTION_FACTOR, MIN_CORRECTION_FACTOR,
 };
-use crate::correlated::{MAX_CORRELATION, MAX_CORRELATION_COEFFICIENT, MIN_CORRELATION, VisibilityCorrection};
-use crate::cubic_correction::CubicLambdaCorrection;
+use crate::correlated::{GpuVisibilityCorrection, MAX_CORRELATION, MAX_CORRELATION_COEFFICIENT, MIN_CORRELATION};
+use crate::cubic_correction::GpuCubicLambdaCorrection;
 use crate::encoding::NONE_BITS;
 use crate::erf::{ERF_SERIES_LIMIT, ERFC_COEFFICIENTS, ERFC_ZERO_FROM, EXP_ZERO_FROM};
 use crate::height::{LOG_ONE_MINUS_SERIES_LIMIT, MAX_HEIGHT_DEVIATION, STANDARDIZED_HEIGHT_LIMIT};
@@ -35,9 +36,9 @@ pub const WGSL: WgslModule = WgslModule {
     ),
     dependencies: &[],
     structs: &[
-        StructDecl::of::<LambdaCorrection>(),
-        StructDecl::of::<VisibilityCorrection>(),
-        StructDecl::of::<CubicLambdaCorrection>(),
+        StructDecl::of::<GpuLambdaCorrection>(),
+        StructDecl::of::<GpuVisibilityCorrection>(),
+        StructDecl::of::<GpuCubicLambdaCorrection>(),
     ],
     constants: &[
         gpu_const!(ABS_MASK: u32 as "SMITH_ABS_MASK"),
@@ -87,8 +88,8 @@ mod tests {
 
     #[test]
     fn structs_have_the_expected_sizes() {
-        assert_eq!(size_of::<LambdaCorrection>(), 32);
-        assert_eq!(size_of::<VisibilityCorrection>(), 80);
-        assert_eq!(size_of::<CubicLambdaCorrection>(), 16);
+        assert_eq!(size_of::<GpuLambdaCorrection>(), 32);
+        assert_eq!(size_of::<GpuVisibilityCorrection>(), 80);
+        assert_eq!(size_of::<GpuCubicLambdaCorrection>(), 16);
     }
 }

@@ -25,7 +25,7 @@ proptest! {
     #[test]
     fn lambda_is_nonnegative_and_never_nan(x in any_value(), y in any_value(), z in any_value(),
                                            sx in any_value(), sy in any_value()) {
-        let lambda = SlopeDeviation::new(sx, sy).and_then(|slopes| smith_lambda_direction(Vec3::new(x, y, z), slopes));
+        let lambda = SlopeDeviation::new(sx, sy).ok().and_then(|slopes| smith_lambda_direction(Vec3::new(x, y, z), slopes));
         if let Some(lambda) = lambda {
             prop_assert!(lambda >= 0.0, "Λ = {lambda}");
         }
@@ -75,7 +75,7 @@ proptest! {
     #[test]
     fn visible_attribute_lies_between_the_mean_and_the_top(mean in -10.0_f32..10.0, correlation in -10.0_f32..10.0,
                                                           lv in any_value(), ll in any_value()) {
-        let attribute = HeightCorrelatedAttribute { mean, height_correlation: correlation };
+        let attribute = HeightCorrelatedAttribute::new(mean, correlation).unwrap();
         if let Some(a) = visible_mean_attribute(attribute, lv, ll) {
             let (low, high) = if correlation >= 0.0 { (mean, mean + correlation) } else { (mean + correlation, mean) };
             prop_assert!(a.is_finite());
@@ -96,7 +96,7 @@ proptest! {
 
     #[test]
     fn visible_attribute_moves_towards_the_top_as_masking_grows(l1 in 0.0_f32..1e6, l2 in 0.0_f32..1e6) {
-        let attribute = HeightCorrelatedAttribute { mean: 0.2, height_correlation: 0.5 };
+        let attribute = HeightCorrelatedAttribute::new(0.2, 0.5).unwrap();
         let (low, high) = if l1 <= l2 { (l1, l2) } else { (l2, l1) };
         prop_assert!(visible_mean_attribute(attribute, low, 0.0).unwrap() <= visible_mean_attribute(attribute, high, 0.0).unwrap());
     }
@@ -109,8 +109,8 @@ proptest! {
         let slopes = SlopeDeviation::new(sx, sy);
         let brdf_slopes = SlopeDeviation::isotropic(p);
         // ā ≥ |a_s|: the attribute is non-negative at every height.
-        let attribute = HeightCorrelatedAttribute { mean, height_correlation: mean * fraction };
-        if let (Some(slopes), Some(brdf_slopes)) = (slopes, brdf_slopes) {
+        let attribute = HeightCorrelatedAttribute::new(mean, mean * fraction).unwrap();
+        if let (Ok(slopes), Ok(brdf_slopes)) = (slopes, brdf_slopes) {
             let view = Vec3::new(vx, vy, vz);
             if let Some(d) = gaussian_slope_ndf(view, slopes) {
                 prop_assert!(d.is_finite() && d >= 0.0, "D = {d}");

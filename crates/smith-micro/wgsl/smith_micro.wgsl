@@ -1,9 +1,14 @@
 // WGSL twin of crates/smith-micro: Smith masking of Gaussian microsurfaces and the mean
-// visible correlated_attribute (Heitz & Neyret 2012, eqs. 4-6, 13, 17, §5.5).
+// visible attribute (Heitz & Neyret 2012, eqs. 4-6, 13, 17, §5.5).
 //
-// Composed after generated/smith_micro.wgsl, which declares the correction structs and
-// the SMITH_* constants (approximation coefficients, thresholds, float bit masks) from the
-// Rust source (src/wgsl.rs lists them). Every function mirrors the Rust function named in its comment, with
+// Composed after generated/smith_micro.wgsl, which declares the GPU forms of the
+// corrections (GpuLambdaCorrection, GpuVisibilityCorrection, GpuCubicLambdaCorrection)
+// and the SMITH_* constants (approximation coefficients, thresholds, float bit masks) from
+// the Rust source (src/wgsl.rs lists them). A correction argument must come from the
+// validated Rust type's to_gpu (LambdaCorrection, VisibilityCorrection,
+// CubicLambdaCorrection check their knots and coefficients once per material): the
+// functions here do not re-check it. Slopes and attributes arrive as raw voxel data and
+// are checked on every call, as the Rust constructors check them. Every function mirrors the Rust function named in its comment, with
 // the same formulas in the same order, and is proven equal to it by
 // tests/smith_micro_gpu.rs.
 //
@@ -35,7 +40,7 @@ fn smith_positive_infinity() -> SmithValue {
     return SmithValue(0.0, SMITH_POSITIVE_INFINITY);
 }
 
-// Rust: gpu::encode.
+// Rust: encoding::encode.
 fn smith_encode(v: SmithValue) -> u32 {
     switch v.kind {
         case 0u: { return bitcast<u32>(v.value); }
@@ -190,7 +195,8 @@ fn smith_lambda_from_nu(nu_in: f32) -> SmithValue {
     return smith_finite(smith_flush_subnormal(half_gaussian * f));
 }
 
-// Rust: masking::SlopeDeviation::new. Returns (σx, σy, valid, 0).
+// Rust: masking::SlopeDeviation::new. Returns (σx, σy, valid): valid 0 where it returns
+// an error.
 fn smith_slope_deviation(x: f32, y: f32) -> vec3<f32> {
     let valid_x = !smith_is_nan(x) && smith_is_finite(x) && x >= 0.0 && x <= SMITH_MAX_SLOPE_DEVIATION;
     let valid_y = !smith_is_nan(y) && smith_is_finite(y) && y >= 0.0 && y <= SMITH_MAX_SLOPE_DEVIATION;
@@ -400,7 +406,8 @@ fn smith_height_visibility(lambda_in: SmithValue, height: f32, deviation: f32) -
     return smith_finite(smith_flush_subnormal(exp(-(lambda.value * magnitude))));
 }
 
-// Rust: correlated_attribute::HeightCorrelatedAttribute::is_valid.
+// Rust: the check of attribute::HeightCorrelatedAttribute::new (None where it returns an
+// error): (ā, a_s) come raw from voxel data.
 fn smith_attribute_is_valid(correlated_attribute: vec2<f32>) -> bool {
     return !smith_is_nan(correlated_attribute.x) && smith_is_finite(correlated_attribute.x) && abs(correlated_attribute.x) <= SMITH_MAX_ATTRIBUTE_MAGNITUDE
         && !smith_is_nan(correlated_attribute.y) && smith_is_finite(correlated_attribute.y) && abs(correlated_attribute.y) <= SMITH_MAX_ATTRIBUTE_MAGNITUDE;
@@ -430,7 +437,7 @@ fn smith_lambda_is_valid(lambda: SmithValue) -> bool {
     return lambda.kind == SMITH_POSITIVE_INFINITY || (lambda.kind == SMITH_FINITE && lambda.value >= 0.0);
 }
 
-// Rust: correlated_attribute::visible_mean_attribute (eq. 17). `correlated_attribute` = (ā, a_s).
+// Rust: attribute::visible_mean_attribute (eq. 17). `correlated_attribute` = (ā, a_s).
 fn smith_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue) -> SmithValue {
     if !(smith_lambda_is_valid(lambda_view) && smith_lambda_is_valid(lambda_light) && smith_attribute_is_valid(correlated_attribute)) {
         return smith_none();
@@ -443,7 +450,7 @@ fn smith_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: Sm
     return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
 }
 
-// Rust: correlated_attribute::visible_mean_attribute_for_directions.
+// Rust: attribute::visible_mean_attribute_for_directions.
 fn smith_visible_mean_attribute_for_directions(correlated_attribute: vec2<f32>, view: vec3<f32>, light: vec3<f32>, slopes: vec3<f32>) -> SmithValue {
     let lambda_view = smith_lambda_direction(view, slopes);
     let lambda_light = smith_lambda_direction(light, slopes);
@@ -453,20 +460,14 @@ fn smith_visible_mean_attribute_for_directions(correlated_attribute: vec2<f32>, 
     return smith_visible_mean_attribute(correlated_attribute, lambda_view, lambda_light);
 }
 
-// A per-material correction of Λ (Rust: correction::LambdaCorrection), declared in
-// shaders/generated/smith_micro.wgsl: factors at u = i/7, knots 0-3 in `low`, 4-7 in
-// `high`.
+// A per-material correction of Λ (Rust: correction::LambdaCorrection), as
+// GpuLambdaCorrection (declared in generated/smith_micro.wgsl): factors at u = i/7, knots
+// 0-3 in `low`, 4-7 in `high`. It must come from LambdaCorrection::to_gpu: every knot is
+// in [SMITH_MIN_CORRECTION_FACTOR, SMITH_MAX_CORRECTION_FACTOR], and nothing here checks it.
 
-// Rust: correction::LambdaCorrection::is_valid: every knot equals itself clamped to the
-// range (a NaN knot equals nothing, an infinite one is moved by the clamp).
-fn smith_correction_is_valid(correction: LambdaCorrection) -> bool {
-    let low = vec4<f32>(SMITH_MIN_CORRECTION_FACTOR);
-    let high = vec4<f32>(SMITH_MAX_CORRECTION_FACTOR);
-    return all((clamp(correction.low, low, high) == correction.low) & (clamp(correction.high, low, high) == correction.high));
-}
-
-// Rust: correction::LambdaCorrection::factor, for u in [0, 1].
-fn smith_correction_factor(correction: LambdaCorrection, u: f32) -> f32 {
+// Rust: correction::LambdaCorrection::factor, for u in [0, 1]. `correction` from
+// LambdaCorrection::to_gpu.
+fn smith_correction_factor(correction: GpuLambdaCorrection, u: f32) -> f32 {
     let knots = array<f32, 8>(
         correction.low.x, correction.low.y, correction.low.z, correction.low.w,
         correction.high.x, correction.high.y, correction.high.z, correction.high.w,
@@ -477,14 +478,6 @@ fn smith_correction_factor(correction: LambdaCorrection, u: f32) -> f32 {
     let k0 = knots[index];
     let k1 = knots[index + 1u];
     return k0 + fraction * (k1 - k0);
-}
-
-// Rust: correction::corrected_lambda.
-fn smith_corrected_lambda(lambda: SmithValue, correction: LambdaCorrection) -> SmithValue {
-    if !smith_correction_is_valid(correction) {
-        return smith_none();
-    }
-    return smith_corrected_lambda_of_valid_table(lambda, correction);
 }
 
 // The flushed sum Λ(v) + Λ(l) that the corrections of the sum scale, or -1 where the
@@ -499,9 +492,9 @@ fn smith_sum_to_correct(lambda_view: SmithValue, lambda_light: SmithValue) -> f3
     return select(lambda, -1.0, lambda > SMITH_MAX_CORRECTED_LAMBDA);
 }
 
-// Rust: correction::corrected_lambda, for a table that smith_correction_is_valid accepts
-// (the callers check it once).
-fn smith_corrected_lambda_of_valid_table(lambda: SmithValue, correction: LambdaCorrection) -> SmithValue {
+// Rust: correction::corrected_lambda. `correction` from LambdaCorrection::to_gpu (not
+// re-checked).
+fn smith_corrected_lambda(lambda: SmithValue, correction: GpuLambdaCorrection) -> SmithValue {
     if !smith_lambda_is_valid(lambda) {
         return smith_none();
     }
@@ -514,18 +507,9 @@ fn smith_corrected_lambda_of_valid_table(lambda: SmithValue, correction: LambdaC
 }
 
 // Rust: correction::corrected_visible_mean_attribute (eq. 17 with Λ' = c(u) Λ on the sum
-// Λ = Λ(v) + Λ(l)).
-fn smith_corrected_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, correction: LambdaCorrection) -> SmithValue {
-    if !smith_correction_is_valid(correction) {
-        return smith_none();
-    }
-    return smith_corrected_visible_mean_attribute_of_valid_table(correlated_attribute, lambda_view, lambda_light, correction);
-}
-
-// Rust: correction::corrected_visible_mean_attribute, for a table that
-// smith_correction_is_valid accepts (a renderer checks a material's table once): eq. 17's
-// code with the table lookup on the finite sum, which is all it adds.
-fn smith_corrected_visible_mean_attribute_of_valid_table(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, correction: LambdaCorrection) -> SmithValue {
+// Λ = Λ(v) + Λ(l)): eq. 17's code with the table lookup on the finite sum, which is all it
+// adds. `correction` from LambdaCorrection::to_gpu (not re-checked); the attribute is.
+fn smith_corrected_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, correction: GpuLambdaCorrection) -> SmithValue {
     if !(smith_lambda_is_valid(lambda_view) && smith_lambda_is_valid(lambda_light) && smith_attribute_is_valid(correlated_attribute)) {
         return smith_none();
     }
@@ -538,18 +522,22 @@ fn smith_corrected_visible_mean_attribute_of_valid_table(correlated_attribute: v
     return smith_finite(correlated_attribute.x + correlated_attribute.y * visible_fraction);
 }
 
-// The correction of Λ as a cubic (Rust: cubic_correction, CubicLambdaCorrection declared
-// in shaders/generated/smith_micro.wgsl): Λ' = c(u) Λ, c(u) = c0 + u (c1 + u (c2 + u c3)).
+// The correction of Λ as a cubic (Rust: cubic_correction::CubicLambdaCorrection), as
+// GpuCubicLambdaCorrection (declared in generated/smith_micro.wgsl):
+// Λ' = c(u) Λ, c(u) = c0 + u (c1 + u (c2 + u c3)). It must come from
+// CubicLambdaCorrection::to_gpu: c stays in [SMITH_MIN_CORRECTION_FACTOR,
+// SMITH_MAX_CORRECTION_FACTOR] on [0, 1], and nothing here checks it.
 
-// Rust: cubic_correction::CubicLambdaCorrection::factor.
-fn smith_cubic_correction_factor(correction: CubicLambdaCorrection, u: f32) -> f32 {
+// Rust: cubic_correction::CubicLambdaCorrection::factor. `correction` from
+// CubicLambdaCorrection::to_gpu.
+fn smith_cubic_correction_factor(correction: GpuCubicLambdaCorrection, u: f32) -> f32 {
     let c = correction.coefficients;
     return c.x + u * (c.y + u * (c.z + u * c.w));
 }
 
-// Rust: cubic_correction::cubic_corrected_visible_mean_attribute, for a correction that
-// CubicLambdaCorrection::is_valid accepted (checked once per material, on the CPU).
-fn smith_corrected_visible_mean_attribute_of_valid_cubic(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, correction: CubicLambdaCorrection) -> SmithValue {
+// Rust: cubic_correction::cubic_corrected_visible_mean_attribute. `correction` from
+// CubicLambdaCorrection::to_gpu (not re-checked); the attribute is.
+fn smith_cubic_corrected_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, correction: GpuCubicLambdaCorrection) -> SmithValue {
     if !(smith_lambda_is_valid(lambda_view) && smith_lambda_is_valid(lambda_light) && smith_attribute_is_valid(correlated_attribute)) {
         return smith_none();
     }
@@ -563,20 +551,14 @@ fn smith_corrected_visible_mean_attribute_of_valid_cubic(correlated_attribute: v
 }
 
 // The corrected visibility model with a light-view correlation term (Rust:
-// correlated::VisibilityCorrection, declared in shaders/generated/smith_micro.wgsl):
-// Λ' = A + B − ρ(cos Δφ) min(A, B), A = c_v Λ(v), B = c_l Λ(l).
-
-// Rust: correlated::VisibilityCorrection::is_valid.
-fn smith_visibility_correction_is_valid(model: VisibilityCorrection) -> bool {
-    // A NaN or infinite coefficient fails the bound.
-    return all(abs(model.correlation.xyz) <= vec3<f32>(SMITH_MAX_CORRELATION_COEFFICIENT))
-        && smith_correction_is_valid(LambdaCorrection(model.view_low, model.view_high))
-        && smith_correction_is_valid(LambdaCorrection(model.light_low, model.light_high));
-}
+// correlated::VisibilityCorrection), as GpuVisibilityCorrection (declared in
+// generated/smith_micro.wgsl): Λ' = A + B − ρ(cos Δφ) min(A, B), A = c_v Λ(v),
+// B = c_l Λ(l). It must come from VisibilityCorrection::to_gpu: both tables valid and
+// |ρᵢ| ≤ SMITH_MAX_CORRELATION_COEFFICIENT, and nothing here checks it.
 
 // Rust: correlated::VisibilityCorrection::correlation_at (cos Δφ as a SmithValue: None
-// reads as 0, ±∞ as ±1).
-fn smith_view_light_correlation(model: VisibilityCorrection, cos_difference: SmithValue) -> f32 {
+// reads as 0, ±∞ as ±1). `model` from VisibilityCorrection::to_gpu.
+fn smith_view_light_correlation(model: GpuVisibilityCorrection, cos_difference: SmithValue) -> f32 {
     var c = 0.0;
     if cos_difference.kind == SMITH_FINITE {
         c = clamp(cos_difference.value, -1.0, 1.0);
@@ -589,20 +571,11 @@ fn smith_view_light_correlation(model: VisibilityCorrection, cos_difference: Smi
     return clamp(r.x + c * (r.y + c * r.z), SMITH_MIN_CORRELATION, SMITH_MAX_CORRELATION);
 }
 
-// Rust: correlated::correlated_lambda.
-fn smith_correlated_lambda(lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
-    if !smith_visibility_correction_is_valid(model) {
-        return smith_none();
-    }
-    return smith_correlated_lambda_of_valid_model(lambda_view, lambda_light, cos_difference, model);
-}
-
-// Rust: correlated::correlated_lambda, for a model that
-// smith_visibility_correction_is_valid accepts (as Rust's VisibilityCorrection::new
-// guarantees): a renderer can check a material's model once and skip the check per call.
-fn smith_correlated_lambda_of_valid_model(lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
-    let view = smith_corrected_lambda_of_valid_table(lambda_view, LambdaCorrection(model.view_low, model.view_high));
-    let light = smith_corrected_lambda_of_valid_table(lambda_light, LambdaCorrection(model.light_low, model.light_high));
+// Rust: correlated::correlated_lambda. `model` from VisibilityCorrection::to_gpu (not
+// re-checked).
+fn smith_correlated_lambda(lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: GpuVisibilityCorrection) -> SmithValue {
+    let view = smith_corrected_lambda(lambda_view, GpuLambdaCorrection(model.view_low, model.view_high));
+    let light = smith_corrected_lambda(lambda_light, GpuLambdaCorrection(model.light_low, model.light_high));
     if view.kind == SMITH_NONE || light.kind == SMITH_NONE {
         return smith_none();
     }
@@ -613,19 +586,11 @@ fn smith_correlated_lambda_of_valid_model(lambda_view: SmithValue, lambda_light:
     return smith_finite(smith_flush_subnormal((view.value + light.value) - rho * min(view.value, light.value)));
 }
 
-// Rust: correlated::correlated_visible_mean_attribute.
-fn smith_correlated_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
-    if !smith_visibility_correction_is_valid(model) {
-        return smith_none();
-    }
-    return smith_correlated_visible_mean_attribute_of_valid_model(correlated_attribute, lambda_view, lambda_light, cos_difference, model);
-}
-
-// Rust: correlated::correlated_visible_mean_attribute, for a model that
-// smith_visibility_correction_is_valid accepts (see smith_correlated_lambda_of_valid_model):
-// eq. 17's code with the two table lookups, ρ and the combination on finite Λs. A Λ that is
-// not flushed first gives the same bits: a subnormal Λ makes c Λ subnormal, flushed to 0.
-fn smith_correlated_visible_mean_attribute_of_valid_model(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: VisibilityCorrection) -> SmithValue {
+// Rust: correlated::correlated_visible_mean_attribute: eq. 17's code with the two table
+// lookups, ρ and the combination on finite Λs. A Λ that is not flushed first gives the
+// same bits: a subnormal Λ makes c Λ subnormal, flushed to 0. `model` from
+// VisibilityCorrection::to_gpu (not re-checked); the attribute is.
+fn smith_correlated_visible_mean_attribute(correlated_attribute: vec2<f32>, lambda_view: SmithValue, lambda_light: SmithValue, cos_difference: SmithValue, model: GpuVisibilityCorrection) -> SmithValue {
     if !(smith_lambda_is_valid(lambda_view) && smith_lambda_is_valid(lambda_light) && smith_attribute_is_valid(correlated_attribute)) {
         return smith_none();
     }
@@ -635,8 +600,8 @@ fn smith_correlated_visible_mean_attribute_of_valid_model(correlated_attribute: 
     if !any_infinite && !(max(lambda_view.value, lambda_light.value) > SMITH_MAX_CORRECTED_LAMBDA) {
         let view = lambda_view.value;
         let light = lambda_light.value;
-        let a = smith_flush_subnormal(smith_correction_factor(LambdaCorrection(model.view_low, model.view_high), view / (1.0 + view)) * view);
-        let b = smith_flush_subnormal(smith_correction_factor(LambdaCorrection(model.light_low, model.light_high), light / (1.0 + light)) * light);
+        let a = smith_flush_subnormal(smith_correction_factor(GpuLambdaCorrection(model.view_low, model.view_high), view / (1.0 + view)) * view);
+        let b = smith_flush_subnormal(smith_correction_factor(GpuLambdaCorrection(model.light_low, model.light_high), light / (1.0 + light)) * light);
         let rho = smith_view_light_correlation(model, cos_difference);
         visible_fraction = smith_visible_fraction_of_finite(smith_flush_subnormal((a + b) - rho * min(a, b)));
     }
@@ -663,8 +628,9 @@ fn smith_cos_azimuth_difference(view: vec3<f32>, light: vec3<f32>) -> SmithValue
     return smith_finite(smith_flush_subnormal(clamp((sa.x * sb.x + sa.y * sb.y) / lengths, -1.0, 1.0)));
 }
 
-// Rust: correlated::correlated_visible_mean_attribute_for_directions.
-fn smith_correlated_visible_mean_attribute_for_directions(correlated_attribute: vec2<f32>, view: vec3<f32>, light: vec3<f32>, slopes: vec3<f32>, model: VisibilityCorrection) -> SmithValue {
+// Rust: correlated::correlated_visible_mean_attribute_for_directions. `model` from
+// VisibilityCorrection::to_gpu (not re-checked).
+fn smith_correlated_visible_mean_attribute_for_directions(correlated_attribute: vec2<f32>, view: vec3<f32>, light: vec3<f32>, slopes: vec3<f32>, model: GpuVisibilityCorrection) -> SmithValue {
     let lambda_view = smith_lambda_direction(view, slopes);
     let lambda_light = smith_lambda_direction(light, slopes);
     if lambda_view.kind == SMITH_NONE || lambda_light.kind == SMITH_NONE {
@@ -734,9 +700,12 @@ fn smith_checked_div(a: f32, b: f32) -> SmithValue {
     return smith_finite(smith_flush_subnormal(a / b));
 }
 
-// Rust: shading::shade (eq. 13). `correlated_attribute` = (ā, a_s); slopes from smith_slope_deviation.
+// Rust: shading::shade (eq. 13). `correlated_attribute` = (ā, a_s); slopes from
+// smith_slope_deviation. Invalid slopes or attribute give None first, as the Rust
+// constructors of FilteredSurface's fields reject them (so an unlit point with an invalid
+// attribute is None, not 0).
 fn smith_shade(view: vec3<f32>, light: vec3<f32>, slopes: vec3<f32>, brdf_slopes: vec3<f32>, correlated_attribute: vec2<f32>, radiance: f32) -> SmithValue {
-    if slopes.z == 0.0 || brdf_slopes.z == 0.0 {
+    if slopes.z == 0.0 || brdf_slopes.z == 0.0 || !smith_attribute_is_valid(correlated_attribute) {
         return smith_none();
     }
     if smith_is_nan(radiance) || !smith_is_finite(radiance) || !(radiance >= 0.0 && radiance <= SMITH_MAX_LIGHT_RADIANCE) {

@@ -33,11 +33,13 @@ gpu_struct! {
 }
 
 gpu_struct! {
-    /// The inputs of one case of the differential kernel `smith_corrected_values`.
+    /// The inputs of one case of the differential kernel `smith_corrected_values`. The
+    /// knots are the `GpuLambdaCorrection` of a validated `smith_micro::LambdaCorrection`
+    /// (`LambdaCorrection::to_gpu`), which the WGSL twin takes without re-checking it.
     pub struct CorrectionCase {
-        /// `LambdaCorrection::low`: the factors at knots 0 … 3.
+        /// `GpuLambdaCorrection::low`: the factors at knots 0 … 3.
         pub knots_low: Vec4,
-        /// `LambdaCorrection::high`: the factors at knots 4 … 7.
+        /// `GpuLambdaCorrection::high`: the factors at knots 4 … 7.
         pub knots_high: Vec4,
         /// `(ā, a_s, Λ(v), Λ(l))`.
         pub inputs: Vec4,
@@ -55,8 +57,9 @@ gpu_struct! {
 gpu_struct! {
     /// The inputs of one case of the differential kernel `smith_cubic_corrected_values`.
     pub struct CubicCase {
-        /// `CubicLambdaCorrection::coefficients` (a valid correction: the WGSL twin
-        /// takes one checked once per material).
+        /// `GpuCubicLambdaCorrection::coefficients` of a validated
+        /// `smith_micro::CubicLambdaCorrection` (`CubicLambdaCorrection::to_gpu`), which the
+        /// WGSL twin takes without re-checking it.
         pub coefficients: Vec4,
         /// `(ā, a_s, Λ(v), Λ(l))`.
         pub inputs: Vec4,
@@ -72,17 +75,20 @@ gpu_struct! {
 }
 
 gpu_struct! {
-    /// The inputs of one case of the differential kernel `smith_correlated_values`.
+    /// The inputs of one case of the differential kernel `smith_correlated_values`. The
+    /// first five fields are the `GpuVisibilityCorrection` of a validated
+    /// `smith_micro::VisibilityCorrection` (`VisibilityCorrection::to_gpu`), in its order,
+    /// which the WGSL twin takes without re-checking it.
     pub struct CorrelatedCase {
-        /// `VisibilityCorrection::view_low` of the model under test.
+        /// `GpuVisibilityCorrection::view_low` of the model under test.
         pub view_low: Vec4,
-        /// `VisibilityCorrection::view_high`.
+        /// `GpuVisibilityCorrection::view_high`.
         pub view_high: Vec4,
-        /// `VisibilityCorrection::light_low`.
+        /// `GpuVisibilityCorrection::light_low`.
         pub light_low: Vec4,
-        /// `VisibilityCorrection::light_high`.
+        /// `GpuVisibilityCorrection::light_high`.
         pub light_high: Vec4,
-        /// `VisibilityCorrection::correlation`.
+        /// `GpuVisibilityCorrection::correlation`: `(ρ₀, ρ₁, ρ₂, 0)`.
         pub correlation: Vec4,
         /// `(ā, a_s, Λ(v), Λ(l))`.
         pub inputs: Vec4,

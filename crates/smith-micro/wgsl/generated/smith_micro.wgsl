@@ -78,13 +78,13 @@ const SMITH_MAX_CORRELATION: f32 = 0x1.000000p+1f; // 2e0
 const SMITH_MAX_CORRELATION_COEFFICIENT: f32 = 0x1.000000p+4f; // 1.6e1
 
 // Rust size 32 bytes.
-struct LambdaCorrection {
+struct GpuLambdaCorrection {
     low: vec4<f32>, // offset 0
     high: vec4<f32>, // offset 16
 }
 
 // Rust size 80 bytes.
-struct VisibilityCorrection {
+struct GpuVisibilityCorrection {
     view_low: vec4<f32>, // offset 0
     view_high: vec4<f32>, // offset 16
     light_low: vec4<f32>, // offset 32
@@ -93,6 +93,6 @@ struct VisibilityCorrection {
 }
 
 // Rust size 16 bytes.
-struct CubicLambdaCorrection {
+struct GpuCubicLambdaCorrection {
     coefficients: vec4<f32>, // offset 0
 }

@@ -71,11 +71,50 @@
 //! the WGSL twins take it and do not re-check it either. The slopes and the attribute
 //! reach the WGSL twins as raw voxel data and are checked there.
 //!
+//! # Using the WGSL twin
+//!
+//! With the `wgsl` feature, [`WGSL`] is the crate's WGSL twin: the generated GPU forms of
+//! the corrections and every constant (the `erfc` coefficients, thresholds, bit masks),
+//! and the functions, each named after the Rust function it mirrors
+//! (`smith_visible_mean_attribute_for_directions` is
+//! [`visible_mean_attribute_for_directions`], `smith_shade` is [`shade`], …). A result
+//! is a `SmithValue` (a value and a kind: finite, none, ±∞ — WGSL has no `Option` and may
+//! assume no NaN or infinity reaches float operations); `smith_encode` writes it as the
+//! bits [`encode`] gives on the CPU. A voxel's slopes and attribute reach the twin as raw
+//! data (`vec3(σ_nx, σ_ny, 0)`, `vec2(ā, a_s)`) and are checked there:
+//!
+//! ```
+//! # #[cfg(feature = "wgsl")] {
+//! let mut source = String::new();
+//! smith_micro::WGSL.write_source(&mut source).unwrap(); // no dependencies to compose first
+//! source.push_str(
+//!     "@group(0) @binding(0) var<storage, read> voxels: array<vec4<f32>>; // (σ_nx, σ_ny, ā, a_s)
+//!      @group(0) @binding(1) var<storage, read_write> colours: array<f32>;
+//!      @compute @workgroup_size(64)
+//!      fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+//!          let voxel = voxels[id.x];
+//!          let seen = smith_visible_mean_attribute_for_directions(
+//!              voxel.zw, vec3<f32>(0.0, 0.0, 1.0), normalize(vec3<f32>(0.3, 0.0, 1.0)), vec3<f32>(voxel.xy, 0.0));
+//!          colours[id.x] = select(0.0, seen.value, seen.kind == SMITH_FINITE);
+//!      }",
+//! );
+//! # let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+//! # naga::valid::Validator::new(naga::valid::ValidationFlags::all(), Default::default()).validate(&module).unwrap();
+//! assert!(source.contains("fn smith_visible_mean_attribute_for_directions"));
+//! # }
+//! ```
+//!
+//! A per-material correction is uploaded as its GPU form, e.g.
+//! `bytemuck::bytes_of(&cubic.to_gpu())` for a [`CubicLambdaCorrection`], and evaluated by
+//! `smith_cubic_corrected_visible_mean_attribute`. Or register `WGSL.naga_oil_source` with
+//! a `naga_oil` composer under the name `smith_micro` and `#import smith_micro::{...}`.
+//!
 //! # Features
 //!
 //! - `std` (default): enables `std` in the dependencies. The crate is `#![no_std]` and
 //!   needs no allocator; `cargo check -p smith-micro --no-default-features` builds it
 //!   without `std`.
+//! - `wgsl`: [`WGSL`], the WGSL twin (its sources are embedded; no extra dependency).
 #![no_std]
 
 #[cfg(all(test, feature = "std"))]

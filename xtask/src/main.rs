@@ -74,7 +74,10 @@ fn test_gpu() -> Result<(), String> {
     }
     // `--workspace` keeps the same feature unification as `cargo test --workspace`, so
     // nothing is rebuilt; the glob selects the GPU test targets of `tests/`.
-    cargo(&["test", "--workspace", "--features", "integration-tests/gpu", "--test", "*_gpu", "--", "--show-output"])
+    cargo(&["test", "--workspace", "--features", "integration-tests/gpu", "--test", "*_gpu", "--", "--show-output"])?;
+    // A renderer outside the workspace's pipelines takes octahedral-map alone and checks its
+    // GPU results against the Rust (exits with an error naming the first difference).
+    cargo(&["run", "--package", "foreign-renderer"])
 }
 
 /// `--quick`: the command's quick settings.

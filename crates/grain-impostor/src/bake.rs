@@ -118,7 +118,8 @@ impl Baker {
     }
 
     /// How many views one submission renders for `settings` on `device`: bounded by the
-    /// array-layer limit, the storage-buffer binding limit and [`BATCH_TARGET_BYTES`].
+    /// array-layer limit, the storage-buffer binding limit and a batch of at most 256 MiB of
+    /// fine texels.
     pub fn batch_views(device: &wgpu::Device, settings: &BakeSettings) -> u32 {
         let limits = device.limits();
         let fine = u64::from(settings.texels * settings.supersampling);

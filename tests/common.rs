@@ -81,3 +81,8 @@ pub fn special_directions() -> Vec<Vec3> {
     }
     directions
 }
+
+/// The workspace README's Rust examples, run as doctests so that they stay true.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -6,7 +6,7 @@
 // crates/grain-impostor/shaders/cloud_generated.wgsl (CloudUniforms).
 //
 // Passes (one dispatch each, in this order):
-//   clear_cloud     per pixel: nearest depth and owner ← 0xffffffff;
+//   clear_cloud     per pixel: nearest depth and owner ← CLOUD_NONE (u32::MAX);
 //   splat_depth     per grain (one workgroup): for each pixel of the screen bounding
 //                   rectangle of its outer sphere that the grain covers (blended atlas
 //                   α ≥ threshold), atomicMin of the depth's bits (positive floats order
@@ -34,9 +34,6 @@
 @group(0) @binding(12) var out_albedo: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(13) var out_material: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(14) var out_depth: texture_storage_2d<r32float, write>;
-
-const CLOUD_NONE: u32 = 0xffffffffu;
-const CLOUD_TILE: u32 = 8u;
 
 fn cloud_unproject(ndc: vec3<f32>) -> vec3<f32> {
     let m = mat4x4<f32>(camera.world_from_clip[0], camera.world_from_clip[1], camera.world_from_clip[2], camera.world_from_clip[3]);
@@ -198,7 +195,7 @@ fn cloud_pixel_index(p: vec2<u32>) -> u32 {
     return p.y * u32(camera.viewport.x) + p.x;
 }
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(PIXEL_TILE, PIXEL_TILE)
 fn clear_cloud(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(camera.viewport.xy);
     if id.x >= size.x || id.y >= size.y {
@@ -223,8 +220,8 @@ fn cloud_splat(g: u32, local: vec3<u32>, owner_pass: bool) {
     }
     let grain = instances[g];
     let rect = cloud_grain_rectangle(grain);
-    for (var y = rect.y + local.y; y < rect.w; y += CLOUD_TILE) {
-        for (var x = rect.x + local.x; x < rect.z; x += CLOUD_TILE) {
+    for (var y = rect.y + local.y; y < rect.w; y += PIXEL_TILE) {
+        for (var x = rect.x + local.x; x < rect.z; x += PIXEL_TILE) {
             let hit = cloud_hit(vec2<f32>(f32(x) + 0.5, f32(y) + 0.5), grain);
             if !hit.covered {
                 continue;
@@ -239,17 +236,17 @@ fn cloud_splat(g: u32, local: vec3<u32>, owner_pass: bool) {
     }
 }
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(PIXEL_TILE, PIXEL_TILE)
 fn splat_depth(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
     cloud_splat(cloud_grain_index(group, groups), local, false);
 }
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(PIXEL_TILE, PIXEL_TILE)
 fn splat_owner(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
     cloud_splat(cloud_grain_index(group, groups), local, true);
 }
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(PIXEL_TILE, PIXEL_TILE)
 fn resolve_cloud(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(camera.viewport.xy);
     if id.x >= size.x || id.y >= size.y {
@@ -261,7 +258,7 @@ fn resolve_cloud(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(out_normal_coverage, p, vec4<f32>(0.0));
         textureStore(out_albedo, p, vec4<f32>(0.0));
         textureStore(out_material, p, vec4<f32>(0.0));
-        textureStore(out_depth, p, vec4<f32>(bitcast<f32>(0x7f800000u), 0.0, 0.0, 0.0));
+        textureStore(out_depth, p, vec4<f32>(bitcast<f32>(POSITIVE_INFINITY_BITS), 0.0, 0.0, 0.0));
         return;
     }
     let grain = instances[g];

@@ -27,7 +27,6 @@ struct ReducedTexel {
     depth: f32,
 }
 
-const POSITIVE_INFINITY_BITS: u32 = 0x7f800000u;
 
 fn reduce_block(texel: vec2<u32>, layer: u32) -> ReducedTexel {
     let factor = params.size.x;
@@ -70,7 +69,7 @@ fn reduce_block(texel: vec2<u32>, layer: u32) -> ReducedTexel {
     return reduced;
 }
 
-@compute @workgroup_size(8, 8, 1)
+@compute @workgroup_size(PIXEL_TILE, PIXEL_TILE, 1)
 fn reduce_to_gbuffer(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.size.y || id.y >= params.size.z {
         return;
@@ -82,7 +81,7 @@ fn reduce_to_gbuffer(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(out_depth, id.xy, vec4<f32>(reduced.depth, 0.0, 0.0, 0.0));
 }
 
-@compute @workgroup_size(8, 8, 1)
+@compute @workgroup_size(PIXEL_TILE, PIXEL_TILE, 1)
 fn reduce_to_atlas(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.size.y || id.y >= params.size.z || id.z >= params.size.w {
         return;

@@ -10,7 +10,6 @@
 @group(0) @binding(4) var gbuffer_material: texture_2d<f32>;
 @group(0) @binding(5) var shaded: texture_storage_2d<rgba8unorm, write>;
 
-const PI: f32 = 3.14159265358979;
 
 fn unproject(ndc: vec3<f32>) -> vec3<f32> {
     let world_from_clip = mat4x4<f32>(camera.world_from_clip[0], camera.world_from_clip[1], camera.world_from_clip[2], camera.world_from_clip[3]);
@@ -55,7 +54,7 @@ fn shade_surface(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, roughness: f32, 
     return direct + shading.ambient.rgb * albedo;
 }
 
-@compute @workgroup_size(8, 8, 1)
+@compute @workgroup_size(PIXEL_TILE, PIXEL_TILE, 1)
 fn shade(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(shaded);
     if id.x >= size.x || id.y >= size.y {

@@ -38,13 +38,13 @@
 //! crosses the eye plane of a perspective camera are skipped.
 
 use glam::Vec2;
-use gpu_layout::gpu_struct;
+use gpu_layout::{GpuConst, gpu_const, gpu_struct};
 use octahedral_map::ImpostorSamplingUniforms;
 use wgsl_gen::{ComposedShader, GenerateError, StructDecl, generate_declarations};
 
 use crate::gpu_util::storage_texture_entry;
 use crate::mesh_gbuffer::GBUFFER_FORMATS;
-use crate::scene::CameraUniforms;
+use crate::scene::{CameraUniforms, PIXEL_TILE};
 
 gpu_struct! {
     /// Per-frame settings of the cloud passes.
@@ -60,6 +60,13 @@ gpu_struct! {
         pub coverage_threshold: f32,
     }
 }
+
+/// The depth and owner a pixel holds before any grain covers it (both atomics' initial
+/// value, above every depth's bits and every grain index).
+pub const NO_GRAIN: u32 = u32::MAX;
+
+/// The constants of the cloud shader, generated with its uniforms.
+const CLOUD_CONSTANTS: &[GpuConst] = &[gpu_const!(NO_GRAIN: u32 as "CLOUD_NONE")];
 
 /// Settings of [`ImpostorCloudPass::encode`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,7 +98,7 @@ pub fn cloud_struct_declarations() -> Vec<StructDecl> {
 /// The WGSL declarations of [`CloudUniforms`] as the Rust source says they should be now
 /// (`cargo xtask codegen` writes them to [`CLOUD_GENERATED_WGSL_PATH`]).
 pub fn cloud_generated_wgsl() -> Result<String, GenerateError> {
-    generate_declarations("grain_impostor_cloud", &cloud_struct_declarations(), &[])
+    generate_declarations("grain_impostor_cloud", &cloud_struct_declarations(), CLOUD_CONSTANTS)
 }
 
 /// The composed cloud shader: `octahedral-map`'s WGSL twin ([`octahedral_map::WGSL`]),
@@ -362,7 +369,7 @@ impl ImpostorCloudPass {
             layout: &self.layout,
             entries: &entries,
         });
-        let pixel_groups = (width.div_ceil(8), height.div_ceil(8));
+        let pixel_groups = (width.div_ceil(PIXEL_TILE), height.div_ceil(PIXEL_TILE));
         let grains = u64::from(frame.grain_count);
         let grain_groups = if grains <= max_groups {
             (grains as u32, 1)

@@ -32,7 +32,7 @@ use crate::gpu_util::{
     GpuError, check_texture_size, compose, loaded_texture_entry, read_texture, scoped, storage_texture_entry,
     uniform_entry,
 };
-use crate::scene::{CameraUniforms, GBUFFER_LAYERS, GrainInstance, ReduceParams};
+use crate::scene::{CameraUniforms, GBUFFER_LAYERS, GrainInstance, PIXEL_TILE, ReduceParams};
 
 /// The WGSL of the raster pass (composed after the generated declarations).
 pub const MESH_GBUFFER_WGSL: &str = include_str!("../shaders/mesh_gbuffer.wgsl");
@@ -551,7 +551,7 @@ impl MeshGbufferPass {
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &source, &[]);
         pass.set_bind_group(1, output, &[]);
-        pass.dispatch_workgroups(params.size.y.div_ceil(8), params.size.z.div_ceil(8), params.size.w);
+        pass.dispatch_workgroups(params.size.y.div_ceil(PIXEL_TILE), params.size.z.div_ceil(PIXEL_TILE), params.size.w);
     }
 
     /// Renders `mesh` (placed by `instance`) with each of `cameras` (`s×` supersampled,

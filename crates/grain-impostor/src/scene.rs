@@ -1,7 +1,7 @@
 //! Cameras, grain instances and the texture formats every pass of the crate agrees on.
 
 use glam::{Mat4, Quat, UVec4, Vec3, Vec4};
-use gpu_layout::gpu_struct;
+use gpu_layout::{GpuConst, gpu_const, gpu_struct};
 use wgsl_gen::{GenerateError, StructDecl, generate_declarations};
 
 gpu_struct! {
@@ -271,6 +271,18 @@ pub fn struct_declarations() -> Vec<StructDecl> {
     ]
 }
 
+/// Pixels per side of the square workgroup of every per-pixel compute pass (the impostor
+/// cloud's passes, the G-buffer reduction, the shading): the shaders declare
+/// `@workgroup_size(PIXEL_TILE, PIXEL_TILE)` and the dispatches divide the image by it.
+pub const PIXEL_TILE: u32 = 8;
+
+/// The constants of this crate's shaders, generated with its structs.
+pub const WGSL_CONSTANTS: &[GpuConst] = &[
+    gpu_const!(PIXEL_TILE: u32),
+    gpu_const!("PI": f32 = core::f32::consts::PI),
+    gpu_const!("POSITIVE_INFINITY_BITS": u32 = gpu_layout::f32_bits::INFINITY_BITS),
+];
+
 /// Path of the committed generated WGSL, relative to the workspace root.
 pub const GENERATED_WGSL_PATH: &str = "crates/grain-impostor/shaders/generated.wgsl";
 
@@ -280,7 +292,7 @@ pub const GENERATED_WGSL: &str = include_str!("../shaders/generated.wgsl");
 /// The WGSL declarations of this crate's GPU structs, as the Rust source says they should be
 /// now (`cargo xtask codegen` writes them to [`GENERATED_WGSL_PATH`]).
 pub fn generated_wgsl() -> Result<String, GenerateError> {
-    generate_declarations("grain_impostor", &struct_declarations(), &[])
+    generate_declarations("grain_impostor", &struct_declarations(), WGSL_CONSTANTS)
 }
 
 #[cfg(test)]

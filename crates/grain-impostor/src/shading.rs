@@ -24,7 +24,7 @@ use glam::{Vec3, Vec4};
 
 use crate::gpu_util::{GpuError, compose, read_texture, scoped, storage_texture_entry, uniform_entry};
 use crate::mesh_gbuffer::ScreenGbuffer;
-use crate::scene::{CameraUniforms, ShadingUniforms};
+use crate::scene::{CameraUniforms, PIXEL_TILE, ShadingUniforms};
 
 /// The WGSL of the shading pass (composed after the generated declarations).
 pub const SHADING_WGSL: &str = include_str!("../shaders/shading.wgsl");
@@ -163,7 +163,7 @@ impl ShadingPass {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &bind_group, &[]);
-                pass.dispatch_workgroups(gbuffer.width.div_ceil(8), gbuffer.height.div_ceil(8), 1);
+                pass.dispatch_workgroups(gbuffer.width.div_ceil(PIXEL_TILE), gbuffer.height.div_ceil(PIXEL_TILE), 1);
             }
             queue.submit([encoder.finish()]);
         })

@@ -10,7 +10,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
+use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, compute_distance_maps};
 use ddm_tracer::{
     CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceSettings,
     VoxelPatches, relief_trace, trace,
@@ -22,8 +22,9 @@ fn tracer(c: &mut Criterion) {
     let dims = UVec3::new(16, 16, 8);
     let triangles = Mesostructure::Maze(1).triangles(dims);
     let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
-    let plain = compute_distance_maps(dims, &triangles, None, settings).expect("valid scene");
-    let ddm = compute_distance_maps(dims, &triangles, DirectionCones::downward(4, 1), settings).expect("valid scene");
+    let plain = compute_distance_maps(dims, &triangles, MapKind::Plain, settings).expect("valid scene");
+    let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).expect("valid cones"));
+    let ddm = compute_distance_maps(dims, &triangles, ddm4x1, settings).expect("valid scene");
     let compressed = CompressedMaps::compress(&ddm, 4).expect("compressible");
     let patches = VoxelPatches::build(dims, &triangles, &ddm.surface, PatchSettings::default()).expect("patches");
     let with = |surface| PatchSettings { surface, ..PatchSettings::default() };

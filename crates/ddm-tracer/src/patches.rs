@@ -229,7 +229,7 @@ impl VoxelPatches {
             for &t in list {
                 sample_triangle(&tiled[t as usize], settings.samples_per_edge, lo, hi, &mut points);
             }
-            if let Some(fit) = fit_quadric(&points) {
+            if let Ok(fit) = fit_quadric(&points) {
                 quadrics.insert((i, j, k), fit.quadric);
             }
         }
@@ -339,7 +339,7 @@ fn c0_surface(
         for &t in list {
             sample_triangle(&tiled[t as usize], settings.samples_per_edge, lo, hi, &mut points);
         }
-        if let Some(plane) = fit_plane(&points) {
+        if let Ok(plane) = fit_plane(&points) {
             quadrics.insert(key, plane.quadric);
             replaced = true;
         }

@@ -33,7 +33,7 @@ fn tracer(c: &mut Criterion) {
         VoxelPatches::build(dims, &triangles, &ddm.surface, with(PatchSurface::Adaptive { max_error: 1e-3 }))
             .expect("patches");
     let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));
-    let height_map = HeightMap::from_mesh(&mesh, dims, 2);
+    let height_map = HeightMap::from_mesh(&mesh, dims, 2).expect("valid tile");
     let rays = benches::tracer_rays(dims);
     let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 512, stepping: Stepping::Distance };
     let quadric = TraceSettings { method: Method::Quadric, max_steps: 512, stepping: Stepping::Distance };

@@ -212,7 +212,7 @@ fn gpu_tracer_equals_the_cpu_reference() {
         }
         // Relief mapping of the same tile's height map (2 texels per voxel, 32 + 8 steps).
         let mesh = MeshRaycaster::new(&triangles, Vec2::new(DIMS.x as f32, DIMS.y as f32));
-        let height_map = HeightMap::from_mesh(&mesh, DIMS, 2);
+        let height_map = HeightMap::from_mesh(&mesh, DIMS, 2).unwrap_or_else(|e| panic!("{e}"));
         let maps = CompressedMaps::compress(&plain, 2).unwrap();
         let scene = GpuScene::new(
             &maps,

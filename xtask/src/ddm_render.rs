@@ -195,7 +195,7 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
         ];
         if matches!(structure, Mesostructure::Maze(_) | Mesostructure::Bricks) {
             let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));
-            let height_map = HeightMap::from_mesh(&mesh, dims, 2);
+            let height_map = HeightMap::from_mesh(&mesh, dims, 2).map_err(|e| failed("the relief height map", &e))?;
             let scene = GpuScene::new(&plain_packed, None, sphere)
                 .and_then(|s| s.with_relief(&height_map, RELIEF_LINEAR, RELIEF_BINARY))
                 .map_err(|e| failed("the relief scene", &e))?;

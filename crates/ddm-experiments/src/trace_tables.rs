@@ -665,7 +665,8 @@ impl TraceScene {
 
     fn run_relief(&self, gpu: Option<&GpuTracer<'_>>) -> Result<MethodResult, ExperimentError> {
         let (settings, view) = (&self.settings, &self.view);
-        let height_map = HeightMap::from_mesh(&self.mesh, self.dims, RELIEF_TEXELS_PER_VOXEL);
+        let height_map = HeightMap::from_mesh(&self.mesh, self.dims, RELIEF_TEXELS_PER_VOXEL)
+            .map_err(|e| ExperimentError::scene(self.name, format!("the relief height map: {e}")))?;
         let size_z = self.dims.z as f32;
         let run = timed(&view.rays, settings.timed_passes, |o, d| {
             relief_trace(&height_map, size_z, o, d, RELIEF_LINEAR, RELIEF_BINARY)

@@ -361,7 +361,7 @@ mod tests {
     fn each_unusable_relief_map_has_its_error() {
         let scene = GpuScene::new(&maps(), None, SETTINGS).unwrap();
         let floor = mesostructure::plane(DIMS, 0.5);
-        let map = HeightMap::from_mesh(&MeshRaycaster::new(&floor, Vec2::new(4.0, 4.0)), DIMS, 2);
+        let map = HeightMap::from_mesh(&MeshRaycaster::new(&floor, Vec2::new(4.0, 4.0)), DIMS, 2).unwrap();
         let relief = scene.clone().with_relief(&map, 32, 8).unwrap();
         assert_eq!((relief.uniforms.cones_method.z, relief.heights.len()), (METHOD_RELIEF, 64));
         let zero = HeightMap { texels_per_voxel: 0, ..map.clone() };

@@ -64,7 +64,7 @@ pub use ground_truth::{MeshHit, MeshRaycaster};
 pub use maps::{CompressMapsError, CompressedMaps, ConeDistances, ConeSelector, DistanceSource, RawConeMap};
 pub use patch::TracePatch;
 pub use patches::{MAX_PATCH_VOXELS, PatchError, PatchSettings, PatchSurface, VoxelPatches};
-pub use relief::{HeightMap, relief_trace};
+pub use relief::{HeightMap, HeightMapError, relief_trace};
 pub use trace::{Method, Stepping, TraceHit, TraceOutcome, TraceSettings, trace};
 #[cfg(feature = "wgsl")]
 pub use wgsl::WGSL;

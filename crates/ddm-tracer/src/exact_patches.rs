@@ -7,8 +7,8 @@
 //! cannot follow the mesh to 10⁻³ voxel, and the C⁰ construction of steps b–c cuts the
 //! corners of voxels that hold two sheets (`cargo xtask ddm-trace` measures both). The
 //! mesh itself is exact: a voxel can keep the triangles that cross it, each stored as a
-//! plane patch ([`crate::gpu::TracePatch`]) *bounded* by its triangle
-//! ([`crate::gpu::BOUNDED_PATCH`]), and the tracer's Algorithm 3.2 then returns the
+//! plane patch ([`crate::patch::TracePatch`]) *bounded* by its triangle
+//! ([`crate::patch::BOUNDED_PATCH`]), and the tracer's Algorithm 3.2 then returns the
 //! mesh's own first hit inside the voxel. Two triangles of a voxel that form a convex
 //! planar quadrilateral (a mesh's quad, split in two) share one 4-corner patch
 //! ([`MERGE_TOLERANCE`]). Triangles still cost one 128-byte patch each (or pair) where a

@@ -20,7 +20,7 @@
 //! voxel's lowest corner (well scaled in `f32`), and its polygon. A voxel with one patch
 //! accepts any hit inside the voxel (the patch's border lies on the voxel's faces); a voxel
 //! with several patches (a fan, or separate sheets) accepts a hit on a patch only inside
-//! that patch's polygon (see [`inside_polygon`]).
+//! that patch's polygon (see [`inside_polygon`](crate::patch::inside_polygon)).
 //!
 //! [`PatchSettings::surface`] picks what a voxel keeps: the C⁰ patches above (the
 //! paper), the fitted quadric of step a alone, the mesh's own triangles (exact, bounded

@@ -8,9 +8,8 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use ddm_compress::{
-    CompressedMap, DirectionCones, DistanceMapSettings, Triangle, compute_distance_maps, reference_distance_maps,
-};
+use ddm_compress::testing::reference_distance_maps;
+use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, MapKind, Triangle, compute_distance_maps};
 use glam::UVec3;
 use mesostructure::{HeightField, Mesostructure};
 
@@ -19,9 +18,14 @@ fn wavy_floor(n: u32) -> Vec<Triangle> {
     HeightField::from_fn(n, n, |x, y| 2.0 + 0.8 * ((x * 0.9).sin() + (y * 0.7).cos())).triangles()
 }
 
+/// The downward DDM `azimuths × elevations`.
+fn downward(azimuths: u32, elevations: u32) -> MapKind {
+    MapKind::Directional(DirectionCones::downward(azimuths, elevations).unwrap_or_else(|e| panic!("{e}")))
+}
+
 fn ddm(c: &mut Criterion) {
     let dims = UVec3::new(8, 8, 6);
-    let cones = DirectionCones::downward(4, 1);
+    let cones = downward(4, 1);
     let settings = DistanceMapSettings { tolerance: 0.1, periodic_xy: true };
     let triangles = wavy_floor(8);
     let mut group = c.benchmark_group("ddm_compress");
@@ -42,7 +46,7 @@ fn ddm(c: &mut Criterion) {
     let mut group = c.benchmark_group("ddm_compress");
     group.sample_size(10);
     group.throughput(Throughput::Elements(u64::from(large.x * large.y * large.z)));
-    for (name, cones) in [("8x1", DirectionCones::downward(8, 1)), ("4x2", DirectionCones::downward(4, 2))] {
+    for (name, cones) in [("8x1", downward(8, 1)), ("4x2", downward(4, 2))] {
         group.bench_function(format!("compute_distance_maps/64x64x16/{name}_cones"), |b| {
             b.iter(|| compute_distance_maps(black_box(large), &large_floor, cones, large_settings));
         });
@@ -51,7 +55,7 @@ fn ddm(c: &mut Criterion) {
 
     // Every mesostructure at the paper's resolution with the downward DDM 8×1, as
     // `cargo xtask ddm-compression` computes it.
-    let cones_8x1 = DirectionCones::downward(8, 1);
+    let cones_8x1 = downward(8, 1);
     let mut group = c.benchmark_group("ddm_compress");
     group.sample_size(10);
     group.throughput(Throughput::Elements(u64::from(large.x * large.y * large.z)));
@@ -63,8 +67,8 @@ fn ddm(c: &mut Criterion) {
     }
     group.finish();
 
-    let maps = compute_distance_maps(dims, &triangles, cones, settings).expect("valid scene");
-    let map = CompressedMap::compress(&maps.values[0], &maps.surface, dims, 2).expect("valid map");
+    let maps = compute_distance_maps(dims, &triangles, cones, settings).unwrap_or_else(|e| panic!("{e}"));
+    let map = CompressedMap::compress(&maps.values[0], &maps.surface, dims, 2).unwrap_or_else(|e| panic!("{e}"));
     let voxels: Vec<UVec3> = (0..4096_u32).map(|i| UVec3::new(i % 8, (i / 8) % 8, (i / 64) % 6)).collect();
     let mut group = c.benchmark_group("ddm_compress");
     group.throughput(Throughput::Elements(voxels.len() as u64));

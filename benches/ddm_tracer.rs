@@ -10,7 +10,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
+use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, compute_distance_maps};
 use ddm_tracer::{
     CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceSettings,
     VoxelPatches, relief_trace, trace,
@@ -22,8 +22,9 @@ fn tracer(c: &mut Criterion) {
     let dims = UVec3::new(16, 16, 8);
     let triangles = Mesostructure::Maze(1).triangles(dims);
     let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
-    let plain = compute_distance_maps(dims, &triangles, None, settings).expect("valid scene");
-    let ddm = compute_distance_maps(dims, &triangles, DirectionCones::downward(4, 1), settings).expect("valid scene");
+    let plain = compute_distance_maps(dims, &triangles, MapKind::Plain, settings).expect("valid scene");
+    let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).expect("valid cones"));
+    let ddm = compute_distance_maps(dims, &triangles, ddm4x1, settings).expect("valid scene");
     let compressed = CompressedMaps::compress(&ddm, 4).expect("compressible");
     let patches = VoxelPatches::build(dims, &triangles, &ddm.surface, PatchSettings::default()).expect("patches");
     let with = |surface| PatchSettings { surface, ..PatchSettings::default() };
@@ -32,7 +33,7 @@ fn tracer(c: &mut Criterion) {
         VoxelPatches::build(dims, &triangles, &ddm.surface, with(PatchSurface::Adaptive { max_error: 1e-3 }))
             .expect("patches");
     let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));
-    let height_map = HeightMap::from_mesh(&mesh, dims, 2);
+    let height_map = HeightMap::from_mesh(&mesh, dims, 2).expect("valid tile");
     let rays = benches::tracer_rays(dims);
     let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 512, stepping: Stepping::Distance };
     let quadric = TraceSettings { method: Method::Quadric, max_steps: 512, stepping: Stepping::Distance };

@@ -2,7 +2,7 @@
 //! map's access function) against `ddm-compress`: every voxel of several maps, bit for bit.
 
 use ddm_compress::CompressedMapUniforms;
-use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, Triangle, compute_distance_maps};
+use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, MapKind, Triangle, compute_distance_maps};
 use glam::{UVec3, UVec4, Vec4};
 use integration_tests::gpu;
 use mesostructure::HeightField;
@@ -55,7 +55,7 @@ fn access_matches_the_cpu_reference() {
     let dims = UVec3::new(12, 12, 6);
     let settings = DistanceMapSettings { tolerance: 0.1, periodic_xy: true };
     let cones = DirectionCones::downward(4, 1).unwrap();
-    let maps = compute_distance_maps(dims, &floor(12, 2.0), Some(cones), settings).unwrap();
+    let maps = compute_distance_maps(dims, &floor(12, 2.0), MapKind::Directional(cones), settings).unwrap();
     let mut checked = 0;
     for block in [1, 2, 3, 4, 5] {
         for values in &maps.values {

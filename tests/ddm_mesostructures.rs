@@ -4,10 +4,8 @@
 //! neighbours), the surface voxels are those of the previous computation
 //! (`reference_distance_maps`), and the values are on average at least as tight as it.
 
-use ddm_compress::{
-    Aabb, DirectionCones, DistanceMapSettings, DistanceMaps, Triangle, compute_distance_maps, reference_distance_maps,
-    sampled_distance,
-};
+use ddm_compress::testing::{reference_distance_maps, sampled_distance};
+use ddm_compress::{Aabb, DirectionCones, DistanceMapSettings, DistanceMaps, MapKind, Triangle, compute_distance_maps};
 use glam::{UVec3, Vec3};
 use mesostructure::Mesostructure;
 
@@ -85,8 +83,9 @@ fn every_mesostructure_gets_conservative_maps_at_least_as_tight_as_before() {
     for structure in Mesostructure::ALL {
         let name = structure.name();
         let triangles = structure.triangles(DIMS);
-        let maps = compute_distance_maps(DIMS, &triangles, Some(cones), settings).expect("valid scene");
-        let reference = reference_distance_maps(DIMS, &triangles, Some(cones), settings).expect("valid scene");
+        let maps = compute_distance_maps(DIMS, &triangles, MapKind::Directional(cones), settings).expect("valid scene");
+        let reference =
+            reference_distance_maps(DIMS, &triangles, MapKind::Directional(cones), settings).expect("valid scene");
         assert_eq!(maps.surface, reference.surface, "{name}");
         let all = periodic(&triangles);
         let (search_gap, reference_gap) = mean_gaps(name, &maps, &reference, &all, cones);

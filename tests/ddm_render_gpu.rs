@@ -18,7 +18,7 @@
 //!   normalisation) and match `torus_base_mesh`'s analytic frame at the pixel's texture
 //!   coordinates, and the positions lie on the torus.
 
-use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, compute_distance_maps};
+use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, MapKind, compute_distance_maps};
 use ddm_render::{
     COLOR_TARGET_FORMAT, Camera, DdmFrame, DdmRenderPipelines, DdmRenderer, GBuffer, GBufferPass, GpuSceneBuffers,
     PixelReadback, RenderSettings, plane_base_mesh, rasterize_gbuffer, read_gbuffer, read_texture,
@@ -79,7 +79,8 @@ impl PlaneScene {
         let gpu = gpu();
         let triangles = structure.triangles(DIMS);
         let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
-        let maps = compute_distance_maps(DIMS, &triangles, DirectionCones::downward(4, 1), settings).unwrap();
+        let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).unwrap());
+        let maps = compute_distance_maps(DIMS, &triangles, ddm4x1, settings).unwrap();
         let patches = VoxelPatches::build(DIMS, &triangles, &maps.surface, PatchSettings::default()).unwrap();
         let packed = CompressedMaps::compress(&maps, 1).unwrap();
         let scene = GpuScene::new(&packed, Some(&patches), TRACE_SETTINGS).unwrap();

@@ -9,7 +9,7 @@
 //! multiply-adds, so a ray whose step lands within rounding of a voxel wall can take one
 //! step more or less, and a hit point can move by a few ulps.
 
-use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
+use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, compute_distance_maps};
 use ddm_tracer::{
     CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceOutcome,
     TraceSettings, VoxelPatches, relief_trace, trace,
@@ -71,13 +71,13 @@ struct Mismatches {
 }
 
 fn compare(maps: &CompressedMaps, patches: Option<&VoxelPatches>, settings: TraceSettings, seed: u64) -> Mismatches {
-    let scene = GpuScene::new(maps, patches, settings).expect("scene packs");
-    compare_scene(&scene, maps.cones, |o, d| trace(maps, patches, o, d, settings), seed)
+    let scene = GpuScene::new(maps, patches, settings).unwrap_or_else(|e| panic!("{e}"));
+    compare_scene(&scene, maps.kind, |o, d| trace(maps, patches, o, d, settings), seed)
 }
 
 fn compare_scene(
     scene: &GpuScene,
-    cones: Option<DirectionCones>,
+    kind: MapKind,
     reference: impl Fn(Vec3, Vec3) -> TraceOutcome,
     seed: u64,
 ) -> Mismatches {
@@ -108,7 +108,7 @@ fn compare_scene(
         // A direction on a cone boundary belongs to both cones (both maps are safe for
         // it); CPU and GPU atan2 may round it to either side, and then read different
         // (equally valid) maps: such rays are counted, not compared.
-        let sectors = cones.map_or(1, |c| c.count()) as f32;
+        let sectors = kind.map_count() as f32;
         let turns = direction.y.atan2(direction.x) / std::f32::consts::TAU * sectors;
         let on_boundary = (turns - turns.round()).abs() < 1e-4;
         m.boundary += usize::from(on_boundary);
@@ -140,8 +140,9 @@ fn gpu_tracer_equals_the_cpu_reference() {
     let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
     for (index, which) in [Mesostructure::Maze(1), Mesostructure::Ball].into_iter().enumerate() {
         let triangles = which.triangles(DIMS);
-        let plain = compute_distance_maps(DIMS, &triangles, None, settings).unwrap();
-        let ddm = compute_distance_maps(DIMS, &triangles, DirectionCones::downward(4, 1), settings).unwrap();
+        let plain = compute_distance_maps(DIMS, &triangles, MapKind::Plain, settings).unwrap();
+        let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).unwrap());
+        let ddm = compute_distance_maps(DIMS, &triangles, ddm4x1, settings).unwrap();
         let patches = VoxelPatches::build(DIMS, &triangles, &ddm.surface, PatchSettings::default()).unwrap();
         // Exact triangles (bounded patches) where the fitted quadric misses 1e-3 voxel.
         let adaptive_settings =
@@ -211,7 +212,7 @@ fn gpu_tracer_equals_the_cpu_reference() {
         }
         // Relief mapping of the same tile's height map (2 texels per voxel, 32 + 8 steps).
         let mesh = MeshRaycaster::new(&triangles, Vec2::new(DIMS.x as f32, DIMS.y as f32));
-        let height_map = HeightMap::from_mesh(&mesh, DIMS, 2);
+        let height_map = HeightMap::from_mesh(&mesh, DIMS, 2).unwrap_or_else(|e| panic!("{e}"));
         let maps = CompressedMaps::compress(&plain, 2).unwrap();
         let scene = GpuScene::new(
             &maps,
@@ -219,10 +220,14 @@ fn gpu_tracer_equals_the_cpu_reference() {
             TraceSettings { method: Method::SphereTracing, max_steps: 1, stepping: Stepping::Distance },
         )
         .and_then(|s| s.with_relief(&height_map, 32, 8))
-        .expect("relief scene packs");
+        .unwrap_or_else(|e| panic!("the relief scene does not pack: {e}"));
         let size_z = DIMS.z as f32;
-        let m =
-            compare_scene(&scene, None, |o, d| relief_trace(&height_map, size_z, o, d, 32, 8), 0x7e1e + index as u64);
+        let m = compare_scene(
+            &scene,
+            MapKind::Plain,
+            |o, d| relief_trace(&height_map, size_z, o, d, 32, 8),
+            0x7e1e + index as u64,
+        );
         println!(
             "{} relief: {} rays, hit/miss differ {}, steps differ {}, worst point {:e}, worst normal {:e}",
             which.name(),
@@ -260,7 +265,7 @@ fn lone_triangle_patches_are_clipped_on_the_gpu_as_on_the_cpu() {
         }
     }
     let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
-    let maps = compute_distance_maps(DIMS, &triangles, None, settings).unwrap();
+    let maps = compute_distance_maps(DIMS, &triangles, MapKind::Plain, settings).unwrap();
     let exact = PatchSettings { surface: PatchSurface::Triangles, ..Default::default() };
     let patches = VoxelPatches::build(DIMS, &triangles, &maps.surface, exact).unwrap();
     assert_eq!(patches.patches.len(), triangles.len(), "one bounded patch per voxel");

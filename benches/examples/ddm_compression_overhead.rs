@@ -11,7 +11,7 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
+use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, compute_distance_maps};
 use ddm_tracer::{
     CompressedMaps, DistanceSource, Method, PatchSettings, PatchSurface, Stepping, TraceSettings, VoxelPatches, trace,
 };
@@ -56,9 +56,12 @@ fn main() -> Result<(), String> {
     };
     let triangles = structure.triangles(dims);
     let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
-    let ddm = compute_distance_maps(dims, &triangles, DirectionCones::downward(4, 1), settings)
-        .ok_or("the maze is a valid scene")?;
-    let compressed = CompressedMaps::compress(&ddm, 4).ok_or("the maps compress")?;
+    let structure_name = structure.name();
+    let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).map_err(|e| e.to_string())?);
+    let ddm = compute_distance_maps(dims, &triangles, ddm4x1, settings)
+        .map_err(|e| format!("{structure_name}: the DDM 4x1 maps: {e}"))?;
+    let compressed = CompressedMaps::compress(&ddm, 4)
+        .map_err(|e| format!("{structure_name}: compressing the DDM 4x1 maps: {e}"))?;
     let rays = benches::tracer_rays(dims);
     for (name, surface, stepping) in [
         ("sphere tracing (no patches)", PatchSurface::C0, Stepping::Distance),
@@ -72,7 +75,7 @@ fn main() -> Result<(), String> {
     ] {
         let patches =
             VoxelPatches::build(dims, &triangles, &ddm.surface, PatchSettings { surface, ..Default::default() })
-                .ok_or("patches build")?;
+                .map_err(|e| format!("{structure_name}: the {name} patches: {e}"))?;
         let method = if name.starts_with("sphere") { Method::SphereTracing } else { Method::Quadric };
         let trace_settings = TraceSettings { method, max_steps: 512, stepping };
         let mut ratios = Vec::with_capacity(rounds);

@@ -7,7 +7,8 @@
 
 use std::time::Instant;
 
-use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps, reference_distance_maps};
+use ddm_compress::testing::reference_distance_maps;
+use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, compute_distance_maps};
 use glam::UVec3;
 use mesostructure::Mesostructure;
 
@@ -24,7 +25,11 @@ fn main() -> Result<(), String> {
     let [x, y, z] = size[..] else { return Err(usage.into()) };
     let dims = UVec3::new(x, y, z);
     let azimuths: u32 = args.get(2).ok_or(usage)?.parse().map_err(|e| format!("{usage}: {e}"))?;
-    let cones = if azimuths == 0 { None } else { DirectionCones::downward(azimuths, 1) };
+    let kind = if azimuths == 0 {
+        MapKind::Plain
+    } else {
+        MapKind::Directional(DirectionCones::downward(azimuths, 1).map_err(|e| format!("{usage}: {e}"))?)
+    };
     let only = args.get(3).map(String::as_str);
     let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
     for structure in Mesostructure::ALL {
@@ -33,13 +38,15 @@ fn main() -> Result<(), String> {
         }
         let triangles = structure.triangles(dims);
         let start = Instant::now();
-        let maps = compute_distance_maps(dims, &triangles, cones, settings).ok_or("invalid scene")?;
+        let name = structure.name();
+        let maps = compute_distance_maps(dims, &triangles, kind, settings).map_err(|e| format!("{name}: {e}"))?;
         let seconds = start.elapsed().as_secs_f64();
         let sum: f64 = maps.values.iter().flatten().map(|&v| f64::from(v)).sum();
-        print!("{:<9} triangles {:>6} {seconds:>8.3} s  sum {sum:.3}", structure.name(), triangles.len());
+        print!("{name:<9} triangles {:>6} {seconds:>8.3} s  sum {sum:.3}", triangles.len());
         if only == Some("reference") {
             let start = Instant::now();
-            let reference = reference_distance_maps(dims, &triangles, cones, settings).ok_or("invalid scene")?;
+            let reference = reference_distance_maps(dims, &triangles, kind, settings)
+                .map_err(|e| format!("{name}: reference: {e}"))?;
             let sum: f64 = reference.values.iter().flatten().map(|&v| f64::from(v)).sum();
             print!("   reference {:.3} s  sum {sum:.3}", start.elapsed().as_secs_f64());
         }

@@ -47,7 +47,7 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
+use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, compute_distance_maps};
 use ddm_render::{
     Camera, DdmFrame, DdmRenderPipelines, DdmRenderer, GBufferPass, GpuSceneBuffers, PassTimestamps, PixelReadback,
     RenderSettings, pixels_to_image, plane_base_mesh, wgpu,
@@ -161,42 +161,44 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
     let (mut first_frames, mut warm_frames, mut images) = (0.0, 0.0, 0);
     for structure in Mesostructure::ALL {
         let triangles = structure.triangles(dims);
-        let plain = compute_distance_maps(dims, &triangles, None, settings).ok_or("invalid scene")?;
+        let name = structure.name();
+        // Every error names the mesostructure and the map or scene it is about.
+        let failed = |what: &str, error: &dyn std::fmt::Display| format!("{name}: {what}: {error}");
+        let plain =
+            compute_distance_maps(dims, &triangles, MapKind::Plain, settings).map_err(|e| failed("the DM maps", &e))?;
+        let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).map_err(|e| failed("the DDM 4x1 cones", &e))?);
         let ddm =
-            compute_distance_maps(dims, &triangles, DirectionCones::downward(4, 1), settings).ok_or("invalid scene")?;
+            compute_distance_maps(dims, &triangles, ddm4x1, settings).map_err(|e| failed("the DDM 4x1 maps", &e))?;
         let patches = VoxelPatches::build(dims, &triangles, &ddm.surface, PatchSettings::default())
-            .ok_or("patch construction failed")?;
+            .map_err(|e| failed("the C0 patches", &e))?;
         let adaptive_settings =
             PatchSettings { surface: PatchSurface::Adaptive { max_error: 1e-3 }, ..PatchSettings::default() };
         let adaptive = VoxelPatches::build(dims, &triangles, &ddm.surface, adaptive_settings)
-            .ok_or("patch construction failed")?;
+            .map_err(|e| failed("the adaptive patches", &e))?;
         let sphere =
             TraceSettings { method: Method::SphereTracing, max_steps: MAX_STEPS, stepping: Stepping::Distance };
         let quadric = TraceSettings { method: Method::Quadric, max_steps: MAX_STEPS, stepping: Stepping::Distance };
-        let pack = |m| CompressedMaps::compress(m, 1).ok_or("cannot pack the maps");
-        let (plain_packed, ddm_packed) = (pack(&plain)?, pack(&ddm)?);
+        let plain_packed = CompressedMaps::compress(&plain, 1).map_err(|e| failed("packing the DM maps", &e))?;
+        let ddm_packed = CompressedMaps::compress(&ddm, 1).map_err(|e| failed("packing the DDM 4x1 maps", &e))?;
+        let scene = |method: &'static str, maps, patches, settings, tolerance| {
+            GpuScene::new(maps, patches, settings)
+                .map(|scene| (method, scene, tolerance))
+                .map_err(|e| failed(&format!("the {method} scene"), &e))
+        };
+        let exit = TraceSettings { stepping: Stepping::VoxelExit, ..quadric };
         let mut scenes: Vec<(&'static str, GpuScene, f32)> = vec![
-            ("dm", GpuScene::new(&plain_packed, None, sphere).ok_or("scene does not pack")?, 1.75),
-            ("ddm4x1", GpuScene::new(&ddm_packed, None, sphere).ok_or("scene does not pack")?, 1.75),
-            ("ddm4x1_quadric", GpuScene::new(&ddm_packed, Some(&patches), quadric).ok_or("scene does not pack")?, 0.02),
-            (
-                "ddm4x1_adaptive",
-                GpuScene::new(&ddm_packed, Some(&adaptive), quadric).ok_or("scene does not pack")?,
-                0.02,
-            ),
-            (
-                "ddm4x1_adaptive_exit",
-                GpuScene::new(&ddm_packed, Some(&adaptive), TraceSettings { stepping: Stepping::VoxelExit, ..quadric })
-                    .ok_or("scene does not pack")?,
-                0.02,
-            ),
+            scene("dm", &plain_packed, None, sphere, 1.75)?,
+            scene("ddm4x1", &ddm_packed, None, sphere, 1.75)?,
+            scene("ddm4x1_quadric", &ddm_packed, Some(&patches), quadric, 0.02)?,
+            scene("ddm4x1_adaptive", &ddm_packed, Some(&adaptive), quadric, 0.02)?,
+            scene("ddm4x1_adaptive_exit", &ddm_packed, Some(&adaptive), exit, 0.02)?,
         ];
         if matches!(structure, Mesostructure::Maze(_) | Mesostructure::Bricks) {
             let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));
-            let height_map = HeightMap::from_mesh(&mesh, dims, 2);
+            let height_map = HeightMap::from_mesh(&mesh, dims, 2).map_err(|e| failed("the relief height map", &e))?;
             let scene = GpuScene::new(&plain_packed, None, sphere)
                 .and_then(|s| s.with_relief(&height_map, RELIEF_LINEAR, RELIEF_BINARY))
-                .ok_or("the relief scene does not pack")?;
+                .map_err(|e| failed("the relief scene", &e))?;
             scenes.push(("relief", scene, 0.25));
         }
         // Each scene uploaded once, for both bases.

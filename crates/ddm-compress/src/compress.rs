@@ -11,6 +11,7 @@
 //! it matters.
 
 use alloc::vec::Vec;
+use core::fmt;
 
 use glam::{UVec3, UVec4};
 use gpu_layout::gpu_struct;
@@ -52,19 +53,108 @@ pub fn grid_dims(dims: UVec3, block: u32) -> UVec3 {
     (dims + UVec3::splat(block - 1)) / block
 }
 
+/// The largest block side [`CompressedMap::compress`] accepts.
+pub const MAX_BLOCK: u32 = 64;
+
+/// Why [`CompressedMap::compress`] refused its inputs. The checks run in the order of the
+/// variants; the first that fails is returned.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CompressError {
+    /// The block side is 0 or above [`MAX_BLOCK`].
+    InvalidBlock {
+        /// The block side given.
+        block: u32,
+    },
+    /// A side of the grid is zero.
+    EmptyGrid {
+        /// The grid size given.
+        dims: UVec3,
+    },
+    /// The grid has more voxels than a `u32` index reaches (the GPU reads `u32` indices).
+    TooManyVoxels {
+        /// The grid size given.
+        dims: UVec3,
+    },
+    /// `values` does not have one entry per voxel.
+    ValueCount {
+        /// Voxels of the grid.
+        expected: usize,
+        /// Entries of `values`.
+        found: usize,
+    },
+    /// `surface` does not have one entry per voxel.
+    SurfaceCount {
+        /// Voxels of the grid.
+        expected: usize,
+        /// Entries of `surface`.
+        found: usize,
+    },
+    /// Value `index` is negative or not finite (a distance is neither).
+    InvalidValue {
+        /// The value's index in `values`.
+        index: usize,
+        /// The value.
+        value: f32,
+    },
+    /// The atlas would hold more than 2³¹ blocks or more words than a `u32` index reaches.
+    AtlasOverflow,
+}
+
+impl fmt::Display for CompressError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::InvalidBlock { block } => {
+                write!(f, "compression: the block side {block} is outside 1..={MAX_BLOCK}")
+            }
+            Self::EmptyGrid { dims } => write!(f, "compression: the grid {dims} has no voxel"),
+            Self::TooManyVoxels { dims } => {
+                write!(f, "compression: the grid {dims} has more voxels than a u32 index reaches")
+            }
+            Self::ValueCount { expected, found } => {
+                write!(f, "compression: {found} values for {expected} voxels")
+            }
+            Self::SurfaceCount { expected, found } => {
+                write!(f, "compression: {found} surface flags for {expected} voxels")
+            }
+            Self::InvalidValue { index, value } => {
+                write!(f, "compression: value {index} is {value}, not a non-negative finite distance")
+            }
+            Self::AtlasOverflow => write!(f, "compression: the atlas would exceed 2³¹ blocks or u32 indices"),
+        }
+    }
+}
+
+impl core::error::Error for CompressError {}
+
 impl CompressedMap {
     /// Compresses `values` (one per voxel, index `x + dims.x (y + dims.y z)`) with
     /// `surface` marking crossed voxels, in `block³` blocks.
     ///
-    /// Returns `None` when the sizes disagree, `block` is 0 or above 64, a value is
-    /// negative or not finite, or the atlas would need more than 2³¹ blocks.
-    pub fn compress(values: &[f32], surface: &[bool], dims: UVec3, block: u32) -> Option<Self> {
-        let voxels = dims.x as usize * dims.y as usize * dims.z as usize;
-        if block == 0 || block > 64 || values.len() != voxels || surface.len() != voxels || voxels == 0 {
-            return None;
+    /// # Errors
+    ///
+    /// A [`CompressError`]: a block side of 0 or above [`MAX_BLOCK`], an empty or too large
+    /// grid, `values` or `surface` of the wrong length, a negative or non-finite value
+    /// (with its index), or an atlas past `u32` indices.
+    pub fn compress(values: &[f32], surface: &[bool], dims: UVec3, block: u32) -> Result<Self, CompressError> {
+        if block == 0 || block > MAX_BLOCK {
+            return Err(CompressError::InvalidBlock { block });
         }
-        if values.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
-            return None;
+        if dims.cmpeq(UVec3::ZERO).any() {
+            return Err(CompressError::EmptyGrid { dims });
+        }
+        let voxels = u64::from(dims.x) * u64::from(dims.y);
+        let voxels = voxels.checked_mul(u64::from(dims.z)).filter(|&v| v <= u64::from(u32::MAX));
+        let Some(voxels) = voxels.and_then(|v| usize::try_from(v).ok()) else {
+            return Err(CompressError::TooManyVoxels { dims });
+        };
+        if values.len() != voxels {
+            return Err(CompressError::ValueCount { expected: voxels, found: values.len() });
+        }
+        if surface.len() != voxels {
+            return Err(CompressError::SurfaceCount { expected: voxels, found: surface.len() });
+        }
+        if let Some((index, &value)) = values.iter().enumerate().find(|(_, v)| !(v.is_finite() && **v >= 0.0)) {
+            return Err(CompressError::InvalidValue { index, value });
         }
         let g = grid_dims(dims, block);
         let mut grid = Vec::with_capacity((g.x * g.y * g.z) as usize);
@@ -92,7 +182,10 @@ impl CompressedMap {
                         }
                     }
                     if crossed {
-                        let index = u32::try_from(atlas.len() / copy.len()).ok().filter(|i| i & SURFACE_FLAG == 0)?;
+                        let index = u32::try_from(atlas.len() / copy.len())
+                            .ok()
+                            .filter(|i| i & SURFACE_FLAG == 0 && atlas.len() + copy.len() <= u32::MAX as usize)
+                            .ok_or(CompressError::AtlasOverflow)?;
                         grid.push(SURFACE_FLAG | index);
                         atlas.extend(copy);
                     } else {
@@ -101,7 +194,7 @@ impl CompressedMap {
                 }
             }
         }
-        Some(Self::from_checked_parts(dims, block, grid, atlas))
+        Ok(Self::from_checked_parts(dims, block, grid, atlas))
     }
 
     /// The map from parts that [`CompressedMap::compress`] or the decoder have checked
@@ -240,6 +333,8 @@ impl CompressedMapUniforms {
 
 #[cfg(test)]
 mod tests {
+    use alloc::string::ToString;
+
     use super::*;
 
     #[test]
@@ -338,11 +433,34 @@ mod tests {
     }
 
     #[test]
-    fn invalid_input_is_rejected() {
+    fn each_invalid_input_has_its_error() {
+        use CompressError::*;
         let dims = UVec3::ONE;
-        assert!(CompressedMap::compress(&[1.0], &[false], dims, 0).is_none());
-        assert!(CompressedMap::compress(&[f32::NAN], &[false], dims, 1).is_none());
-        assert!(CompressedMap::compress(&[-1.0], &[false], dims, 1).is_none());
-        assert!(CompressedMap::compress(&[1.0, 2.0], &[false], dims, 1).is_none());
+        assert_eq!(CompressedMap::compress(&[1.0], &[false], dims, 0), Err(InvalidBlock { block: 0 }));
+        assert_eq!(CompressedMap::compress(&[1.0], &[false], dims, 65), Err(InvalidBlock { block: 65 }));
+        assert!(CompressedMap::compress(&[1.0], &[false], dims, MAX_BLOCK).is_ok());
+        let flat = UVec3::new(4, 0, 2);
+        assert_eq!(CompressedMap::compress(&[], &[], flat, 2), Err(EmptyGrid { dims: flat }));
+        let huge = UVec3::new(1 << 16, 1 << 16, 2);
+        assert_eq!(CompressedMap::compress(&[], &[], huge, 2), Err(TooManyVoxels { dims: huge }));
+        let huge = UVec3::splat(u32::MAX);
+        assert_eq!(CompressedMap::compress(&[], &[], huge, 2), Err(TooManyVoxels { dims: huge }));
+        assert_eq!(CompressedMap::compress(&[1.0, 2.0], &[false], dims, 1), Err(ValueCount { expected: 1, found: 2 }));
+        assert_eq!(CompressedMap::compress(&[1.0], &[], dims, 1), Err(SurfaceCount { expected: 1, found: 0 }));
+        let two = UVec3::new(2, 1, 1);
+        assert!(matches!(
+            CompressedMap::compress(&[0.5, f32::NAN], &[false; 2], two, 1),
+            Err(InvalidValue { index: 1, value }) if value.is_nan()
+        ));
+        assert_eq!(
+            CompressedMap::compress(&[-1.0, 0.5], &[false; 2], two, 1),
+            Err(InvalidValue { index: 0, value: -1.0 })
+        );
+        assert_eq!(
+            CompressedMap::compress(&[0.5, f32::INFINITY], &[false; 2], two, 1),
+            Err(InvalidValue { index: 1, value: f32::INFINITY })
+        );
+        let message = CompressedMap::compress(&[1.0], &[], dims, 1).unwrap_err().to_string();
+        assert!(message.contains("0 surface flags for 1 voxels"), "{message}");
     }
 }

@@ -5,6 +5,7 @@
 //! `φ ∈ [-π/2, 0]`; shadow rays use `[0, π/2]`; [`DirectionCones::full`] covers both.
 
 use core::f32::consts::{FRAC_PI_2, PI, TAU};
+use core::fmt;
 
 use glam::Vec3;
 
@@ -49,28 +50,156 @@ pub fn azimuth_elevation(direction: Vec3) -> Option<(f32, f32)> {
     Some((azimuth, elevation))
 }
 
+/// Which end of an elevation range a [`ConeError`] is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ElevationBound {
+    /// The lowest elevation, `elevation_min`.
+    Min,
+    /// The highest elevation, `elevation_max`.
+    Max,
+}
+
+impl fmt::Display for ElevationBound {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::Min => "elevation_min",
+            Self::Max => "elevation_max",
+        })
+    }
+}
+
+/// Why [`DirectionCones::new`] (or [`DirectionCones::full`], [`DirectionCones::downward`])
+/// refused its arguments. The checks run in the order of the variants; the first that
+/// fails is returned.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ConeError {
+    /// Zero azimuth intervals (`m = 0`).
+    ZeroAzimuths,
+    /// Zero elevation intervals (`n = 0`).
+    ZeroElevations,
+    /// `m n` does not fit in a `u32` (cone indices are `u32`).
+    TooManyCones {
+        /// The requested azimuth intervals `m`.
+        azimuths: u32,
+        /// The requested elevation intervals `n`.
+        elevations: u32,
+    },
+    /// An elevation bound is NaN or infinite.
+    NonFiniteElevation {
+        /// Which bound.
+        bound: ElevationBound,
+        /// Its value.
+        value: f32,
+    },
+    /// An elevation bound lies outside `[-π/2, π/2]`.
+    ElevationOutOfRange {
+        /// Which bound.
+        bound: ElevationBound,
+        /// Its value, radians.
+        value: f32,
+    },
+    /// The elevation range is empty: `elevation_min ≥ elevation_max`.
+    EmptyElevationRange {
+        /// The lowest elevation given, radians.
+        min: f32,
+        /// The highest elevation given, radians.
+        max: f32,
+    },
+}
+
+impl fmt::Display for ConeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::ZeroAzimuths => write!(f, "direction cones need at least one azimuth interval"),
+            Self::ZeroElevations => write!(f, "direction cones need at least one elevation interval"),
+            Self::TooManyCones { azimuths, elevations } => {
+                write!(f, "{azimuths} × {elevations} direction cones do not fit in a u32 cone index")
+            }
+            Self::NonFiniteElevation { bound, value } => write!(f, "direction cones: {bound} {value} is not finite"),
+            Self::ElevationOutOfRange { bound, value } => {
+                write!(f, "direction cones: {bound} {value} lies outside [-π/2, π/2]")
+            }
+            Self::EmptyElevationRange { min, max } => {
+                write!(f, "direction cones: the elevation range [{min}, {max}] is empty")
+            }
+        }
+    }
+}
+
+impl core::error::Error for ConeError {}
+
 impl DirectionCones {
-    /// `azimuths × elevations` cones over elevations `[elevation_min, elevation_max]`, or
-    /// `None` for zero counts or a range that is empty, not finite or outside `[-π/2, π/2]`.
-    pub fn new(azimuths: u32, elevations: u32, elevation_min: f32, elevation_max: f32) -> Option<Self> {
-        let valid = azimuths > 0
-            && elevations > 0
-            && elevation_min.is_finite()
-            && elevation_max.is_finite()
-            && -FRAC_PI_2 <= elevation_min
-            && elevation_min < elevation_max
-            && elevation_max <= FRAC_PI_2;
-        valid.then_some(Self { azimuths, elevations, elevation_min, elevation_max })
+    /// `azimuths × elevations` cones over elevations `[elevation_min, elevation_max]`, a
+    /// non-empty sub-range of `[-π/2, π/2]`.
+    ///
+    /// # Errors
+    ///
+    /// A [`ConeError`] naming the first invalid argument: zero counts, more cones than a
+    /// `u32` counts, a non-finite bound, a bound outside `[-π/2, π/2]`, or an empty range.
+    pub fn new(azimuths: u32, elevations: u32, elevation_min: f32, elevation_max: f32) -> Result<Self, ConeError> {
+        if azimuths == 0 {
+            return Err(ConeError::ZeroAzimuths);
+        }
+        if elevations == 0 {
+            return Err(ConeError::ZeroElevations);
+        }
+        if azimuths.checked_mul(elevations).is_none() {
+            return Err(ConeError::TooManyCones { azimuths, elevations });
+        }
+        for (bound, value) in [(ElevationBound::Min, elevation_min), (ElevationBound::Max, elevation_max)] {
+            if !value.is_finite() {
+                return Err(ConeError::NonFiniteElevation { bound, value });
+            }
+        }
+        for (bound, value) in [(ElevationBound::Min, elevation_min), (ElevationBound::Max, elevation_max)] {
+            if !(-FRAC_PI_2..=FRAC_PI_2).contains(&value) {
+                return Err(ConeError::ElevationOutOfRange { bound, value });
+            }
+        }
+        if elevation_min >= elevation_max {
+            return Err(ConeError::EmptyElevationRange { min: elevation_min, max: elevation_max });
+        }
+        Ok(Self { azimuths, elevations, elevation_min, elevation_max })
     }
 
     /// Cones over every direction (`φ ∈ [-π/2, π/2]`).
-    pub fn full(azimuths: u32, elevations: u32) -> Option<Self> {
+    ///
+    /// # Errors
+    ///
+    /// [`ConeError::ZeroAzimuths`], [`ConeError::ZeroElevations`] or
+    /// [`ConeError::TooManyCones`], as [`DirectionCones::new`].
+    pub fn full(azimuths: u32, elevations: u32) -> Result<Self, ConeError> {
         Self::new(azimuths, elevations, -FRAC_PI_2, FRAC_PI_2)
     }
 
     /// Cones over downward (viewing) directions, `φ ∈ [-π/2, 0]`, as the paper's DDM m×n.
-    pub fn downward(azimuths: u32, elevations: u32) -> Option<Self> {
+    ///
+    /// # Errors
+    ///
+    /// [`ConeError::ZeroAzimuths`], [`ConeError::ZeroElevations`] or
+    /// [`ConeError::TooManyCones`], as [`DirectionCones::new`].
+    pub fn downward(azimuths: u32, elevations: u32) -> Result<Self, ConeError> {
         Self::new(azimuths, elevations, -FRAC_PI_2, 0.0)
+    }
+
+    /// Azimuth intervals `m`.
+    pub fn azimuths(&self) -> u32 {
+        self.azimuths
+    }
+
+    /// Elevation intervals `n`.
+    pub fn elevations(&self) -> u32 {
+        self.elevations
+    }
+
+    /// Lowest elevation of the band, radians (the start of cone 0).
+    pub fn elevation_min(&self) -> f32 {
+        self.elevation_min
+    }
+
+    /// Highest elevation of the band, radians (the end of the last cone).
+    pub fn elevation_max(&self) -> f32 {
+        self.elevation_max
     }
 
     /// Number of cones `m n`.
@@ -312,6 +441,8 @@ fn wrap_angle(x: f32) -> f32 {
 
 #[cfg(test)]
 mod tests {
+    use alloc::string::ToString;
+
     use super::*;
 
     #[test]
@@ -325,8 +456,41 @@ mod tests {
         assert_eq!(cones.cone_of(Vec3::new(1.0, 0.1, 0.2)), None);
         assert_eq!(cones.cone_of(Vec3::NEG_Z), Some(0));
         assert_eq!(cones.cone_of(Vec3::ZERO), None);
-        assert!(DirectionCones::new(0, 1, 0.0, 1.0).is_none());
-        assert!(DirectionCones::new(1, 1, 0.5, 0.5).is_none());
+    }
+
+    #[test]
+    fn each_invalid_argument_has_its_error() {
+        use ConeError::*;
+        use ElevationBound::{Max, Min};
+        assert_eq!(DirectionCones::new(0, 1, 0.0, 1.0), Err(ZeroAzimuths));
+        assert_eq!(DirectionCones::downward(0, 0), Err(ZeroAzimuths));
+        assert_eq!(DirectionCones::full(4, 0), Err(ZeroElevations));
+        assert_eq!(
+            DirectionCones::downward(1 << 16, 1 << 16),
+            Err(TooManyCones { azimuths: 1 << 16, elevations: 1 << 16 })
+        );
+        assert_eq!(DirectionCones::downward(u32::MAX, 1).map(|c| c.count()), Ok(u32::MAX));
+        assert!(matches!(
+            DirectionCones::new(4, 1, f32::NAN, 0.0),
+            Err(NonFiniteElevation { bound: Min, value }) if value.is_nan()
+        ));
+        assert_eq!(
+            DirectionCones::new(4, 1, 0.0, f32::INFINITY),
+            Err(NonFiniteElevation { bound: Max, value: f32::INFINITY })
+        );
+        assert_eq!(DirectionCones::new(4, 1, -2.0, 0.0), Err(ElevationOutOfRange { bound: Min, value: -2.0 }));
+        assert_eq!(DirectionCones::new(4, 1, 0.0, 1.6), Err(ElevationOutOfRange { bound: Max, value: 1.6 }));
+        assert_eq!(DirectionCones::new(1, 1, 0.5, 0.5), Err(EmptyElevationRange { min: 0.5, max: 0.5 }));
+        assert_eq!(DirectionCones::new(1, 1, 0.5, -0.5), Err(EmptyElevationRange { min: 0.5, max: -0.5 }));
+        // The bounds ±π/2 themselves are valid, and the accessors return the arguments.
+        let cones = DirectionCones::new(3, 2, -FRAC_PI_2, FRAC_PI_2).unwrap();
+        assert_eq!(
+            (cones.azimuths(), cones.elevations(), cones.elevation_min(), cones.elevation_max()),
+            (3, 2, -FRAC_PI_2, FRAC_PI_2)
+        );
+        // Every message names what is wrong.
+        let message = DirectionCones::new(4, 1, 0.0, 1.6).unwrap_err().to_string();
+        assert!(message.contains("elevation_max") && message.contains("1.6"), "{message}");
     }
 
     #[test]

@@ -11,13 +11,128 @@
 //! crosses store exactly 0 for every cone.
 
 use alloc::vec::Vec;
+use core::fmt;
 
 use glam::{UVec3, Vec3};
 
 use crate::bvh::TriangleBvh;
-use crate::cones::{Cone, DirectionCones, azimuth_elevation};
+use crate::cones::{Cone, DirectionCones};
 use crate::geometry::{Aabb, Triangle};
 use crate::search::{CONES_PER_SEARCH, TriangleAxes, VoxelSearch};
+
+/// Which distance maps are computed: the plain distance map, or one directional distance
+/// map per cone.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MapKind {
+    /// The plain (undirected) distance map: a single map, for every direction.
+    Plain,
+    /// One directional distance map per cone of the cones (the paper's DDM m×n).
+    Directional(DirectionCones),
+}
+
+impl MapKind {
+    /// The number of maps: 1 for [`MapKind::Plain`], the number of cones otherwise.
+    pub fn map_count(&self) -> u32 {
+        match self {
+            Self::Plain => 1,
+            Self::Directional(cones) => cones.count(),
+        }
+    }
+
+    /// The cones of a directional map; `None` for the plain map.
+    pub fn cones(&self) -> Option<DirectionCones> {
+        match self {
+            Self::Plain => None,
+            Self::Directional(cones) => Some(*cones),
+        }
+    }
+
+    /// The cone that map `index` measures: `Some(None)` for the plain map's only map (every
+    /// direction), `Some(Some(cone))` for a directional map, `None` past the last map.
+    fn cone_of_map(&self, index: u32) -> Option<Option<Cone>> {
+        match self {
+            Self::Plain => (index == 0).then_some(None),
+            Self::Directional(cones) => cones.cone(index).map(Some),
+        }
+    }
+
+    /// Every map's cone in map order (`None`: every direction, the plain map).
+    pub(crate) fn cone_list(&self) -> Vec<Option<Cone>> {
+        (0..self.map_count()).map_while(|i| self.cone_of_map(i)).collect()
+    }
+}
+
+impl From<DirectionCones> for MapKind {
+    fn from(cones: DirectionCones) -> Self {
+        Self::Directional(cones)
+    }
+}
+
+/// The most voxels [`compute_distance_maps`] accepts: 2²⁴.
+pub const MAX_VOXELS: u64 = 1 << 24;
+
+/// The most values (voxels × maps) [`compute_distance_maps`] accepts: 2²⁸ (1 GiB of
+/// `f32`).
+pub const MAX_VALUES: u64 = 1 << 28;
+
+/// Why [`compute_distance_maps`] refused its inputs. The checks run in the order of the
+/// variants; the first that fails is returned.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DistanceMapError {
+    /// A side of the grid is zero.
+    EmptyGrid {
+        /// The grid size given.
+        dims: UVec3,
+    },
+    /// The grid has more than `limit` ([`MAX_VOXELS`]) voxels.
+    TooManyVoxels {
+        /// The grid size given.
+        dims: UVec3,
+        /// The largest number of voxels accepted.
+        limit: u64,
+    },
+    /// Voxels × maps exceeds `limit` ([`MAX_VALUES`]).
+    TooManyValues {
+        /// Voxels of the grid.
+        voxels: u64,
+        /// Maps requested ([`MapKind::map_count`]).
+        maps: u32,
+        /// The largest number of values accepted.
+        limit: u64,
+    },
+    /// The tolerance is zero, negative or not finite.
+    InvalidTolerance {
+        /// The tolerance given.
+        tolerance: f32,
+    },
+    /// A vertex of triangle `index` (in the slice given) is NaN or infinite.
+    NonFiniteTriangle {
+        /// The triangle's index.
+        index: usize,
+    },
+}
+
+impl fmt::Display for DistanceMapError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::EmptyGrid { dims } => write!(f, "distance maps: the grid {dims} has no voxel"),
+            Self::TooManyVoxels { dims, limit } => write!(
+                f,
+                "distance maps: the grid {dims} has {} voxels, more than the limit of {limit}",
+                u128::from(dims.x) * u128::from(dims.y) * u128::from(dims.z)
+            ),
+            Self::TooManyValues { voxels, maps, limit } => {
+                write!(f, "distance maps: {voxels} voxels × {maps} maps exceed the limit of {limit} values")
+            }
+            Self::InvalidTolerance { tolerance } => {
+                write!(f, "distance maps: the tolerance {tolerance} is not a positive finite number")
+            }
+            Self::NonFiniteTriangle { index } => write!(f, "distance maps: triangle {index} has a non-finite vertex"),
+        }
+    }
+}
+
+impl core::error::Error for DistanceMapError {}
 
 /// Distance maps over a grid of unit voxels: one map per direction cone (a single map for
 /// the plain, undirected distance map).
@@ -25,8 +140,8 @@ use crate::search::{CONES_PER_SEARCH, TriangleAxes, VoxelSearch};
 pub struct DistanceMaps {
     /// Grid size in voxels.
     pub dims: UVec3,
-    /// The cones, or `None` for the plain distance map.
-    pub cones: Option<DirectionCones>,
+    /// Which maps these are: `values` has [`MapKind::map_count`] maps.
+    pub kind: MapKind,
     /// `values[cone][voxel]`, voxel index `x + dims.x (y + dims.y z)`.
     pub values: Vec<Vec<f32>>,
     /// Whether each voxel contains part of the mesostructure.
@@ -53,7 +168,8 @@ impl Default for DistanceMapSettings {
 }
 
 /// Computes the distance maps of `triangles` (in voxel coordinates) on a `dims` grid:
-/// one per cone of `cones`, or the plain distance map for `None`.
+/// one per cone for [`MapKind::Directional`], the plain distance map for
+/// [`MapKind::Plain`].
 ///
 /// Every value is a lower bound of the true (directional) distance, within about
 /// `2 tolerance` of it for convex cones (see the module documentation); voxels that a triangle crosses store 0. All cones of a voxel are
@@ -61,15 +177,18 @@ impl Default for DistanceMapSettings {
 /// cone's value depends on them (see the `search` module's documentation in the source);
 /// with the `std` feature the rows of the grid are shared among the available threads.
 ///
-/// Returns `None` for an empty grid, a grid of more than 2²⁴ voxels, a non-positive or
-/// non-finite tolerance, or a non-finite triangle.
+/// # Errors
+///
+/// A [`DistanceMapError`]: an empty grid, more than [`MAX_VOXELS`] voxels or
+/// [`MAX_VALUES`] values, a non-positive or non-finite tolerance, or a non-finite triangle
+/// (with its index).
 pub fn compute_distance_maps(
     dims: UVec3,
     triangles: &[Triangle],
-    cones: Option<DirectionCones>,
+    kind: MapKind,
     settings: DistanceMapSettings,
-) -> Option<DistanceMaps> {
-    let scene = Scene::new(dims, triangles, cones, settings)?;
+) -> Result<DistanceMaps, DistanceMapError> {
+    let scene = Scene::new(dims, triangles, kind, settings)?;
     let rows = (dims.y * dims.z) as usize;
     let per_row = dims.x as usize * scene.cone_list.len();
     let mut values = alloc::vec![0.0_f32; rows * per_row];
@@ -78,77 +197,48 @@ pub fn compute_distance_maps(
     // `values` is voxel-major (all cones of a voxel together); the maps are cone-major.
     let cone_count = scene.cone_list.len();
     let maps = (0..cone_count).map(|c| values.iter().skip(c).step_by(cone_count).copied().collect()).collect();
-    Some(DistanceMaps { dims, cones, values: maps, surface, max_distance: scene.max_distance })
-}
-
-/// The previous, slower computation, kept as a reference for tests and benchmarks: every
-/// cone of every voxel on its own, each triangle bounded by
-/// [`crate::geometry::directional_distance_bound`] (bounding spheres, subdivided to
-/// `tolerance`). Its values are lower bounds as well, usually a little looser than
-/// [`compute_distance_maps`]'s. Same inputs and `None` cases.
-pub fn reference_distance_maps(
-    dims: UVec3,
-    triangles: &[Triangle],
-    cones: Option<DirectionCones>,
-    settings: DistanceMapSettings,
-) -> Option<DistanceMaps> {
-    let scene = Scene::new(dims, triangles, cones, settings)?;
-    let voxels = dims.x as usize * dims.y as usize * dims.z as usize;
-    let (mut overlap_stack, mut distance_stack) = (Vec::new(), Vec::new());
-    let mut values = alloc::vec![alloc::vec![scene.max_distance; voxels]; scene.cone_list.len()];
-    let mut surface = alloc::vec![false; voxels];
-    for z in 0..dims.z {
-        for y in 0..dims.y {
-            for x in 0..dims.x {
-                let index = (x + dims.x * (y + dims.y * z)) as usize;
-                let voxel = Aabb::voxel(x, y, z);
-                if scene.bvh.any_overlaps(&voxel, &mut overlap_stack) {
-                    surface[index] = true;
-                    for map in values.iter_mut() {
-                        map[index] = 0.0;
-                    }
-                    continue;
-                }
-                for (map, cone) in values.iter_mut().zip(&scene.cone_list) {
-                    map[index] = scene.bvh.min_directional_distance(
-                        &voxel,
-                        cone.as_ref(),
-                        settings.tolerance,
-                        scene.max_distance,
-                        &mut distance_stack,
-                    );
-                }
-            }
-        }
-    }
-    Some(DistanceMaps { dims, cones, values, surface, max_distance: scene.max_distance })
+    Ok(DistanceMaps { dims, kind, values: maps, surface, max_distance: scene.max_distance })
 }
 
 /// The validated inputs of a distance-map computation: the triangle hierarchy (with the
 /// 8 neighbouring tiles' copies when periodic), the cone list and the cap.
-struct Scene {
+pub(crate) struct Scene {
     dims: UVec3,
-    bvh: TriangleBvh,
+    pub(crate) bvh: TriangleBvh,
     /// The separating axes of each of the hierarchy's triangles, in its order.
     axes: Vec<TriangleAxes>,
-    cone_list: Vec<Option<Cone>>,
+    /// Each map's cone (`None`: every direction).
+    pub(crate) cone_list: Vec<Option<Cone>>,
     tolerance: f32,
-    max_distance: f32,
+    pub(crate) max_distance: f32,
 }
 
 impl Scene {
-    fn new(
+    /// Checks the inputs (in the order of [`DistanceMapError`]'s variants) and builds the
+    /// hierarchy.
+    pub(crate) fn new(
         dims: UVec3,
         triangles: &[Triangle],
-        cones: Option<DirectionCones>,
+        kind: MapKind,
         settings: DistanceMapSettings,
-    ) -> Option<Self> {
-        let voxels = dims.x as usize * dims.y as usize * dims.z as usize;
-        if voxels == 0 || voxels > 1 << 24 || !(settings.tolerance > 0.0 && settings.tolerance.is_finite()) {
-            return None;
+    ) -> Result<Self, DistanceMapError> {
+        if dims.cmpeq(UVec3::ZERO).any() {
+            return Err(DistanceMapError::EmptyGrid { dims });
         }
-        if triangles.iter().any(|t| !t.is_finite()) {
-            return None;
+        let voxels = u128::from(dims.x) * u128::from(dims.y) * u128::from(dims.z);
+        if voxels > u128::from(MAX_VOXELS) {
+            return Err(DistanceMapError::TooManyVoxels { dims, limit: MAX_VOXELS });
+        }
+        let voxels = voxels as u64; // at most MAX_VOXELS
+        let maps = kind.map_count();
+        if voxels * u64::from(maps) > MAX_VALUES {
+            return Err(DistanceMapError::TooManyValues { voxels, maps, limit: MAX_VALUES });
+        }
+        if !(settings.tolerance > 0.0 && settings.tolerance.is_finite()) {
+            return Err(DistanceMapError::InvalidTolerance { tolerance: settings.tolerance });
+        }
+        if let Some(index) = triangles.iter().position(|t| !t.is_finite()) {
+            return Err(DistanceMapError::NonFiniteTriangle { index });
         }
         let mut all = Vec::with_capacity(triangles.len() * if settings.periodic_xy { 9 } else { 1 });
         let offsets: &[(f32, f32)] = if settings.periodic_xy {
@@ -170,13 +260,10 @@ impl Scene {
             let shift = Vec3::new(ox * dims.x as f32, oy * dims.y as f32, 0.0);
             all.extend(triangles.iter().map(|t| Triangle(t.0.map(|v| v + shift))));
         }
-        let cone_list: Vec<Option<Cone>> = match cones {
-            Some(c) => (0..c.count()).map(|i| c.cone(i)).collect(),
-            None => alloc::vec![None],
-        };
+        let cone_list = kind.cone_list();
         let bvh = TriangleBvh::new(all);
         let axes = bvh.triangles().iter().map(TriangleAxes::of).collect();
-        Some(Self { dims, bvh, axes, cone_list, tolerance: settings.tolerance, max_distance: dims.as_vec3().length() })
+        Ok(Self { dims, bvh, axes, cone_list, tolerance: settings.tolerance, max_distance: dims.as_vec3().length() })
     }
 
     /// Computes row `row` (`y + dims.y z`): `values` gets every cone of each voxel in
@@ -264,64 +351,20 @@ struct Scratch {
     seeds: Vec<Vec<Vec3>>,
 }
 
-/// A brute-force upper estimate of the directional distance from `voxel` to `triangles`
-/// in `cone`: the smallest `|m − v|` over `samples²` point pairs whose direction lies in
-/// the cone. A conservative map must never exceed it.
-pub fn sampled_distance(voxel: UVec3, triangles: &[Triangle], cone: Option<&Cone>, samples: u32) -> f32 {
-    let mut best = f32::INFINITY;
-    let n = samples.max(1);
-    let box_point = |k: u32| {
-        // A low-discrepancy point of the voxel (Halton bases 2, 3, 5).
-        let halton = |mut i: u32, base: u32| {
-            let (mut f, mut r) = (1.0_f32, 0.0_f32);
-            while i > 0 {
-                f /= base as f32;
-                r += f * (i % base) as f32;
-                i /= base;
-            }
-            r
-        };
-        voxel.as_vec3() + Vec3::new(halton(k + 1, 2), halton(k + 1, 3), halton(k + 1, 5))
-    };
-    for triangle in triangles {
-        let [a, b, c] = triangle.0;
-        for k in 0..n {
-            let v = box_point(k);
-            for s in 0..n {
-                // A point of the triangle (square-root parametrization, van der Corput).
-                let u = (s as f32 + 0.5) / n as f32;
-                let w = ((s * 7 + k * 3) % n) as f32 / n as f32 + 0.5 / n as f32;
-                let su = libm::sqrtf(u);
-                let m = a * (1.0 - su) + b * (su * (1.0 - w)) + c * (su * w);
-                let d = m - v;
-                let inside = match cone {
-                    Some(cone) => {
-                        azimuth_elevation(d).is_some_and(|(azimuth, elevation)| cone.contains_at(azimuth, elevation))
-                    }
-                    None => true,
-                };
-                if inside {
-                    best = best.min(d.length());
-                }
-            }
-        }
-    }
-    best
-}
-
 #[cfg(test)]
 mod tests {
+    use alloc::format;
+    use alloc::string::ToString;
+
     use super::*;
     use crate::geometry::{directional_distance_bound, triangle_overlaps_box};
+    use crate::testing::{reference_distance_maps, sampled_distance};
 
     /// The maps by testing every voxel against every triangle, as before the hierarchy.
-    fn brute_force(dims: UVec3, triangles: &[Triangle], cones: Option<DirectionCones>, tolerance: f32) -> DistanceMaps {
+    fn brute_force(dims: UVec3, triangles: &[Triangle], kind: MapKind, tolerance: f32) -> DistanceMaps {
         let voxels = (dims.x * dims.y * dims.z) as usize;
         let max_distance = dims.as_vec3().length();
-        let cone_list: Vec<Option<Cone>> = match cones {
-            Some(c) => (0..c.count()).map(|i| c.cone(i)).collect(),
-            None => alloc::vec![None],
-        };
+        let cone_list = kind.cone_list();
         let mut values = alloc::vec![alloc::vec![max_distance; voxels]; cone_list.len()];
         let mut surface = alloc::vec![false; voxels];
         for z in 0..dims.z {
@@ -345,7 +388,73 @@ mod tests {
                 }
             }
         }
-        DistanceMaps { dims, cones, values, surface, max_distance }
+        DistanceMaps { dims, kind, values, surface, max_distance }
+    }
+
+    /// The downward DDM `azimuths × elevations`.
+    fn downward(azimuths: u32, elevations: u32) -> MapKind {
+        MapKind::Directional(DirectionCones::downward(azimuths, elevations).unwrap())
+    }
+
+    #[test]
+    fn map_kinds_count_their_maps_and_list_their_cones() {
+        assert_eq!(MapKind::Plain.map_count(), 1);
+        assert_eq!(MapKind::Plain.cones(), None);
+        assert_eq!(MapKind::Plain.cone_list(), [None]);
+        let cones = DirectionCones::downward(4, 2).unwrap();
+        let kind = MapKind::from(cones);
+        assert_eq!((kind.map_count(), kind.cones()), (8, Some(cones)));
+        let list = kind.cone_list();
+        assert_eq!(list.len(), 8);
+        assert!(list.iter().enumerate().all(|(i, c)| *c == cones.cone(i as u32)));
+    }
+
+    #[test]
+    fn each_invalid_input_has_its_error() {
+        use DistanceMapError::*;
+        let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+        let floor = [Triangle([Vec3::ZERO, Vec3::X, Vec3::Y])];
+        let plain = |dims: UVec3| compute_distance_maps(dims, &floor, MapKind::Plain, settings);
+        let flat = UVec3::new(4, 0, 4);
+        assert_eq!(plain(flat), Err(EmptyGrid { dims: flat }));
+        let big = UVec3::new(1 << 12, 1 << 12, 2);
+        assert_eq!(plain(big), Err(TooManyVoxels { dims: big, limit: MAX_VOXELS }));
+        let huge = UVec3::splat(u32::MAX);
+        assert_eq!(plain(huge), Err(TooManyVoxels { dims: huge, limit: MAX_VOXELS }));
+        assert!(plain(huge).unwrap_err().to_string().contains(&format!("{}", u128::from(u32::MAX).pow(3))));
+        // 2²⁴ voxels are accepted; 16 maps of them reach the value limit exactly, 17 exceed it.
+        let most = UVec3::new(1 << 12, 1 << 12, 1);
+        let cones = DirectionCones::downward(17, 1).unwrap();
+        assert_eq!(
+            compute_distance_maps(most, &floor, MapKind::Directional(cones), settings),
+            Err(TooManyValues { voxels: MAX_VOXELS, maps: 17, limit: MAX_VALUES })
+        );
+        let cones = DirectionCones::downward(u32::MAX, 1).unwrap();
+        assert_eq!(
+            compute_distance_maps(UVec3::ONE, &floor, cones.into(), settings),
+            Err(TooManyValues { voxels: 1, maps: u32::MAX, limit: MAX_VALUES })
+        );
+        for tolerance in [0.0, -0.5, f32::INFINITY] {
+            let settings = DistanceMapSettings { tolerance, ..settings };
+            let result = compute_distance_maps(UVec3::splat(2), &floor, MapKind::Plain, settings);
+            assert_eq!(result, Err(InvalidTolerance { tolerance }));
+        }
+        let settings_nan = DistanceMapSettings { tolerance: f32::NAN, ..settings };
+        assert!(matches!(
+            compute_distance_maps(UVec3::splat(2), &floor, MapKind::Plain, settings_nan),
+            Err(InvalidTolerance { tolerance }) if tolerance.is_nan()
+        ));
+        let mut broken = alloc::vec![floor[0]; 3];
+        broken[2].0[1].y = f32::NAN;
+        let result = compute_distance_maps(UVec3::splat(2), &broken, MapKind::Plain, settings);
+        assert_eq!(result, Err(NonFiniteTriangle { index: 2 }));
+        let message = result.unwrap_err().to_string();
+        assert!(message.contains("triangle 2"), "{message}");
+        // The reference refuses the same inputs with the same errors.
+        assert_eq!(
+            reference_distance_maps(UVec3::splat(2), &broken, MapKind::Plain, settings),
+            Err(NonFiniteTriangle { index: 2 })
+        );
     }
 
     /// Small random triangles scattered in the grid (a xorshift generator, fixed seed).
@@ -367,12 +476,12 @@ mod tests {
         for seed in [0x9e37_79b9_7f4a_7c15_u64, 0x1234_5678_9abc_def1] {
             let triangles = random_scene(seed, 40, dims);
             let settings = DistanceMapSettings { tolerance: 0.1, periodic_xy: false };
-            for cones in [None, DirectionCones::downward(4, 1), DirectionCones::full(3, 2)] {
-                let fast = reference_distance_maps(dims, &triangles, cones, settings).unwrap();
-                let slow = brute_force(dims, &triangles, cones, settings.tolerance);
+            for kind in [MapKind::Plain, downward(4, 1), MapKind::Directional(DirectionCones::full(3, 2).unwrap())] {
+                let fast = reference_distance_maps(dims, &triangles, kind, settings).unwrap();
+                let slow = brute_force(dims, &triangles, kind, settings.tolerance);
                 assert_eq!(fast.surface, slow.surface);
                 assert!(fast.surface.iter().any(|&s| s) && !fast.surface.iter().all(|&s| s));
-                assert_eq!(fast.values, slow.values, "cones {cones:?}");
+                assert_eq!(fast.values, slow.values, "{kind:?}");
             }
         }
     }
@@ -389,20 +498,19 @@ mod tests {
             let settings = DistanceMapSettings { tolerance: 0.1, periodic_xy: false };
             // `downward(4, 2)` and `downward(8, 3)` have bands short of the pole and the
             // horizon, whose convex cones are cut (see `convex_cone`).
-            for (group, cones) in [
-                (0, None),
-                (0, DirectionCones::downward(4, 1)),
-                (0, DirectionCones::full(3, 2)),
-                (1, DirectionCones::downward(4, 2)),
-                (1, DirectionCones::downward(8, 3)),
+            for (group, kind) in [
+                (0, MapKind::Plain),
+                (0, downward(4, 1)),
+                (0, MapKind::Directional(DirectionCones::full(3, 2).unwrap())),
+                (1, downward(4, 2)),
+                (1, downward(8, 3)),
             ] {
-                let fast = compute_distance_maps(dims, &triangles, cones, settings).unwrap();
-                let reference = reference_distance_maps(dims, &triangles, cones, settings).unwrap();
+                let fast = compute_distance_maps(dims, &triangles, kind, settings).unwrap();
+                let reference = reference_distance_maps(dims, &triangles, kind, settings).unwrap();
                 assert_eq!(fast.surface, reference.surface);
-                let cone_list: Vec<Option<Cone>> = match cones {
-                    Some(c) => (0..c.count()).map(|i| c.cone(i)).collect(),
-                    None => alloc::vec![None],
-                };
+                assert_eq!((fast.kind, reference.kind), (kind, kind));
+                assert_eq!(fast.values.len(), kind.map_count() as usize);
+                let cone_list = kind.cone_list();
                 for z in 0..dims.z {
                     for y in 0..dims.y {
                         for x in 0..dims.x {

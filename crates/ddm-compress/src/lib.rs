@@ -8,16 +8,18 @@
 //! silhouettes, because surfaces behind the ray no longer limit its steps.
 //!
 //! ```
-//! use ddm_compress::{DirectionCones, DistanceMapSettings, Triangle, compute_distance_maps, CompressedMap};
+//! use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, MapKind, Triangle, compute_distance_maps};
 //! use glam::{UVec3, Vec3};
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //!
 //! // A floor at z = 1 in a 4 × 4 × 4 grid.
 //! let floor = [
 //!     Triangle([Vec3::new(0.0, 0.0, 1.0), Vec3::new(4.0, 0.0, 1.0), Vec3::new(4.0, 4.0, 1.0)]),
 //!     Triangle([Vec3::new(0.0, 0.0, 1.0), Vec3::new(4.0, 4.0, 1.0), Vec3::new(0.0, 4.0, 1.0)]),
 //! ];
-//! let cones = DirectionCones::full(4, 2).unwrap();
-//! let maps = compute_distance_maps(UVec3::splat(4), &floor, Some(cones), DistanceMapSettings::default()).unwrap();
+//! let cones = DirectionCones::full(4, 2)?;
+//! let maps = compute_distance_maps(UVec3::splat(4), &floor, MapKind::Directional(cones), DistanceMapSettings::default())?;
 //! // From voxel (1, 1, 3) (z ∈ [3, 4]) the floor is 2 below, but only for downward rays.
 //! let voxel = 1 + 4 * (1 + 4 * 3);
 //! let down = cones.cone_of(Vec3::new(0.3, 0.2, -1.0)).unwrap() as usize;
@@ -25,8 +27,22 @@
 //! assert!(maps.values[down][voxel] <= 2.0 && maps.values[down][voxel] > 1.8);
 //! assert_eq!(maps.values[up][voxel], maps.max_distance);
 //! // Lossless where it matters: blocks crossed by the floor are stored whole.
-//! let compressed = CompressedMap::compress(&maps.values[down], &maps.surface, maps.dims, 2).unwrap();
+//! let compressed = CompressedMap::compress(&maps.values[down], &maps.surface, maps.dims, 2)?;
 //! assert_eq!(compressed.access(UVec3::new(1, 1, 1)), Some(0.0));
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! Invalid inputs are errors that say what is wrong, never a silently different map:
+//!
+//! ```
+//! use ddm_compress::{ConeError, DirectionCones, DistanceMapError, DistanceMapSettings, MapKind, compute_distance_maps};
+//! use glam::UVec3;
+//!
+//! assert_eq!(DirectionCones::downward(0, 1), Err(ConeError::ZeroAzimuths));
+//! let settings = DistanceMapSettings { tolerance: 0.0, periodic_xy: true };
+//! let error = compute_distance_maps(UVec3::splat(4), &[], MapKind::Plain, settings).unwrap_err();
+//! assert_eq!(error, DistanceMapError::InvalidTolerance { tolerance: 0.0 });
 //! ```
 //!
 //! # Modules
@@ -35,16 +51,23 @@
 //! - [`geometry`]: boxes, triangles, overlap and the conservative directional distance
 //!   bound.
 //! - [`bvh`]: the triangle hierarchy that makes [`compute_distance_maps`] fast.
-//! - [`ddm`]: directional and plain distance maps of a triangle mesh (the per-voxel
+//! - [`ddm`]: directional and plain distance maps of a triangle mesh ([`MapKind`] says
+//!   which; [`DistanceMapError`] why inputs are refused; the per-voxel
 //!   search over all cones at once lives in the private `search` module, its cone-aware
 //!   duality bounds in the private `convex_cone` module).
-//! - [`compress`]: the lookup grid and atlas (Algorithm A.1) and access (Algorithm A.2).
+//! - [`compress`]: the lookup grid and atlas (Algorithm A.1) and access (Algorithm A.2);
+//!   [`CompressError`] says why a map cannot be compressed.
 //! - [`serialize`]: a versioned binary form that rejects corrupt data.
 //!
 //! # Features
 //!
 //! - `std` (default): enables `std` in the dependencies. The crate is `#![no_std]` with
 //!   `alloc`; `cargo check -p ddm-compress --no-default-features` builds it.
+//! - `wgsl`: the WGSL twin as `WGSL`.
+//! - `testing`: test and benchmark references, not part of the supported API (the
+//!   `testing` module: `reference_distance_maps`, the previous computation, and
+//!   `sampled_distance`, a brute-force upper estimate of a directional distance). Enabled
+//!   by this crate's tests and the workspace's tests and benchmarks only.
 #![no_std]
 
 extern crate alloc;
@@ -61,13 +84,17 @@ mod search;
 pub mod serialize;
 #[cfg(test)]
 mod test_random;
+#[cfg(any(test, feature = "testing"))]
+pub mod testing;
 #[cfg(feature = "wgsl")]
 mod wgsl;
 
 pub use bvh::TriangleBvh;
-pub use compress::{CellDistance, CompressedMap, CompressedMapUniforms, SURFACE_FLAG};
-pub use cones::{Cone, ConeRelation, DirectionCones, DirectionRange};
-pub use ddm::{DistanceMapSettings, DistanceMaps, compute_distance_maps, reference_distance_maps, sampled_distance};
+pub use compress::{CellDistance, CompressError, CompressedMap, CompressedMapUniforms, MAX_BLOCK, SURFACE_FLAG};
+pub use cones::{Cone, ConeError, ConeRelation, DirectionCones, DirectionRange, ElevationBound};
+pub use ddm::{
+    DistanceMapError, DistanceMapSettings, DistanceMaps, MAX_VALUES, MAX_VOXELS, MapKind, compute_distance_maps,
+};
 pub use geometry::{Aabb, Triangle};
 pub use serialize::DecodeError;
 #[cfg(feature = "wgsl")]

@@ -10,7 +10,7 @@ use core::fmt;
 
 use glam::UVec3;
 
-use crate::compress::{CompressedMap, SURFACE_FLAG, grid_dims};
+use crate::compress::{CompressedMap, MAX_BLOCK, SURFACE_FLAG, grid_dims};
 
 const MAGIC: [u8; 4] = *b"DDMC";
 /// Magic number and seven header words.
@@ -116,7 +116,7 @@ impl CompressedMap {
         let dims = UVec3::new(r.word()?, r.word()?, r.word()?);
         let block = r.word()?;
         let (grid_len, atlas_len) = (r.word()? as usize, r.word()? as usize);
-        if dims.cmpeq(UVec3::ZERO).any() || block == 0 || block > 64 {
+        if dims.cmpeq(UVec3::ZERO).any() || block == 0 || block > MAX_BLOCK {
             return Err(DecodeError::Inconsistent("empty grid or block size outside 1..=64"));
         }
         let g = grid_dims(dims, block);

@@ -2,8 +2,9 @@
 //! stored value exceeds a sampled upper estimate of the true one, and sphere tracing with
 //! them never steps past the first true intersection.
 
+use ddm_compress::testing::{reference_distance_maps, sampled_distance};
 use ddm_compress::{
-    CompressedMap, DirectionCones, DistanceMapSettings, DistanceMaps, Triangle, compute_distance_maps, sampled_distance,
+    CompressedMap, DirectionCones, DistanceMapSettings, DistanceMaps, MapKind, Triangle, compute_distance_maps,
 };
 use glam::{UVec3, Vec3};
 
@@ -23,9 +24,9 @@ fn mesostructure() -> Vec<Triangle> {
     triangles
 }
 
-fn maps(cones: Option<DirectionCones>) -> DistanceMaps {
+fn maps(kind: MapKind) -> DistanceMaps {
     let settings = DistanceMapSettings { tolerance: 0.05, periodic_xy: false };
-    compute_distance_maps(DIMS, &mesostructure(), cones, settings).unwrap()
+    compute_distance_maps(DIMS, &mesostructure(), kind, settings).unwrap()
 }
 
 fn voxel_index(v: UVec3) -> usize {
@@ -34,7 +35,7 @@ fn voxel_index(v: UVec3) -> usize {
 
 /// Mean and largest `sampled - stored` over the voxel-cones with a finite sampled value,
 /// asserting that no stored value exceeds the sampled one.
-fn gaps(maps: &DistanceMaps, triangles: &[Triangle], cones: Option<DirectionCones>, label: &str) -> (f32, f32) {
+fn gaps(maps: &DistanceMaps, triangles: &[Triangle], label: &str) -> (f32, f32) {
     let (mut checked, mut total_gap, mut largest_gap) = (0, 0.0, 0.0_f32);
     let dims = maps.dims;
     for z in 0..dims.z {
@@ -43,7 +44,7 @@ fn gaps(maps: &DistanceMaps, triangles: &[Triangle], cones: Option<DirectionCone
                 let v = UVec3::new(x, y, z);
                 let index = (x + dims.x * (y + dims.y * z)) as usize;
                 for (c, map) in maps.values.iter().enumerate() {
-                    let cone = cones.and_then(|cones| cones.cone(c as u32));
+                    let cone = maps.kind.cones().and_then(|cones| cones.cone(c as u32));
                     let sampled = sampled_distance(v, triangles, cone.as_ref(), 32);
                     let stored = map[index];
                     assert!(
@@ -67,13 +68,18 @@ fn gaps(maps: &DistanceMaps, triangles: &[Triangle], cones: Option<DirectionCone
 fn stored_values_never_exceed_sampled_distances() {
     let triangles = mesostructure();
     let settings = DistanceMapSettings { tolerance: 0.05, periodic_xy: false };
-    for cones in [Some(DirectionCones::full(4, 2).unwrap()), DirectionCones::downward(8, 1), None] {
-        let fast = compute_distance_maps(DIMS, &triangles, cones, settings).unwrap();
-        let reference = ddm_compress::reference_distance_maps(DIMS, &triangles, cones, settings).unwrap();
-        let (fast_mean, fast_max) = gaps(&fast, &triangles, cones, "search");
-        let (reference_mean, reference_max) = gaps(&reference, &triangles, cones, "reference");
+    let kinds = [
+        MapKind::Directional(DirectionCones::full(4, 2).unwrap()),
+        MapKind::Directional(DirectionCones::downward(8, 1).unwrap()),
+        MapKind::Plain,
+    ];
+    for kind in kinds {
+        let fast = compute_distance_maps(DIMS, &triangles, kind, settings).unwrap();
+        let reference = reference_distance_maps(DIMS, &triangles, kind, settings).unwrap();
+        let (fast_mean, fast_max) = gaps(&fast, &triangles, "search");
+        let (reference_mean, reference_max) = gaps(&reference, &triangles, "reference");
         println!(
-            "cones {cones:?}: mean / max (sampled - stored): search {fast_mean:.3} / {fast_max:.3}, reference {reference_mean:.3} / {reference_max:.3} voxel"
+            "{kind:?}: mean / max (sampled - stored): search {fast_mean:.3} / {fast_max:.3}, reference {reference_mean:.3} / {reference_max:.3} voxel"
         );
         // The search is at least as tight as the previous computation on average.
         assert!(fast_mean <= reference_mean + 1e-3, "search {fast_mean} looser than reference {reference_mean}");
@@ -112,13 +118,13 @@ fn first_true_hit(triangles: &[Triangle], origin: Vec3, direction: Vec3) -> Opti
 fn sphere_tracing_never_steps_past_the_surface() {
     let triangles = mesostructure();
     let cones = DirectionCones::full(4, 2).unwrap();
-    let directional = maps(Some(cones));
+    let directional = maps(MapKind::Directional(cones));
     let compressed: Vec<CompressedMap> = directional
         .values
         .iter()
         .map(|values| CompressedMap::compress(values, &directional.surface, DIMS, 2).unwrap())
         .collect();
-    let plain = maps(None);
+    let plain = maps(MapKind::Plain);
     let mut rays = 0;
     for k in 0..4000_u32 {
         let f = |m: u32| ((k.wrapping_mul(m) % 1000) as f32 + 0.5) / 1000.0;

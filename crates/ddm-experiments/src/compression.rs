@@ -7,7 +7,7 @@ use ddm_compress::{CompressedMap, DistanceMapSettings, Triangle};
 use glam::UVec3;
 
 use crate::ExperimentError;
-use crate::maps::{COMPRESSION_MAPS, MapKind, compute_named};
+use crate::maps::{COMPRESSION_MAPS, TableMap, compute_named};
 
 /// Settings of the compression table.
 #[derive(Clone, Debug, PartialEq)]
@@ -17,7 +17,7 @@ pub struct CompressionSettings {
     /// How the maps are computed.
     pub map_settings: DistanceMapSettings,
     /// The maps, in table order.
-    pub maps: Vec<MapKind>,
+    pub maps: Vec<TableMap>,
     /// Block sides of the compression, in table order (1 to 64).
     pub blocks: Vec<u32>,
 }
@@ -79,8 +79,8 @@ pub fn map_compression(
 ) -> Result<Vec<MapCompression>, ExperimentError> {
     settings.validate()?;
     let mut rows = Vec::with_capacity(settings.maps.len());
-    for &kind in &settings.maps {
-        let named = compute_named(name, settings.dims, triangles, kind, settings.map_settings)?;
+    for &table_map in &settings.maps {
+        let named = compute_named(name, settings.dims, triangles, table_map, settings.map_settings)?;
         let maps = &named.maps;
         let mut efficiencies = Vec::with_capacity(settings.blocks.len());
         for &block in &settings.blocks {
@@ -88,8 +88,11 @@ pub fn map_compression(
             let mut sum = 0.0;
             for values in &maps.values {
                 let compressed =
-                    CompressedMap::compress(values, &maps.surface, settings.dims, block).ok_or_else(|| {
-                        ExperimentError::scene(name, format!("{}: cannot compress with block {block}", kind.name))
+                    CompressedMap::compress(values, &maps.surface, settings.dims, block).map_err(|error| {
+                        ExperimentError::scene(
+                            name,
+                            format!("{}: cannot compress with block {block}: {error}", table_map.name),
+                        )
                     })?;
                 sum += compressed.compression_efficiency();
             }
@@ -98,7 +101,7 @@ pub fn map_compression(
         rows.push(MapCompression {
             mesostructure: name.to_owned(),
             triangles: triangles.len(),
-            map: kind.name,
+            map: table_map.name,
             cones: maps.values.len(),
             seconds: named.seconds,
             efficiencies,

@@ -50,6 +50,11 @@ impl<'g> GpuTracer<'g> {
 
     /// The pass over `rays` on `maps` and `patches` with `settings`: see
     /// [`GpuTracer::run_scene`].
+    ///
+    /// # Errors
+    ///
+    /// [`ExperimentError::Gpu`] with the [`ddm_tracer::GpuSceneError`] when the scene does
+    /// not pack, or as [`GpuTracer::run_scene`].
     pub fn run(
         &self,
         maps: &CompressedMaps,
@@ -59,7 +64,7 @@ impl<'g> GpuTracer<'g> {
         cpu: &[TraceOutcome],
     ) -> Result<GpuRun, ExperimentError> {
         let scene = GpuScene::new(maps, patches, settings)
-            .ok_or_else(|| ExperimentError::Gpu("the scene does not pack into the GPU buffers".to_owned()))?;
+            .map_err(|e| ExperimentError::Gpu(format!("the scene does not pack into the GPU buffers: {e}")))?;
         self.run_scene(&scene, rays, cpu)
     }
 

@@ -123,7 +123,7 @@ mod tests {
     use glam::{UVec3, Vec2, Vec3};
 
     use super::*;
-    use crate::maps::{MapKind, compute_named};
+    use crate::maps::{TableMap, compute_named};
 
     fn outcome(point: Option<Vec3>, steps: u32) -> TraceOutcome {
         let hit = point.map(|point| TraceHit { t: 1.0, point, normal: Vec3::Z, voxel: UVec3::ZERO });
@@ -201,7 +201,7 @@ mod tests {
         let z = 1.25;
         let floor = mesostructure::plane(dims, z);
         let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
-        let ddm = compute_named("floor", dims, &floor, MapKind::ddm("DDM 4x1", 4, 1), settings).unwrap().maps;
+        let ddm = compute_named("floor", dims, &floor, TableMap::ddm("DDM 4x1", 4, 1), settings).unwrap().maps;
         let patches = VoxelPatches::build(dims, &floor, &ddm.surface, PatchSettings::default()).unwrap();
         let mesh = MeshRaycaster::new(&floor, Vec2::new(8.0, 8.0));
         let quadric = TraceSettings { method: Method::Quadric, max_steps: 256, stepping: Stepping::Distance };

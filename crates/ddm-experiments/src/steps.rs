@@ -118,8 +118,8 @@ pub fn steps_vs_angle(
     let mut rows = Vec::new();
     for &angle in &settings.angles_deg {
         let rays = settings.rays(dims, angle);
-        let runs = maps.iter().map(|m| (m.kind.name, m, sphere)).chain(maps.iter().filter_map(|m| {
-            EXIT_NAMES.iter().find(|(of, _)| *of == m.kind.name).map(|(_, exit_name)| (*exit_name, m, exit))
+        let runs = maps.iter().map(|m| (m.table_map.name, m, sphere)).chain(maps.iter().filter_map(|m| {
+            EXIT_NAMES.iter().find(|(of, _)| *of == m.table_map.name).map(|(_, exit_name)| (*exit_name, m, exit))
         }));
         let first = rows.len();
         for (name, map, trace_settings) in runs {
@@ -152,11 +152,11 @@ mod tests {
     use ddm_compress::DistanceMapSettings;
 
     use super::*;
-    use crate::maps::{MapKind, compute_named};
+    use crate::maps::{TableMap, compute_named};
 
     const DIMS: UVec3 = UVec3::new(8, 8, 4);
 
-    fn floor_maps(kinds: &[MapKind]) -> Vec<NamedMaps> {
+    fn floor_maps(kinds: &[TableMap]) -> Vec<NamedMaps> {
         let floor = mesostructure::plane(DIMS, 1.25);
         let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
         kinds.iter().map(|&k| compute_named("floor", DIMS, &floor, k, settings).unwrap()).collect()
@@ -168,7 +168,7 @@ mod tests {
 
     #[test]
     fn rows_cover_every_angle_map_and_exit_row() {
-        let maps = floor_maps(&[MapKind::DM, MapKind::ddm("DDM 2x1", 2, 1), MapKind::ddm("DDM 4x1", 4, 1)]);
+        let maps = floor_maps(&[TableMap::DM, TableMap::ddm("DDM 2x1", 2, 1), TableMap::ddm("DDM 4x1", 4, 1)]);
         let settings = tiny();
         let rows = steps_vs_angle("floor", DIMS, &maps, &settings).unwrap();
         let names: Vec<_> = rows.iter().take(5).map(|r| r.map).collect();
@@ -189,7 +189,7 @@ mod tests {
     #[test]
     fn vertical_rays_onto_a_floor_take_the_same_steps_at_every_origin() {
         // Straight down, every origin sees the same column of distances above the floor.
-        let maps = floor_maps(&[MapKind::DM]);
+        let maps = floor_maps(&[TableMap::DM]);
         let settings = StepsSettings { angles_deg: vec![0.0], ..tiny() };
         let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 256, stepping: Stepping::Distance };
         let steps: Vec<u32> =
@@ -201,7 +201,7 @@ mod tests {
 
     #[test]
     fn without_a_dm_the_ratio_is_nan_and_bad_settings_are_errors() {
-        let maps = floor_maps(&[MapKind::ddm("DDM 2x1", 2, 1)]);
+        let maps = floor_maps(&[TableMap::ddm("DDM 2x1", 2, 1)]);
         let rows = steps_vs_angle("floor", DIMS, &maps, &tiny()).unwrap();
         assert!(rows.iter().all(|r| r.steps_over_dm.is_nan()));
         let error = steps_vs_angle("floor", DIMS, &maps, &StepsSettings { angles_deg: vec![90.0], ..tiny() });

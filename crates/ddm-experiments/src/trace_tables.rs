@@ -332,7 +332,7 @@ fn build_patches(
 ) -> Result<VoxelPatches, ExperimentError> {
     let settings = PatchSettings { surface: surface_kind, ..PatchSettings::default() };
     VoxelPatches::build(dims, triangles, surface, settings)
-        .ok_or_else(|| ExperimentError::scene(scene, format!("the {what} patch construction failed")))
+        .map_err(|error| ExperimentError::scene(scene, format!("the {what} patch construction failed: {error}")))
 }
 
 /// One row of `ddm_trace_patches.csv`: the memory of one patch construction.
@@ -594,13 +594,19 @@ impl TraceScene {
         let trace_settings = case.settings;
         let rays = &view.rays;
         let run = timed(rays, settings.timed_passes, |o, d| trace(raw, patches, o, d, trace_settings));
-        let pack_error = |what: &str| ExperimentError::scene(self.name, format!("cannot {what} the {} maps", case.map));
+        let pack_error = |what: &str, error: &dyn std::fmt::Display| {
+            ExperimentError::scene(self.name, format!("cannot {what} the {} maps: {error}", case.map))
+        };
         let compressed =
-            CompressedMaps::compress(raw, settings.compression_block).ok_or_else(|| pack_error("compress"))?;
+            CompressedMaps::compress(raw, settings.compression_block).map_err(|e| pack_error("compress", &e))?;
+        // The scene of the compute pass on `maps`, its errors naming the structure and map.
+        let gpu_scene = |maps: &CompressedMaps| {
+            GpuScene::new(maps, patches, trace_settings).map_err(|e| pack_error("build the GPU scene of", &e))
+        };
         let gpu_on_raw = match gpu {
             Some(gpu) => {
-                let raw_gpu = CompressedMaps::compress(raw, 1).ok_or_else(|| pack_error("pack"))?;
-                Some(gpu.run(&raw_gpu, patches, trace_settings, rays, &run.outcomes)?)
+                let raw_gpu = CompressedMaps::compress(raw, 1).map_err(|e| pack_error("pack", &e))?;
+                Some(gpu.run_scene(&gpu_scene(&raw_gpu)?, rays, &run.outcomes)?)
             }
             None => None,
         };
@@ -626,7 +632,7 @@ impl TraceScene {
         let (packed, packed_comparison) = on_compressed(trace_settings.stepping);
         let gpu_time_ratio = match (gpu, gpu_on_raw) {
             (Some(gpu), Some(on_raw)) => {
-                Some(gpu.run(&compressed, patches, trace_settings, rays, &packed)?.seconds / on_raw.seconds)
+                Some(gpu.run_scene(&gpu_scene(&compressed)?, rays, &packed)?.seconds / on_raw.seconds)
             }
             _ => None,
         };
@@ -659,7 +665,8 @@ impl TraceScene {
 
     fn run_relief(&self, gpu: Option<&GpuTracer<'_>>) -> Result<MethodResult, ExperimentError> {
         let (settings, view) = (&self.settings, &self.view);
-        let height_map = HeightMap::from_mesh(&self.mesh, self.dims, RELIEF_TEXELS_PER_VOXEL);
+        let height_map = HeightMap::from_mesh(&self.mesh, self.dims, RELIEF_TEXELS_PER_VOXEL)
+            .map_err(|e| ExperimentError::scene(self.name, format!("the relief height map: {e}")))?;
         let size_z = self.dims.z as f32;
         let run = timed(&view.rays, settings.timed_passes, |o, d| {
             relief_trace(&height_map, size_z, o, d, RELIEF_LINEAR, RELIEF_BINARY)
@@ -667,10 +674,10 @@ impl TraceScene {
         let gpu_row = match gpu {
             Some(gpu) => {
                 let plain = CompressedMaps::compress(self.map("DM")?, 1)
-                    .ok_or_else(|| ExperimentError::scene(self.name, "cannot pack the DM maps"))?;
+                    .map_err(|e| ExperimentError::scene(self.name, format!("cannot pack the DM maps: {e}")))?;
                 let scene = GpuScene::new(&plain, None, settings.sphere())
                     .and_then(|s| s.with_relief(&height_map, RELIEF_LINEAR, RELIEF_BINARY))
-                    .ok_or_else(|| ExperimentError::scene(self.name, "the relief scene does not pack"))?;
+                    .map_err(|e| ExperimentError::scene(self.name, format!("the relief scene does not pack: {e}")))?;
                 Some(gpu.run_scene(&scene, &view.rays, &run.outcomes)?)
             }
             None => None,

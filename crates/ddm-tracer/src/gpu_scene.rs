@@ -4,8 +4,9 @@
 //! (bindings 3–8).
 
 use alloc::vec::Vec;
+use core::fmt;
 
-use glam::{UVec3, UVec4, Vec4};
+use glam::{UVec2, UVec3, UVec4, Vec4};
 use gpu_layout::gpu_struct;
 
 use crate::maps::{CompressedMaps, ConeSelector};
@@ -84,6 +85,84 @@ const fn stepping_code(stepping: Stepping) -> u32 {
     }
 }
 
+/// Why [`GpuScene::new`] or [`GpuScene::with_relief`] cannot pack a scene. The checks of
+/// each run in the order of the variants; the first that fails is returned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GpuSceneError {
+    /// [`CompressedMaps::maps`] does not hold one map per map of its kind.
+    MapCount {
+        /// Maps of the kind ([`ddm_compress::MapKind::map_count`]).
+        expected: u32,
+        /// Maps present.
+        found: usize,
+    },
+    /// Map `map`'s size differs from [`CompressedMaps::dims`].
+    MapDims {
+        /// The map's index.
+        map: usize,
+        /// The maps' grid size.
+        expected: UVec3,
+        /// The map's own size.
+        found: UVec3,
+    },
+    /// The patches were built for another grid than the maps'.
+    PatchDims {
+        /// The maps' grid size.
+        expected: UVec3,
+        /// The patches' grid size.
+        found: UVec3,
+    },
+    /// An index into the named buffer would not fit in a `u32` (WGSL indices are `u32`).
+    BufferOverflow {
+        /// The buffer (`atlas`, `grid`, `patch offsets`, `relief heights`).
+        buffer: &'static str,
+    },
+    /// The relief height map has no texel per voxel.
+    ReliefTexelsPerVoxel,
+    /// The relief height map does not cover the tile at its texels per voxel.
+    ReliefTexels {
+        /// `dims.xy × texels_per_voxel`.
+        expected: UVec2,
+        /// [`HeightMap::texels`]`.xy`.
+        found: UVec2,
+    },
+    /// The relief height map does not hold one height per texel.
+    ReliefHeights {
+        /// Texels of the map.
+        expected: usize,
+        /// Heights present.
+        found: usize,
+    },
+}
+
+impl fmt::Display for GpuSceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::MapCount { expected, found } => {
+                write!(f, "GPU scene: {found} compressed maps where their kind has {expected}")
+            }
+            Self::MapDims { map, expected, found } => {
+                write!(f, "GPU scene: map {map} is {found} voxels, the maps' grid {expected}")
+            }
+            Self::PatchDims { expected, found } => {
+                write!(f, "GPU scene: the patches' grid {found} differs from the maps' grid {expected}")
+            }
+            Self::BufferOverflow { buffer } => write!(f, "GPU scene: the {buffer} buffer outgrows u32 indices"),
+            Self::ReliefTexelsPerVoxel => write!(f, "GPU scene: the relief height map has 0 texels per voxel"),
+            Self::ReliefTexels { expected, found } => write!(
+                f,
+                "GPU scene: the relief height map has {}×{} texels, the tile needs {}×{}",
+                found.x, found.y, expected.x, expected.y
+            ),
+            Self::ReliefHeights { expected, found } => {
+                write!(f, "GPU scene: the relief height map has {found} heights for {expected} texels")
+            }
+        }
+    }
+}
+
+impl core::error::Error for GpuSceneError {}
+
 /// Everything the compute pass reads, as flat buffers (storage bindings 3–8 of
 /// `shaders/ddm_tracer.wgsl`).
 #[derive(Clone, Debug, PartialEq)]
@@ -105,19 +184,37 @@ pub struct GpuScene {
 }
 
 impl GpuScene {
-    /// Packs `maps` and `patches` for `settings`. `None` if the patch grid's size differs
-    /// from the maps' or a buffer index would overflow `u32`.
-    pub fn new(maps: &CompressedMaps, patches: Option<&VoxelPatches>, settings: TraceSettings) -> Option<Self> {
+    /// Packs `maps` and `patches` for `settings`.
+    ///
+    /// # Errors
+    ///
+    /// [`GpuSceneError::MapCount`] or [`GpuSceneError::MapDims`] for maps that disagree
+    /// with their kind or grid, [`GpuSceneError::PatchDims`] when the patches' grid differs
+    /// from the maps', [`GpuSceneError::BufferOverflow`] when a buffer index would overflow
+    /// `u32`.
+    pub fn new(
+        maps: &CompressedMaps,
+        patches: Option<&VoxelPatches>,
+        settings: TraceSettings,
+    ) -> Result<Self, GpuSceneError> {
         let dims: UVec3 = maps.dims;
-        let selector = ConeSelector::new(maps.cones);
+        let expected = maps.kind.map_count();
+        if maps.maps.len() as u64 != u64::from(expected) {
+            return Err(GpuSceneError::MapCount { expected, found: maps.maps.len() });
+        }
+        if let Some((map, found)) = maps.maps.iter().map(|m| m.dims()).enumerate().find(|&(_, d)| d != dims) {
+            return Err(GpuSceneError::MapDims { map, expected: dims, found });
+        }
+        let selector = ConeSelector::new(maps.kind);
         let mut cone_maps = Vec::with_capacity(maps.maps.len());
         let (mut grid, mut atlas) = (Vec::new(), Vec::new());
+        let overflow = |buffer| GpuSceneError::BufferOverflow { buffer };
         for map in &maps.maps {
             let g = ddm_compress::compress::grid_dims(map.dims(), map.block());
             cone_maps.push(TraceConeMap {
                 dims_block: map.dims().extend(map.block()),
-                grid_atlas_base: g.extend(u32::try_from(atlas.len()).ok()?),
-                grid_base: UVec4::new(u32::try_from(grid.len()).ok()?, 0, 0, 0),
+                grid_atlas_base: g.extend(u32::try_from(atlas.len()).map_err(|_| overflow("atlas"))?),
+                grid_base: UVec4::new(u32::try_from(grid.len()).map_err(|_| overflow("grid"))?, 0, 0, 0),
             });
             grid.extend_from_slice(map.grid());
             atlas.extend_from_slice(map.atlas());
@@ -125,11 +222,11 @@ impl GpuScene {
         if atlas.is_empty() {
             atlas.push(0.0);
         }
-        let voxels = (dims.x * dims.y * dims.z) as usize;
+        let voxels = dims.x.checked_mul(dims.y).and_then(|n| n.checked_mul(dims.z)).ok_or(overflow("patch offsets"))?;
         let (patch_offsets, mut patch_list) = match patches {
             Some(p) if p.dims == dims => (p.offsets.clone(), p.patches.clone()),
-            Some(_) => return None,
-            None => (alloc::vec![0; voxels + 1], Vec::new()),
+            Some(p) => return Err(GpuSceneError::PatchDims { expected: dims, found: p.dims }),
+            None => (alloc::vec![0; voxels as usize + 1], Vec::new()),
         };
         if patch_list.is_empty() {
             patch_list.push(bytemuck::Zeroable::zeroed());
@@ -141,25 +238,39 @@ impl GpuScene {
             relief: UVec4::ZERO,
             stepping: UVec4::new(stepping_code(settings.stepping), 0, 0, 0),
         };
-        Some(Self { uniforms, cone_maps, grid, atlas, patch_offsets, patches: patch_list, heights: alloc::vec![0.0] })
+        Ok(Self { uniforms, cone_maps, grid, atlas, patch_offsets, patches: patch_list, heights: alloc::vec![0.0] })
     }
 
     /// The scene switched to relief mapping of `map` with `linear_steps` and `binary_steps`
-    /// (the maps and patches stay bound but unused). `None` when the map does not cover
-    /// the tile at a whole number of texels per voxel.
-    pub fn with_relief(mut self, map: &HeightMap, linear_steps: u32, binary_steps: u32) -> Option<Self> {
+    /// (the maps and patches stay bound but unused).
+    ///
+    /// # Errors
+    ///
+    /// [`GpuSceneError::ReliefTexelsPerVoxel`], [`GpuSceneError::ReliefTexels`] or
+    /// [`GpuSceneError::ReliefHeights`] when the map does not cover the tile at a whole,
+    /// non-zero number of texels per voxel with one height per texel;
+    /// [`GpuSceneError::BufferOverflow`] when the texel count would overflow `u32`.
+    pub fn with_relief(mut self, map: &HeightMap, linear_steps: u32, binary_steps: u32) -> Result<Self, GpuSceneError> {
         let dims = self.uniforms.dims_max_steps.truncate();
         let s = map.texels_per_voxel;
-        if map.texels.x != dims.x * s
-            || map.texels.y != dims.y * s
-            || map.heights.len() != (map.texels.x * map.texels.y) as usize
-        {
-            return None;
+        if s == 0 {
+            return Err(GpuSceneError::ReliefTexelsPerVoxel);
+        }
+        let (Some(x), Some(y)) = (dims.x.checked_mul(s), dims.y.checked_mul(s)) else {
+            return Err(GpuSceneError::BufferOverflow { buffer: "relief heights" });
+        };
+        let (expected, found) = (UVec2::new(x, y), map.texels.truncate());
+        if found != expected {
+            return Err(GpuSceneError::ReliefTexels { expected, found });
+        }
+        let texels = found.x as usize * found.y as usize;
+        if map.heights.len() != texels {
+            return Err(GpuSceneError::ReliefHeights { expected: texels, found: map.heights.len() });
         }
         self.uniforms.cones_method.z = METHOD_RELIEF;
         self.uniforms.relief = UVec4::new(linear_steps, binary_steps, s, 0);
         self.heights = map.heights.clone();
-        Some(self)
+        Ok(self)
     }
 
     /// The uniforms for `ray_count` rays.
@@ -179,5 +290,94 @@ impl GpuScene {
             bytemuck::cast_slice(&self.patches),
             bytemuck::cast_slice(&self.heights),
         ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use alloc::string::ToString;
+
+    use ddm_compress::{DirectionCones, DistanceMaps, MapKind};
+    use glam::Vec2;
+
+    use super::*;
+    use crate::ground_truth::MeshRaycaster;
+    use crate::patches::PatchSettings;
+
+    const DIMS: UVec3 = UVec3::new(4, 4, 2);
+    const SETTINGS: TraceSettings =
+        TraceSettings { method: Method::Quadric, max_steps: 64, stepping: Stepping::Distance };
+
+    /// A floor at z = 0.5: the lowest voxel layer is surface; two cones' maps.
+    fn maps() -> CompressedMaps {
+        let cones = DirectionCones::downward(2, 1).unwrap();
+        let surface: Vec<bool> = (0..32).map(|i| i < 16).collect();
+        let values = surface.iter().map(|&s| if s { 0.0 } else { 0.5 }).collect::<Vec<_>>();
+        let maps = DistanceMaps {
+            dims: DIMS,
+            kind: MapKind::Directional(cones),
+            values: alloc::vec![values.clone(), values],
+            surface,
+            max_distance: DIMS.as_vec3().length(),
+        };
+        CompressedMaps::compress(&maps, 2).unwrap()
+    }
+
+    #[test]
+    fn a_consistent_scene_packs_with_its_cones() {
+        let scene = GpuScene::new(&maps(), None, SETTINGS).unwrap();
+        assert_eq!(scene.cone_maps.len(), 2);
+        assert_eq!(scene.uniforms.cones_method.truncate(), UVec3::new(2, 1, METHOD_QUADRIC));
+        assert_eq!(scene.patch_offsets.len(), 33);
+    }
+
+    #[test]
+    fn each_inconsistent_scene_has_its_error() {
+        let mut fewer = maps();
+        fewer.maps.pop();
+        assert_eq!(GpuScene::new(&fewer, None, SETTINGS), Err(GpuSceneError::MapCount { expected: 2, found: 1 }));
+        let mut other = maps();
+        let small = DistanceMaps {
+            dims: UVec3::new(2, 2, 2),
+            kind: MapKind::Plain,
+            values: alloc::vec![alloc::vec![1.0; 8]],
+            surface: alloc::vec![false; 8],
+            max_distance: 3.0,
+        };
+        other.maps[1] = CompressedMaps::compress(&small, 2).unwrap().maps.remove(0);
+        assert_eq!(
+            GpuScene::new(&other, None, SETTINGS),
+            Err(GpuSceneError::MapDims { map: 1, expected: DIMS, found: UVec3::new(2, 2, 2) })
+        );
+        let floor = mesostructure::plane(UVec3::new(4, 4, 3), 0.5);
+        let surface: Vec<bool> = (0..48).map(|i| i < 16).collect();
+        let patches = VoxelPatches::build(UVec3::new(4, 4, 3), &floor, &surface, PatchSettings::default()).unwrap();
+        let error = GpuScene::new(&maps(), Some(&patches), SETTINGS).unwrap_err();
+        assert_eq!(error, GpuSceneError::PatchDims { expected: DIMS, found: UVec3::new(4, 4, 3) });
+        assert!(error.to_string().contains("[4, 4, 3]"), "{error}");
+    }
+
+    #[test]
+    fn each_unusable_relief_map_has_its_error() {
+        let scene = GpuScene::new(&maps(), None, SETTINGS).unwrap();
+        let floor = mesostructure::plane(DIMS, 0.5);
+        let map = HeightMap::from_mesh(&MeshRaycaster::new(&floor, Vec2::new(4.0, 4.0)), DIMS, 2).unwrap();
+        let relief = scene.clone().with_relief(&map, 32, 8).unwrap();
+        assert_eq!((relief.uniforms.cones_method.z, relief.heights.len()), (METHOD_RELIEF, 64));
+        let zero = HeightMap { texels_per_voxel: 0, ..map.clone() };
+        assert_eq!(scene.clone().with_relief(&zero, 32, 8), Err(GpuSceneError::ReliefTexelsPerVoxel));
+        let coarse = HeightMap { texels_per_voxel: 1, ..map.clone() };
+        assert_eq!(
+            scene.clone().with_relief(&coarse, 32, 8),
+            Err(GpuSceneError::ReliefTexels { expected: UVec2::new(4, 4), found: UVec2::new(8, 8) })
+        );
+        let huge = HeightMap { texels_per_voxel: u32::MAX, ..map.clone() };
+        assert_eq!(
+            scene.clone().with_relief(&huge, 32, 8),
+            Err(GpuSceneError::BufferOverflow { buffer: "relief heights" })
+        );
+        let mut short = map;
+        short.heights.pop();
+        assert_eq!(scene.with_relief(&short, 32, 8), Err(GpuSceneError::ReliefHeights { expected: 64, found: 63 }));
     }
 }

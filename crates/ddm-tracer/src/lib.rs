@@ -4,18 +4,22 @@
 //! WGSL compute tracer `wgsl/ddm_tracer.wgsl`.
 //!
 //! ```
-//! use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
+//! use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, compute_distance_maps};
 //! use ddm_tracer::{Method, PatchSettings, Stepping, TraceSettings, VoxelPatches, trace};
 //! use glam::{UVec3, Vec3};
 //!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let dims = UVec3::new(8, 8, 4);
 //! let floor = mesostructure::plane(dims, 1.25);
 //! let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
-//! let maps = compute_distance_maps(dims, &floor, DirectionCones::downward(4, 1), settings).unwrap();
-//! let patches = VoxelPatches::build(dims, &floor, &maps.surface, PatchSettings::default()).unwrap();
+//! let kind = MapKind::Directional(DirectionCones::downward(4, 1)?);
+//! let maps = compute_distance_maps(dims, &floor, kind, settings)?;
+//! let patches = VoxelPatches::build(dims, &floor, &maps.surface, PatchSettings::default())?;
 //! let settings = TraceSettings { method: Method::Quadric, max_steps: 64, stepping: Stepping::Distance };
 //! let out = trace(&maps, Some(&patches), Vec3::new(2.5, 3.5, 6.0), Vec3::new(0.3, 0.1, -1.0), settings);
 //! assert!((out.hit.unwrap().point.z - 1.25).abs() < 1e-5);
+//! # Ok(())
+//! # }
 //! ```
 //!
 //! # Modules
@@ -55,12 +59,12 @@ pub mod voxel;
 #[cfg(feature = "wgsl")]
 mod wgsl;
 
-pub use gpu_scene::{GpuScene, TraceConeMap, TraceResult, TraceUniforms};
+pub use gpu_scene::{GpuScene, GpuSceneError, TraceConeMap, TraceResult, TraceUniforms};
 pub use ground_truth::{MeshHit, MeshRaycaster};
-pub use maps::{CompressedMaps, ConeDistances, ConeSelector, DistanceSource, RawConeMap};
+pub use maps::{CompressMapsError, CompressedMaps, ConeDistances, ConeSelector, DistanceSource, RawConeMap};
 pub use patch::TracePatch;
-pub use patches::{PatchSettings, PatchSurface, VoxelPatches};
-pub use relief::{HeightMap, relief_trace};
+pub use patches::{MAX_PATCH_VOXELS, PatchError, PatchSettings, PatchSurface, VoxelPatches};
+pub use relief::{HeightMap, HeightMapError, relief_trace};
 pub use trace::{Method, Stepping, TraceHit, TraceOutcome, TraceSettings, trace};
 #[cfg(feature = "wgsl")]
 pub use wgsl::WGSL;

@@ -4,8 +4,9 @@
 
 use alloc::vec::Vec;
 use core::f32::consts::{FRAC_PI_2, TAU};
+use core::fmt;
 
-use ddm_compress::{CellDistance, CompressedMap, DirectionCones, DistanceMaps};
+use ddm_compress::{CellDistance, CompressError, CompressedMap, DistanceMaps, MapKind};
 use glam::{UVec3, Vec3};
 
 /// The direction cones as the tracer (and its WGSL twin) selects them: `azimuths ×
@@ -24,29 +25,21 @@ pub struct ConeSelector {
 }
 
 impl ConeSelector {
-    /// The selector of `cones` (`None`: the plain map). The band and counts are read back
-    /// from the cones themselves (cone 0 starts the band, the last cone ends it).
-    pub fn new(cones: Option<DirectionCones>) -> Self {
-        let Some(cones) = cones else {
-            return Self { azimuths: 0, elevations: 0, elevation_min: -FRAC_PI_2, elevation_max: FRAC_PI_2 };
-        };
-        let first = cones.cone(0);
-        let last = cones.cone(cones.count().saturating_sub(1));
-        let (Some(first), Some(last)) = (first, last) else {
-            return Self { azimuths: 0, elevations: 0, elevation_min: -FRAC_PI_2, elevation_max: FRAC_PI_2 };
-        };
-        let azimuths = (0..cones.count())
-            .filter(|&i| cones.cone(i).map(|c| c.elevation_min) == Some(first.elevation_min))
-            .count() as u32;
-        Self {
-            azimuths,
-            elevations: cones.count() / azimuths.max(1),
-            elevation_min: first.elevation_min,
-            elevation_max: last.elevation_max,
+    /// The selector of the maps of `kind`: `azimuths = 0` for [`MapKind::Plain`], else the
+    /// cones' counts and band.
+    pub fn new(kind: MapKind) -> Self {
+        match kind {
+            MapKind::Plain => Self { azimuths: 0, elevations: 0, elevation_min: -FRAC_PI_2, elevation_max: FRAC_PI_2 },
+            MapKind::Directional(cones) => Self {
+                azimuths: cones.azimuths(),
+                elevations: cones.elevations(),
+                elevation_min: cones.elevation_min(),
+                elevation_max: cones.elevation_max(),
+            },
         }
     }
 
-    /// The cone of the unit `direction` (as [`DirectionCones::cone_of`], with `√(x² + y²)`
+    /// The cone of the unit `direction` (as [`ddm_compress::DirectionCones::cone_of`], with `√(x² + y²)`
     /// in place of `hypot` so that WGSL computes the same), 0 for the plain map, `None`
     /// outside the band. WGSL twin: `trace_select_cone`.
     pub fn select(&self, direction: Vec3) -> Option<u32> {
@@ -145,7 +138,7 @@ impl DistanceSource for DistanceMaps {
     }
 
     fn selector(&self) -> ConeSelector {
-        ConeSelector::new(self.cones)
+        ConeSelector::new(self.kind)
     }
 
     #[inline]
@@ -154,27 +147,80 @@ impl DistanceSource for DistanceMaps {
     }
 }
 
+/// Why [`CompressedMaps::compress`] refused a [`DistanceMaps`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CompressMapsError {
+    /// The maps' `values` do not hold one map per map of their kind
+    /// ([`MapKind::map_count`]).
+    MapCount {
+        /// Maps of the kind.
+        expected: u32,
+        /// Maps in `values`.
+        found: usize,
+    },
+    /// [`CompressedMap::compress`] refused map `map` (the cone's index).
+    Map {
+        /// The map's index in `values`.
+        map: usize,
+        /// Why it was refused.
+        error: CompressError,
+    },
+}
+
+impl fmt::Display for CompressMapsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::MapCount { expected, found } => {
+                write!(f, "{found} distance maps where their kind has {expected}")
+            }
+            Self::Map { map, error } => write!(f, "map {map}: {error}"),
+        }
+    }
+}
+
+impl core::error::Error for CompressMapsError {
+    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
+        match self {
+            Self::MapCount { .. } => None,
+            Self::Map { error, .. } => Some(error),
+        }
+    }
+}
+
 /// Every map of a [`DistanceMaps`] compressed with [`CompressedMap`] (§4).
 #[derive(Clone, Debug, PartialEq)]
 pub struct CompressedMaps {
     /// Grid size in voxels.
     pub dims: UVec3,
-    /// The cones of the maps.
-    pub cones: Option<DirectionCones>,
+    /// Which maps these are: `maps` has [`MapKind::map_count`] entries.
+    pub kind: MapKind,
     /// One compressed map per cone.
     pub maps: Vec<CompressedMap>,
 }
 
 impl CompressedMaps {
-    /// Compresses each map of `maps` in blocks of `block` voxels; `None` where
-    /// [`CompressedMap::compress`] refuses.
-    pub fn compress(maps: &DistanceMaps, block: u32) -> Option<Self> {
+    /// Compresses each map of `maps` in blocks of `block` voxels.
+    ///
+    /// # Errors
+    ///
+    /// [`CompressMapsError::MapCount`] when `maps.values` does not hold one map per map of
+    /// `maps.kind`, else [`CompressMapsError::Map`] with the first map that
+    /// [`CompressedMap::compress`] refuses and why.
+    pub fn compress(maps: &DistanceMaps, block: u32) -> Result<Self, CompressMapsError> {
+        let expected = maps.kind.map_count();
+        if maps.values.len() as u64 != u64::from(expected) {
+            return Err(CompressMapsError::MapCount { expected, found: maps.values.len() });
+        }
         let compressed = maps
             .values
             .iter()
-            .map(|values| CompressedMap::compress(values, &maps.surface, maps.dims, block))
-            .collect::<Option<Vec<_>>>()?;
-        Some(Self { dims: maps.dims, cones: maps.cones, maps: compressed })
+            .enumerate()
+            .map(|(map, values)| {
+                CompressedMap::compress(values, &maps.surface, maps.dims, block)
+                    .map_err(|error| CompressMapsError::Map { map, error })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Self { dims: maps.dims, kind: maps.kind, maps: compressed })
     }
 
     /// Bytes of the uncompressed maps over bytes of the lookup grids plus atlases.
@@ -193,7 +239,7 @@ impl DistanceSource for CompressedMaps {
     }
 
     fn selector(&self) -> ConeSelector {
-        ConeSelector::new(self.cones)
+        ConeSelector::new(self.kind)
     }
 
     #[inline]
@@ -204,13 +250,17 @@ impl DistanceSource for CompressedMaps {
 
 #[cfg(test)]
 mod tests {
+    use alloc::string::ToString;
+
+    use ddm_compress::DirectionCones;
+
     use super::*;
 
     #[test]
     fn selection_agrees_with_the_cones_away_from_boundaries() {
         for cones in [DirectionCones::downward(4, 1), DirectionCones::downward(8, 1), DirectionCones::full(3, 2)] {
             let cones = cones.unwrap();
-            let selector = ConeSelector::new(Some(cones));
+            let selector = ConeSelector::new(MapKind::Directional(cones));
             assert_eq!(selector.azimuths * selector.elevations, cones.count());
             let mut mismatches = 0;
             for k in 0..2000 {
@@ -223,9 +273,50 @@ mod tests {
             }
             assert_eq!(mismatches, 0);
         }
-        let plain = ConeSelector::new(None);
+        let plain = ConeSelector::new(MapKind::Plain);
         assert_eq!(plain.select(Vec3::Z), Some(0));
-        let down = ConeSelector::new(DirectionCones::downward(4, 1));
+        let down = ConeSelector::new(MapKind::Directional(DirectionCones::downward(4, 1).unwrap()));
         assert_eq!(down.select(Vec3::new(0.0, 0.6, 0.8)), None);
+    }
+
+    #[test]
+    fn the_selector_band_is_the_cones_band() {
+        // The band as the cones themselves bound it: cone 0 starts it, the last cone ends it.
+        for cones in [DirectionCones::downward(4, 2), DirectionCones::full(3, 3), DirectionCones::new(5, 3, -1.0, 0.3)]
+        {
+            let cones = cones.unwrap();
+            let selector = ConeSelector::new(MapKind::Directional(cones));
+            let (first, last) = (cones.cone(0).unwrap(), cones.cone(cones.count() - 1).unwrap());
+            assert_eq!((selector.elevation_min, selector.elevation_max), (first.elevation_min, last.elevation_max));
+            assert_eq!((selector.azimuths, selector.elevations), (cones.azimuths(), cones.elevations()));
+        }
+    }
+
+    #[test]
+    fn compressing_maps_names_the_map_and_the_reason() {
+        let dims = UVec3::new(2, 2, 1);
+        let cones = DirectionCones::downward(2, 1).unwrap();
+        let mut maps = DistanceMaps {
+            dims,
+            kind: MapKind::Directional(cones),
+            values: alloc::vec![alloc::vec![1.0; 4], alloc::vec![2.0; 4]],
+            surface: alloc::vec![false; 4],
+            max_distance: 3.0,
+        };
+        let compressed = CompressedMaps::compress(&maps, 2).unwrap();
+        assert_eq!((compressed.kind, compressed.maps.len()), (maps.kind, 2));
+        assert_eq!(
+            CompressedMaps::compress(&maps, 0),
+            Err(CompressMapsError::Map { map: 0, error: CompressError::InvalidBlock { block: 0 } })
+        );
+        maps.values[1][3] = -1.0;
+        let error = CompressedMaps::compress(&maps, 2).unwrap_err();
+        assert_eq!(
+            error,
+            CompressMapsError::Map { map: 1, error: CompressError::InvalidValue { index: 3, value: -1.0 } }
+        );
+        assert!(error.to_string().starts_with("map 1: "), "{error}");
+        maps.kind = MapKind::Plain;
+        assert_eq!(CompressedMaps::compress(&maps, 2), Err(CompressMapsError::MapCount { expected: 1, found: 2 }));
     }
 }

@@ -29,6 +29,7 @@
 
 use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
+use core::fmt;
 
 use ddm_compress::Triangle;
 use glam::{DVec3, UVec3, Vec3, Vec4};
@@ -78,6 +79,57 @@ impl Default for PatchSettings {
     }
 }
 
+/// The most voxels [`VoxelPatches::build`] accepts: 2²⁴ (as
+/// [`ddm_compress::compute_distance_maps`]).
+pub const MAX_PATCH_VOXELS: u64 = 1 << 24;
+
+/// Why [`VoxelPatches::build`] refused its inputs. The checks run in the order of the
+/// variants; the first that fails is returned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PatchError {
+    /// A side of the grid is zero.
+    EmptyGrid {
+        /// The grid size given.
+        dims: UVec3,
+    },
+    /// The grid has more than `limit` ([`MAX_PATCH_VOXELS`]) voxels.
+    TooManyVoxels {
+        /// The grid size given.
+        dims: UVec3,
+        /// The largest number of voxels accepted.
+        limit: u64,
+    },
+    /// `surface` does not have one entry per voxel.
+    SurfaceCount {
+        /// Voxels of the grid.
+        expected: usize,
+        /// Entries of `surface`.
+        found: usize,
+    },
+    /// A vertex of triangle `index` (in the slice given) is NaN or infinite.
+    NonFiniteTriangle {
+        /// The triangle's index.
+        index: usize,
+    },
+}
+
+impl fmt::Display for PatchError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::EmptyGrid { dims } => write!(f, "patches: the grid {dims} has no voxel"),
+            Self::TooManyVoxels { dims, limit } => {
+                write!(f, "patches: the grid {dims} has more than the limit of {limit} voxels")
+            }
+            Self::SurfaceCount { expected, found } => {
+                write!(f, "patches: {found} surface flags for {expected} voxels")
+            }
+            Self::NonFiniteTriangle { index } => write!(f, "patches: triangle {index} has a non-finite vertex"),
+        }
+    }
+}
+
+impl core::error::Error for PatchError {}
+
 /// The patches of every voxel, in compressed sparse row form.
 #[derive(Clone, Debug, PartialEq)]
 pub struct VoxelPatches {
@@ -99,12 +151,31 @@ pub struct VoxelPatches {
 impl VoxelPatches {
     /// Fits and builds the patches of every voxel with `surface[v]` (index as in
     /// [`ddm_compress::DistanceMaps`]) from `triangles` (voxel coordinates, the tile
-    /// `[0, dims.x] × [0, dims.y]` repeating in x and y). `None` when `surface` does not have
-    /// one entry per voxel or the grid is empty or larger than 2²⁴ voxels.
-    pub fn build(dims: UVec3, triangles: &[Triangle], surface: &[bool], settings: PatchSettings) -> Option<Self> {
-        let voxels = dims.x as usize * dims.y as usize * dims.z as usize;
-        if voxels == 0 || voxels > 1 << 24 || surface.len() != voxels {
-            return None;
+    /// `[0, dims.x] × [0, dims.y]` repeating in x and y).
+    ///
+    /// # Errors
+    ///
+    /// A [`PatchError`]: an empty grid or one of more than [`MAX_PATCH_VOXELS`] voxels,
+    /// `surface` without one entry per voxel, or a non-finite triangle (with its index).
+    pub fn build(
+        dims: UVec3,
+        triangles: &[Triangle],
+        surface: &[bool],
+        settings: PatchSettings,
+    ) -> Result<Self, PatchError> {
+        if dims.cmpeq(UVec3::ZERO).any() {
+            return Err(PatchError::EmptyGrid { dims });
+        }
+        let voxels = u128::from(dims.x) * u128::from(dims.y) * u128::from(dims.z);
+        if voxels > u128::from(MAX_PATCH_VOXELS) {
+            return Err(PatchError::TooManyVoxels { dims, limit: MAX_PATCH_VOXELS });
+        }
+        let voxels = voxels as usize; // at most MAX_PATCH_VOXELS
+        if surface.len() != voxels {
+            return Err(PatchError::SurfaceCount { expected: voxels, found: surface.len() });
+        }
+        if let Some(index) = triangles.iter().position(|t| !t.is_finite()) {
+            return Err(PatchError::NonFiniteTriangle { index });
         }
         // The mesh around the padded grid: the tile and its 8 neighbours, moved by +1 voxel
         // in x and y (padded voxel (i, j, k) is tile voxel (i - 1, j - 1, k) mod dims).
@@ -113,7 +184,7 @@ impl VoxelPatches {
         for oy in -1..=1 {
             for ox in -1..=1 {
                 let shift = Vec3::new(ox as f32 * sx + 1.0, oy as f32 * sy + 1.0, 0.0);
-                tiled.extend(triangles.iter().filter(|t| t.is_finite()).map(|t| t.0.map(|v| v + shift)));
+                tiled.extend(triangles.iter().map(|t| t.0.map(|v| v + shift)));
             }
         }
         let padded = UVec3::new(dims.x + 2, dims.y + 2, dims.z);
@@ -158,7 +229,7 @@ impl VoxelPatches {
             for &t in list {
                 sample_triangle(&tiled[t as usize], settings.samples_per_edge, lo, hi, &mut points);
             }
-            if let Some(fit) = fit_quadric(&points) {
+            if let Ok(fit) = fit_quadric(&points) {
                 quadrics.insert((i, j, k), fit.quadric);
             }
         }
@@ -225,7 +296,7 @@ impl VoxelPatches {
                 }
             }
         }
-        Some(Self { dims, offsets, patches, voxels_without_patch, quadric_voxels, triangle_voxels })
+        Ok(Self { dims, offsets, patches, voxels_without_patch, quadric_voxels, triangle_voxels })
     }
 
     /// The bytes the tracer reads for the patches: the patches and the offsets.
@@ -268,7 +339,7 @@ fn c0_surface(
         for &t in list {
             sample_triangle(&tiled[t as usize], settings.samples_per_edge, lo, hi, &mut points);
         }
-        if let Some(plane) = fit_plane(&points) {
+        if let Ok(plane) = fit_plane(&points) {
             quadrics.insert(key, plane.quadric);
             replaced = true;
         }
@@ -338,8 +409,37 @@ fn sample_triangle(triangle: &[Vec3; 3], n: u32, lo: DVec3, hi: DVec3, out: &mut
 
 #[cfg(test)]
 mod tests {
+    use alloc::string::ToString;
+
     use super::*;
-    use ddm_compress::{DistanceMapSettings, compute_distance_maps};
+    use ddm_compress::{DistanceMapSettings, MapKind, compute_distance_maps};
+
+    #[test]
+    fn each_invalid_input_has_its_error() {
+        use PatchError::*;
+        let settings = PatchSettings::default();
+        let floor = mesostructure::plane(UVec3::new(4, 4, 2), 0.5);
+        let flat = UVec3::new(4, 4, 0);
+        assert_eq!(VoxelPatches::build(flat, &floor, &[], settings), Err(EmptyGrid { dims: flat }));
+        let big = UVec3::new(1 << 12, 1 << 12, 2);
+        assert_eq!(VoxelPatches::build(big, &floor, &[], settings), Err(TooManyVoxels { dims: big, limit: 1 << 24 }));
+        let huge = UVec3::splat(u32::MAX);
+        assert_eq!(
+            VoxelPatches::build(huge, &floor, &[], settings),
+            Err(TooManyVoxels { dims: huge, limit: MAX_PATCH_VOXELS })
+        );
+        let dims = UVec3::new(4, 4, 2);
+        assert_eq!(
+            VoxelPatches::build(dims, &floor, &[false; 31], settings),
+            Err(SurfaceCount { expected: 32, found: 31 })
+        );
+        let mut broken = floor.clone();
+        broken[1].0[2].z = f32::INFINITY;
+        let error = VoxelPatches::build(dims, &broken, &[true; 32], settings).unwrap_err();
+        assert_eq!(error, NonFiniteTriangle { index: 1 });
+        assert!(error.to_string().contains("triangle 1"), "{error}");
+        assert!(VoxelPatches::build(dims, &floor, &[true; 32], settings).is_ok());
+    }
 
     #[test]
     fn a_tilted_plane_gets_one_patch_per_surface_voxel_matching_the_plane() {
@@ -347,9 +447,13 @@ mod tests {
         let field = |x: f32, y: f32| 1.3 + 0.2 * x + 0.1 * y;
         // A plane is not periodic; build it over the tile only and check interior voxels.
         let tris = mesostructure::HeightField::from_fn(6, 6, field).triangles();
-        let maps =
-            compute_distance_maps(dims, &tris, None, DistanceMapSettings { tolerance: 0.25, periodic_xy: false })
-                .unwrap();
+        let maps = compute_distance_maps(
+            dims,
+            &tris,
+            MapKind::Plain,
+            DistanceMapSettings { tolerance: 0.25, periodic_xy: false },
+        )
+        .unwrap();
         let patches = VoxelPatches::build(dims, &tris, &maps.surface, PatchSettings::default()).unwrap();
         let mut checked = 0;
         for z in 0..4 {

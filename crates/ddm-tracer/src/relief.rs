@@ -3,6 +3,7 @@
 //! baseline of Table 2, for height-field mesostructures only.
 
 use alloc::vec::Vec;
+use core::fmt;
 
 use glam::{DVec3, UVec3, Vec2, Vec3};
 
@@ -21,14 +22,64 @@ pub struct HeightMap {
     pub heights: Vec<f32>,
 }
 
+/// Why [`HeightMap::from_mesh`] cannot sample a tile. The checks run in the order of the
+/// variants; the first that fails is returned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HeightMapError {
+    /// A side of the grid is zero.
+    EmptyGrid {
+        /// The grid size given.
+        dims: UVec3,
+    },
+    /// Zero texels per voxel.
+    ZeroTexelsPerVoxel,
+    /// The texel count overflows a `u32` (WGSL indexes heights with `u32`).
+    TooManyTexels {
+        /// The grid size given.
+        dims: UVec3,
+        /// The texels per voxel given.
+        texels_per_voxel: u32,
+    },
+}
+
+impl fmt::Display for HeightMapError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::EmptyGrid { dims } => write!(f, "height map: the grid {dims} has no voxel"),
+            Self::ZeroTexelsPerVoxel => write!(f, "height map: 0 texels per voxel"),
+            Self::TooManyTexels { dims, texels_per_voxel } => write!(
+                f,
+                "height map: {texels_per_voxel} texels per voxel over {dims} voxels overflow u32 texel indices"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for HeightMapError {}
+
 impl HeightMap {
     /// The height map of a tile of `dims` voxels at `texels_per_voxel` texels per voxel,
     /// from vertical rays against `mesh` (the first hit from above; 0 where a ray misses).
-    pub fn from_mesh(mesh: &MeshRaycaster, dims: UVec3, texels_per_voxel: u32) -> Self {
-        let s = texels_per_voxel.max(1);
-        let texels = UVec3::new(dims.x * s, dims.y * s, 1);
+    ///
+    /// # Errors
+    ///
+    /// A [`HeightMapError`]: an empty grid, zero texels per voxel, or more texels than
+    /// `u32` indices reach.
+    pub fn from_mesh(mesh: &MeshRaycaster, dims: UVec3, texels_per_voxel: u32) -> Result<Self, HeightMapError> {
+        if dims.cmpeq(UVec3::ZERO).any() {
+            return Err(HeightMapError::EmptyGrid { dims });
+        }
+        let s = texels_per_voxel;
+        if s == 0 {
+            return Err(HeightMapError::ZeroTexelsPerVoxel);
+        }
+        let texels = dims.x.checked_mul(s).zip(dims.y.checked_mul(s)).filter(|(x, y)| x.checked_mul(*y).is_some());
+        let Some((x, y)) = texels else {
+            return Err(HeightMapError::TooManyTexels { dims, texels_per_voxel });
+        };
+        let texels = UVec3::new(x, y, 1);
         let top = f64::from(dims.z) + 1.0;
-        let mut heights = Vec::with_capacity((texels.x * texels.y) as usize);
+        let mut heights = Vec::with_capacity(x as usize * y as usize);
         for y in 0..texels.y {
             for x in 0..texels.x {
                 let p = DVec3::new((f64::from(x) + 0.5) / f64::from(s), (f64::from(y) + 0.5) / f64::from(s), top);
@@ -36,12 +87,17 @@ impl HeightMap {
                 heights.push(h);
             }
         }
-        Self { texels, texels_per_voxel: s, heights }
+        Ok(Self { texels, texels_per_voxel: s, heights })
     }
 
+    /// The height of texel `(x, y)` (periodic); 0 for a map whose fields disagree (no
+    /// texels, or fewer heights than texels).
     fn texel(&self, x: i64, y: i64) -> f32 {
         let (w, h) = (i64::from(self.texels.x), i64::from(self.texels.y));
-        self.heights[(x.rem_euclid(w) + w * y.rem_euclid(h)) as usize]
+        if w == 0 || h == 0 {
+            return 0.0;
+        }
+        self.heights.get((x.rem_euclid(w) + w * y.rem_euclid(h)) as usize).copied().unwrap_or(0.0)
     }
 
     /// The bilinear height at `p` (voxel units, periodic). WGSL twin: `relief_height`.
@@ -120,9 +176,12 @@ pub fn relief_trace(
     }
     let t = 0.5 * (lo + hi);
     let p = start + d * t;
+    // The tile's voxels along x and y (at least 1, so that a map whose fields disagree
+    // gives a wrong voxel rather than a division by zero).
+    let tile = |texels: u32| i64::from((texels / map.texels_per_voxel.max(1)).max(1));
     let voxel = UVec3::new(
-        (libm::floorf(p.x) as i64).rem_euclid(i64::from(map.texels.x / map.texels_per_voxel)) as u32,
-        (libm::floorf(p.y) as i64).rem_euclid(i64::from(map.texels.y / map.texels_per_voxel)) as u32,
+        (libm::floorf(p.x) as i64).rem_euclid(tile(map.texels.x)) as u32,
+        (libm::floorf(p.y) as i64).rem_euclid(tile(map.texels.y)) as u32,
         libm::floorf(p.z).clamp(0.0, (size_z - 1.0).max(0.0)) as u32,
     );
     let hit = TraceHit { t: t_enter + t, point: p, normal: map.normal(p.truncate()), voxel };
@@ -137,11 +196,42 @@ mod tests {
     fn relief_mapping_finds_a_flat_floor() {
         let dims = UVec3::new(8, 8, 4);
         let mesh = MeshRaycaster::new(&mesostructure::plane(dims, 1.4), Vec2::new(8.0, 8.0));
-        let map = HeightMap::from_mesh(&mesh, dims, 2);
+        let map = HeightMap::from_mesh(&mesh, dims, 2).unwrap();
         assert!(map.heights.iter().all(|&h| (h - 1.4).abs() < 1e-6));
         let out = relief_trace(&map, 4.0, Vec3::new(1.0, 2.0, 6.0), Vec3::new(0.5, 0.2, -1.0), 16, 8);
         let hit = out.hit.unwrap();
         assert!((hit.point.z - 1.4).abs() < 4.0 / 16.0 / 256.0 * 2.0, "{hit:?}");
         assert_eq!(out.steps, 11 + 8);
+    }
+
+    #[test]
+    fn each_unusable_tile_has_its_error() {
+        let dims = UVec3::new(8, 8, 4);
+        let mesh = MeshRaycaster::new(&mesostructure::plane(dims, 1.4), Vec2::new(8.0, 8.0));
+        let flat = UVec3::new(8, 0, 4);
+        assert_eq!(HeightMap::from_mesh(&mesh, flat, 2), Err(HeightMapError::EmptyGrid { dims: flat }));
+        assert_eq!(HeightMap::from_mesh(&mesh, dims, 0), Err(HeightMapError::ZeroTexelsPerVoxel));
+        let wide = UVec3::new(1 << 16, 1 << 16, 1);
+        assert_eq!(
+            HeightMap::from_mesh(&mesh, wide, 1),
+            Err(HeightMapError::TooManyTexels { dims: wide, texels_per_voxel: 1 })
+        );
+        assert_eq!(
+            HeightMap::from_mesh(&mesh, dims, 1 << 30),
+            Err(HeightMapError::TooManyTexels { dims, texels_per_voxel: 1 << 30 })
+        );
+    }
+
+    #[test]
+    fn a_map_whose_fields_disagree_reads_without_panicking() {
+        let ray = (Vec3::new(1.0, 2.0, 6.0), Vec3::new(0.5, 0.2, -1.0));
+        for map in [
+            HeightMap { texels: UVec3::ZERO, texels_per_voxel: 0, heights: Vec::new() },
+            HeightMap { texels: UVec3::new(4, 4, 1), texels_per_voxel: 8, heights: alloc::vec![1.0; 3] },
+        ] {
+            assert!(map.height(Vec2::new(0.3, 0.7)).is_finite());
+            let out = relief_trace(&map, 4.0, ray.0, ray.1, 16, 8);
+            assert!(out.hit.is_some_and(|h| h.point.is_finite()), "{out:?}");
+        }
     }
 }

@@ -234,7 +234,7 @@ pub fn entry_wall_normal(local: Vec3, direction: Vec3) -> Vec3 {
 mod tests {
     use super::*;
     use crate::patches::PatchSettings;
-    use ddm_compress::{DirectionCones, DistanceMapSettings, compute_distance_maps};
+    use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, compute_distance_maps};
 
     #[test]
     fn a_flat_floor_is_hit_exactly_by_the_quadric_method() {
@@ -246,7 +246,7 @@ mod tests {
             let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
             // The plain map: the patches, not the cones, are under test here (and the DDM of a
             // floor on voxel walls is slow to bound).
-            let maps = compute_distance_maps(dims, &tris, None, settings).unwrap();
+            let maps = compute_distance_maps(dims, &tris, MapKind::Plain, settings).unwrap();
             let patches = VoxelPatches::build(dims, &tris, &maps.surface, PatchSettings::default()).unwrap();
             let quadric = TraceSettings { method: Method::Quadric, max_steps: 64, stepping: Stepping::Distance };
             let sphere = TraceSettings { method: Method::SphereTracing, max_steps: 64, stepping: Stepping::Distance };
@@ -266,7 +266,8 @@ mod tests {
         let dims = UVec3::new(6, 6, 4);
         let tris = mesostructure::plane(dims, 1.37);
         let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
-        let maps = compute_distance_maps(dims, &tris, DirectionCones::downward(4, 1), settings).unwrap();
+        let kind = MapKind::Directional(DirectionCones::downward(4, 1).unwrap());
+        let maps = compute_distance_maps(dims, &tris, kind, settings).unwrap();
         let patches = VoxelPatches::build(dims, &tris, &maps.surface, PatchSettings::default()).unwrap();
         let quadric = TraceSettings { method: Method::Quadric, max_steps: 64, stepping: Stepping::Distance };
         // Upward rays and rays outside the downward cones miss without a step.

@@ -3,7 +3,7 @@
 //! true intersection; compression does not change the hits of
 //! the full method (Algorithm 3.1); and the full method's hits are close to the truth.
 
-use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, DistanceMaps, compute_distance_maps};
+use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, DistanceMaps, MapKind, compute_distance_maps};
 use ddm_tracer::{
     CompressedMaps, ConeDistances, ConeSelector, DistanceSource, MeshRaycaster, Method, PatchSettings, PatchSurface,
     Stepping, TraceSettings, VoxelPatches, trace,
@@ -84,8 +84,9 @@ struct Scene {
 fn scene(which: Mesostructure) -> Scene {
     let triangles = which.triangles(DIMS);
     let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
-    let plain = compute_distance_maps(DIMS, &triangles, None, settings).unwrap();
-    let ddm = compute_distance_maps(DIMS, &triangles, DirectionCones::downward(4, 1), settings).unwrap();
+    let plain = compute_distance_maps(DIMS, &triangles, MapKind::Plain, settings).unwrap();
+    let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).unwrap());
+    let ddm = compute_distance_maps(DIMS, &triangles, ddm4x1, settings).unwrap();
     let patches = VoxelPatches::build(DIMS, &triangles, &ddm.surface, PatchSettings::default()).unwrap();
     let fitted = VoxelPatches::build(
         DIMS,
@@ -114,8 +115,8 @@ fn sphere_tracing_never_steps_past_the_first_true_hit() {
         // Two elevation bands: bounded through cut convex cones (`ddm-compress`'s
         // `convex_cone`).
         let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
-        let banded =
-            compute_distance_maps(DIMS, &which.triangles(DIMS), DirectionCones::downward(4, 2), settings).unwrap();
+        let ddm4x2 = MapKind::Directional(DirectionCones::downward(4, 2).unwrap());
+        let banded = compute_distance_maps(DIMS, &which.triangles(DIMS), ddm4x2, settings).unwrap();
         let mut banded_steps = 0_u64;
         let mut true_hits = 0;
         let mut steps = [0_u64; 2];

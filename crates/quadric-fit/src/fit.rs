@@ -10,6 +10,8 @@
 //! result is transformed back and renormalized. Without this step the columns of `A`
 //! differ by orders of magnitude and the fit degrades (tested below).
 
+use core::fmt;
+
 use glam::DVec3;
 
 use crate::eigen::symmetric_eigen;
@@ -37,18 +39,70 @@ pub struct QuadricFit {
     pub rms_distance: f64,
 }
 
+/// Why [`fit_plane`] or [`fit_quadric`] found no surface through the points. The checks
+/// run in the order of the variants; the first that fails is returned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FitError {
+    /// Fewer than 3 points: they determine no plane.
+    TooFewPoints {
+        /// The number of points given.
+        count: usize,
+    },
+    /// A coordinate of point `index` is NaN or infinite.
+    NonFinitePoint {
+        /// The point's index.
+        index: usize,
+    },
+    /// All points are equal.
+    Coincident,
+    /// The points lie on one line (within `1e-10` of the largest principal variance).
+    Collinear,
+    /// An intermediate sum overflowed (coordinates too large for `f64` squares).
+    Overflow,
+}
+
+impl fmt::Display for FitError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::TooFewPoints { count } => write!(f, "quadric fit: {count} points, at least 3 are needed"),
+            Self::NonFinitePoint { index } => write!(f, "quadric fit: point {index} is not finite"),
+            Self::Coincident => write!(f, "quadric fit: all points are equal"),
+            Self::Collinear => write!(f, "quadric fit: the points are collinear"),
+            Self::Overflow => write!(f, "quadric fit: the points' coordinates overflow f64 sums"),
+        }
+    }
+}
+
+impl core::error::Error for FitError {}
+
 /// Relative size below which an eigenvalue counts as zero.
 const RELATIVE_ZERO: f64 = 1e-10;
 
-/// Centroid and RMS radius of `points`, or `None` if they are empty, not finite or all
-/// equal.
-fn normalization(points: &[DVec3]) -> Option<(DVec3, f64)> {
-    if points.is_empty() || points.iter().any(|p| !p.is_finite()) {
-        return None;
+/// Centroid and RMS radius of `points` (the first three checks of [`FitError`], then
+/// [`FitError::Overflow`] for sums that overflow).
+fn normalization(points: &[DVec3]) -> Result<(DVec3, f64), FitError> {
+    if points.len() < 3 {
+        return Err(FitError::TooFewPoints { count: points.len() });
+    }
+    if let Some(index) = points.iter().position(|p| !p.is_finite()) {
+        return Err(FitError::NonFinitePoint { index });
     }
     let centroid = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+    if !centroid.is_finite() {
+        return Err(FitError::Overflow);
+    }
+    if points.iter().all(|&p| p == points[0]) {
+        return Err(FitError::Coincident);
+    }
     let rms = libm::sqrt(points.iter().map(|p| p.distance_squared(centroid)).sum::<f64>() / points.len() as f64);
-    (rms > 0.0 && rms.is_finite()).then_some((centroid, rms))
+    if !rms.is_finite() {
+        return Err(FitError::Overflow);
+    }
+    if rms == 0.0 {
+        // Distinct points whose spread vanishes in rounding: as good as one point.
+        return Err(FitError::Coincident);
+    }
+    Ok((centroid, rms))
 }
 
 fn rms_distance(quadric: &Quadric, points: &[DVec3]) -> f64 {
@@ -62,9 +116,13 @@ fn rms_distance(quadric: &Quadric, points: &[DVec3]) -> f64 {
     libm::sqrt(sum / points.len() as f64)
 }
 
-/// The least-squares plane through `points` (smallest principal axis), or `None` when
-/// they are fewer than 3, not finite, or collinear.
-pub fn fit_plane(points: &[DVec3]) -> Option<QuadricFit> {
+/// The least-squares plane through `points` (smallest principal axis).
+///
+/// # Errors
+///
+/// A [`FitError`]: fewer than 3 points, a non-finite point (with its index), coincident
+/// or collinear points, or sums that overflow.
+pub fn fit_plane(points: &[DVec3]) -> Result<QuadricFit, FitError> {
     let (centroid, _) = normalization(points)?;
     let mut covariance = [[0.0; 3]; 3];
     for p in points {
@@ -75,28 +133,36 @@ pub fn fit_plane(points: &[DVec3]) -> Option<QuadricFit> {
             }
         }
     }
-    let (values, vectors) = symmetric_eigen(&covariance)?;
-    // Collinear (or coincident) points: two vanishing principal variances.
-    if points.len() < 3 || values[1] <= RELATIVE_ZERO * values[2] {
-        return None;
+    let (values, vectors) = symmetric_eigen(&covariance).ok_or(FitError::Overflow)?;
+    // Collinear points: two vanishing principal variances.
+    if values[1] <= RELATIVE_ZERO * values[2] {
+        return Err(FitError::Collinear);
     }
     let normal = DVec3::from_array(vectors[0]);
-    let quadric = Quadric::plane(normal, -normal.dot(centroid))?;
-    Some(QuadricFit { quadric, kind: FitKind::Plane, rms_distance: rms_distance(&quadric, points) })
+    let quadric = Quadric::plane(normal, -normal.dot(centroid)).ok_or(FitError::Overflow)?;
+    Ok(QuadricFit { quadric, kind: FitKind::Plane, rms_distance: rms_distance(&quadric, points) })
 }
 
 /// Fits a quadric to `points` by least squares (eq. 2), in a normalized frame.
 ///
 /// | input | result |
 /// |---|---|
-/// | any coordinate NaN or ∞, fewer than 3 points, collinear or coincident points | `None` |
+/// | fewer than 3 points | [`FitError::TooFewPoints`] |
+/// | a coordinate NaN or ∞ | [`FitError::NonFinitePoint`] |
+/// | coincident points | [`FitError::Coincident`] |
+/// | collinear points | [`FitError::Collinear`] |
+/// | coordinates whose squares overflow | [`FitError::Overflow`] |
 /// | fewer than 9 points, or coplanar points | [`FitKind::Plane`]: the least-squares plane |
 /// | otherwise | [`FitKind::Quadric`] |
-pub fn fit_quadric(points: &[DVec3]) -> Option<QuadricFit> {
+///
+/// # Errors
+///
+/// The [`FitError`]s of the table.
+pub fn fit_quadric(points: &[DVec3]) -> Result<QuadricFit, FitError> {
     let (centroid, scale) = normalization(points)?;
     let plane = fit_plane(points)?;
     if points.len() < 9 {
-        return Some(plane);
+        return Ok(plane);
     }
     let mut scatter = [[0.0; 10]; 10];
     for p in points {
@@ -108,26 +174,22 @@ pub fn fit_quadric(points: &[DVec3]) -> Option<QuadricFit> {
             }
         }
     }
-    let (values, vectors) = symmetric_eigen(&scatter)?;
+    let (values, vectors) = symmetric_eigen(&scatter).ok_or(FitError::Overflow)?;
     // Points on a plane satisfy every quadric (plane)·(linear form): a 4-dimensional
     // null space. A unique quadric needs a single (near-)zero eigenvalue.
     if values[1] <= RELATIVE_ZERO * values[9] {
-        return Some(plane);
+        return Ok(plane);
     }
-    let in_unit_frame = Quadric::new(vectors[0])?;
+    let in_unit_frame = Quadric::new(vectors[0]).ok_or(FitError::Overflow)?;
     // Back to world coordinates: Q(p) = Q'((p - centroid) / scale).
-    let quadric = in_unit_frame.in_frame(-centroid / scale, 1.0 / scale)?;
-    Some(QuadricFit { quadric, kind: FitKind::Quadric, rms_distance: rms_distance(&quadric, points) })
-}
-
-/// The covariance-free check used by tests: the largest `|Q(p)|/|∇Q(p)|` over `points`.
-pub fn max_distance(quadric: &Quadric, points: &[DVec3]) -> f64 {
-    points.iter().map(|&p| quadric.distance_estimate(p).unwrap_or(f64::INFINITY)).fold(0.0, f64::max)
+    let quadric = in_unit_frame.in_frame(-centroid / scale, 1.0 / scale).ok_or(FitError::Overflow)?;
+    Ok(QuadricFit { quadric, kind: FitKind::Quadric, rms_distance: rms_distance(&quadric, points) })
 }
 
 #[cfg(test)]
 mod tests {
     extern crate std;
+    use std::string::ToString;
     use std::vec::Vec;
 
     use glam::DMat3;
@@ -185,14 +247,26 @@ mod tests {
     }
 
     #[test]
-    fn degenerate_inputs_give_none() {
-        assert!(fit_quadric(&[]).is_none());
-        assert!(fit_quadric(&[DVec3::ONE; 20]).is_none());
-        let line: [DVec3; 12] = core::array::from_fn(|i| DVec3::splat(i as f64));
-        assert!(fit_quadric(&line).is_none());
+    fn each_degenerate_input_has_its_error() {
+        use FitError::*;
+        assert_eq!(fit_quadric(&[]), Err(TooFewPoints { count: 0 }));
+        assert_eq!(fit_plane(&[DVec3::X, DVec3::Y]), Err(TooFewPoints { count: 2 }));
         let mut with_nan = [DVec3::X; 12];
         with_nan[3] = DVec3::NAN;
-        assert!(fit_quadric(&with_nan).is_none());
-        assert!(fit_plane(&[DVec3::X, DVec3::Y]).is_none());
+        assert_eq!(fit_quadric(&with_nan), Err(NonFinitePoint { index: 3 }));
+        with_nan[3] = DVec3::new(0.0, f64::NEG_INFINITY, 0.0);
+        assert_eq!(fit_plane(&with_nan), Err(NonFinitePoint { index: 3 }));
+        assert_eq!(fit_quadric(&[DVec3::ONE; 20]), Err(Coincident));
+        assert_eq!(fit_plane(&[DVec3::ONE; 3]), Err(Coincident));
+        let line: [DVec3; 12] = core::array::from_fn(|i| DVec3::splat(i as f64));
+        assert_eq!(fit_quadric(&line), Err(Collinear));
+        assert_eq!(fit_plane(&line[..3]), Err(Collinear));
+        let far = [DVec3::splat(1e300), DVec3::new(-1e300, 1e300, 0.0), DVec3::new(0.0, -1e300, 1e300)];
+        assert_eq!(fit_plane(&far), Err(Overflow));
+        assert_eq!(fit_quadric(&far), Err(Overflow));
+        // Three points in general position are a plane.
+        assert_eq!(fit_plane(&[DVec3::X, DVec3::Y, DVec3::Z]).map(|f| f.kind), Ok(FitKind::Plane));
+        let message = fit_quadric(&with_nan).unwrap_err().to_string();
+        assert!(message.contains("point 3"), "{message}");
     }
 }

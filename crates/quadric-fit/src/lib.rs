@@ -29,7 +29,8 @@
 //! # Modules
 //!
 //! - [`quadric`]: the quadric of eq. 1 in double precision: value, gradient, frames.
-//! - [`fit`]: least-squares fit (eq. 2) in a normalized frame, with a plane fallback.
+//! - [`fit`]: least-squares fit (eq. 2) in a normalized frame, with a plane fallback;
+//!   [`FitError`] says why points determine no surface.
 //! - [`patch`]: triangle and bilinear patches as quadrics (Appendix B).
 //! - [`intersect`]: single-precision ray intersection and normal, the WGSL twin's reference.
 //! - [`eigen`]: symmetric eigen-decomposition (Jacobi) without `std`.
@@ -55,7 +56,7 @@ pub mod surface;
 #[cfg(feature = "wgsl")]
 mod wgsl;
 
-pub use fit::{FitKind, QuadricFit, fit_plane, fit_quadric};
+pub use fit::{FitError, FitKind, QuadricFit, fit_plane, fit_quadric};
 pub use gpu_quadric::GpuQuadric;
 pub use intersect::{first_hit, normal};
 pub use patch::{bilinear_quadric, triangle_quadric};

@@ -3,7 +3,7 @@
 
 use glam::{DVec3, Vec3};
 use proptest::prelude::*;
-use quadric_fit::{FitKind, GpuQuadric, Quadric, bilinear_quadric, first_hit, fit_quadric};
+use quadric_fit::{FitError, FitKind, GpuQuadric, Quadric, bilinear_quadric, first_hit, fit_quadric};
 
 fn coordinate() -> impl Strategy<Value = f64> {
     prop_oneof![8 => -2.0_f64..2.0, 1 => Just(0.0), 1 => any::<f64>()]
@@ -18,12 +18,19 @@ proptest! {
 
     #[test]
     fn fitting_any_points_never_panics(points in proptest::collection::vec(point(), 0..40)) {
-        if let Some(fit) = fit_quadric(&points) {
-            prop_assert!(fit.quadric.coefficients.iter().all(|c| c.is_finite()));
-            prop_assert!(points.len() >= 3);
-            if points.len() < 9 {
-                prop_assert_eq!(fit.kind, FitKind::Plane);
+        match fit_quadric(&points) {
+            Ok(fit) => {
+                prop_assert!(fit.quadric.coefficients.iter().all(|c| c.is_finite()));
+                prop_assert!(points.len() >= 3);
+                if points.len() < 9 {
+                    prop_assert_eq!(fit.kind, FitKind::Plane);
+                }
             }
+            // Each error is true of the input it names.
+            Err(FitError::TooFewPoints { count }) => prop_assert!(count == points.len() && count < 3),
+            Err(FitError::NonFinitePoint { index }) => prop_assert!(!points[index].is_finite()),
+            Err(FitError::Coincident) => prop_assert!(points.iter().all(|p| (*p - points[0]).length() < 1e-150)),
+            Err(FitError::Collinear | FitError::Overflow) => prop_assert!(points.iter().all(|p| p.is_finite())),
         }
     }
 

@@ -59,11 +59,44 @@
 //!   [`CompressError`] says why a map cannot be compressed.
 //! - [`serialize`]: a versioned binary form that rejects corrupt data.
 //!
+//! # Using the WGSL twin
+//!
+//! With the `wgsl` feature, [`WGSL`] is the compressed map's access in WGSL (Algorithm
+//! A.2): `ddm_grid_index`, `ddm_entry_is_surface`, `ddm_entry_distance`,
+//! `ddm_atlas_index` and `ddm_voxel_in_map` over the generated [`CompressedMapUniforms`].
+//! A shader binds a map's [`CompressedMap::grid`] and [`CompressedMap::atlas`] as storage
+//! buffers and its [`CompressedMapUniforms::new`] as uniforms:
+//!
+//! ```
+//! # #[cfg(feature = "wgsl")] {
+//! let mut source = String::new();
+//! ddm_compress::WGSL.write_source(&mut source).unwrap(); // no dependencies to compose first
+//! source.push_str(
+//!     "@group(0) @binding(0) var<uniform> map: CompressedMapUniforms;
+//!      @group(0) @binding(1) var<storage, read> grid: array<u32>;
+//!      @group(0) @binding(2) var<storage, read> atlas: array<f32>;
+//!      fn distance_at(voxel: vec3<u32>) -> f32 {
+//!          let entry = grid[ddm_grid_index(voxel, map)];
+//!          if ddm_entry_is_surface(entry) {
+//!              return atlas[map.grid_atlas_base.w + ddm_atlas_index(entry, voxel, map.dims_block.w)];
+//!          }
+//!          return ddm_entry_distance(entry);
+//!      }",
+//! );
+//! # let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+//! # naga::valid::Validator::new(naga::valid::ValidationFlags::all(), Default::default()).validate(&module).unwrap();
+//! assert!(source.contains("fn ddm_grid_index"));
+//! # }
+//! ```
+//!
+//! Or register `WGSL.naga_oil_source` with a `naga_oil` composer under the name
+//! `ddm_compress` and `#import ddm_compress::{...}`.
+//!
 //! # Features
 //!
 //! - `std` (default): enables `std` in the dependencies. The crate is `#![no_std]` with
 //!   `alloc`; `cargo check -p ddm-compress --no-default-features` builds it.
-//! - `wgsl`: the WGSL twin as `WGSL`.
+//! - `wgsl`: [`WGSL`], the WGSL twin (its sources are embedded; no extra dependency).
 //! - `testing`: test and benchmark references, not part of the supported API (the
 //!   `testing` module: `reference_distance_maps`, the previous computation, and
 //!   `sampled_distance`, a brute-force upper estimate of a directional distance). Enabled

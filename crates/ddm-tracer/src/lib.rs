@@ -4,13 +4,18 @@
 //! WGSL compute tracer `wgsl/ddm_tracer.wgsl`.
 //!
 //! ```
-//! use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, compute_distance_maps};
+//! use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, Triangle, compute_distance_maps};
 //! use ddm_tracer::{Method, PatchSettings, Stepping, TraceSettings, VoxelPatches, trace};
 //! use glam::{UVec3, Vec3};
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! // A tile of 8 × 8 × 4 voxels whose mesostructure is a floor at z = 1.25.
 //! let dims = UVec3::new(8, 8, 4);
-//! let floor = mesostructure::plane(dims, 1.25);
+//! let corner = |x: f32, y: f32| Vec3::new(x, y, 1.25);
+//! let floor = [
+//!     Triangle([corner(0.0, 0.0), corner(8.0, 0.0), corner(8.0, 8.0)]),
+//!     Triangle([corner(0.0, 0.0), corner(8.0, 8.0), corner(0.0, 8.0)]),
+//! ];
 //! let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
 //! let kind = MapKind::Directional(DirectionCones::downward(4, 1)?);
 //! let maps = compute_distance_maps(dims, &floor, kind, settings)?;
@@ -38,10 +43,50 @@
 //! - [`gpu_scene`]: the scene packed into the buffers of the WGSL twin.
 //! - [`tangent_space`]: the per-pixel ray of a mesostructure mapped on a base mesh.
 //!
+//! # Using the WGSL twin
+//!
+//! With the `wgsl` feature, [`WGSL`] is the tracer in WGSL: `trace_ray(uniforms, origin,
+//! direction) -> TraceResult` (Algorithms 3.1–3.3 and relief mapping, one ray, the same
+//! steps as [`trace`]) and the tangent-space functions of a base mesh's pixel
+//! (`render_tangent_frame`, `render_tangent_ray`, `render_in_shadow`, mirroring
+//! [`tangent_space`]). It declares the scene's storage buffers at `@group(0)`, bindings
+//! 3–8; [`GpuScene`] packs maps, patches and a relief height map into exactly those
+//! buffers ([`GpuScene::storage_bytes`], in binding order) and the uniforms
+//! ([`GpuScene::uniforms`]). It calls `quadric-fit`'s and `ddm-compress`'s twins, which
+//! [`WGSL`]'s `dependencies` lists and `write_source` writes first:
+//!
+//! ```
+//! # #[cfg(feature = "wgsl")] {
+//! let mut source = String::new();
+//! ddm_tracer::WGSL.write_source(&mut source).unwrap(); // quadric_fit, ddm_compress, then ddm_tracer
+//! source.push_str(
+//!     "@group(0) @binding(0) var<uniform> uniforms: TraceUniforms;
+//!      @group(0) @binding(1) var<storage, read> rays: array<vec4<f32>>; // origin, direction
+//!      @group(0) @binding(2) var<storage, read_write> hits: array<TraceResult>;
+//!      @compute @workgroup_size(64)
+//!      fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+//!          if 2u * id.x + 1u < arrayLength(&rays) {
+//!              hits[id.x] = trace_ray(uniforms, rays[2u * id.x].xyz, rays[2u * id.x + 1u].xyz);
+//!          }
+//!      }",
+//! );
+//! # let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+//! # naga::valid::Validator::new(naga::valid::ValidationFlags::all(), Default::default()).validate(&module).unwrap();
+//! assert_eq!(ddm_tracer::WGSL.dependency_names().collect::<Vec<_>>(), ["quadric_fit", "ddm_compress"]);
+//! # }
+//! ```
+//!
+//! With `naga_oil`, register `quadric_fit::WGSL.naga_oil_source`, then
+//! `ddm_compress::WGSL.naga_oil_source`, then this crate's, and `#import
+//! ddm_tracer::{trace_ray, TraceUniforms, TraceResult}`. `ddm-render` (in this workspace)
+//! is a complete renderer built on it.
+//!
 //! # Features
 //!
 //! - `std` (default): enables `std` in the dependencies. The crate is `#![no_std]` with
 //!   `alloc`; `cargo check -p ddm-tracer --no-default-features` builds it.
+//! - `wgsl`: [`WGSL`], the WGSL twin (its sources are embedded; enables `quadric-fit`'s and
+//!   `ddm-compress`'s twins, which it composes after).
 #![no_std]
 
 extern crate alloc;

@@ -38,10 +38,43 @@
 //! - [`surface`]: the per-voxel C⁰ construction of §3.1 (steps a–c): edge hits, averaged
 //!   representative points, face-ordered polygons and their triangle/bilinear patches.
 //!
+//! # Using the WGSL twin
+//!
+//! With the `wgsl` feature, [`WGSL`] is the crate's WGSL twin: the generated
+//! [`GpuQuadric`] and `quadric_value`, `quadric_gradient`, `quadric_normal` and
+//! `quadric_first_hit(q, origin, direction, t_min, t_max) -> vec2(t, hit)` (Algorithm 3.2),
+//! the twins of [`intersect`]'s functions. Upload quadrics as
+//! `bytemuck::cast_slice(&[GpuQuadric::from_quadric(&q)])` and paste the twin before your
+//! WGSL:
+//!
+//! ```
+//! # #[cfg(feature = "wgsl")] {
+//! let mut source = String::new();
+//! quadric_fit::WGSL.write_source(&mut source).unwrap(); // no dependencies to compose first
+//! source.push_str(
+//!     "@group(0) @binding(0) var<storage, read> quadrics: array<GpuQuadric>;
+//!      @group(0) @binding(1) var<storage, read_write> depth: array<f32>;
+//!      @compute @workgroup_size(64)
+//!      fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+//!          // Straight down through the voxel's centre, from its top face.
+//!          let hit = quadric_first_hit(quadrics[id.x], vec3<f32>(0.5, 0.5, 1.0), vec3<f32>(0.0, 0.0, -1.0), 0.0, 1.0);
+//!          depth[id.x] = select(-1.0, hit.x, hit.y > 0.5);
+//!      }",
+//! );
+//! # let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+//! # naga::valid::Validator::new(naga::valid::ValidationFlags::all(), Default::default()).validate(&module).unwrap();
+//! assert!(source.contains("fn quadric_first_hit"));
+//! # }
+//! ```
+//!
+//! Or register `WGSL.naga_oil_source` with a `naga_oil` composer under the name
+//! `quadric_fit` and `#import quadric_fit::{quadric_first_hit, GpuQuadric}`.
+//!
 //! # Features
 //!
 //! - `std` (default): enables `std` in the dependencies. The crate is `#![no_std]`; only
 //!   [`surface`] allocates (through `alloc`); `cargo check -p quadric-fit --no-default-features` builds it.
+//! - `wgsl`: [`WGSL`], the WGSL twin (its sources are embedded; no extra dependency).
 #![no_std]
 
 extern crate alloc;

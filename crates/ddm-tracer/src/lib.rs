@@ -47,7 +47,7 @@
 //!
 //! With the `wgsl` feature, [`WGSL`] is the tracer in WGSL: `trace_ray(uniforms, origin,
 //! direction) -> TraceResult` (Algorithms 3.1–3.3 and relief mapping, one ray, the same
-//! steps as [`trace`]) and the tangent-space functions of a base mesh's pixel
+//! steps as [`trace()`]) and the tangent-space functions of a base mesh's pixel
 //! (`render_tangent_frame`, `render_tangent_ray`, `render_in_shadow`, mirroring
 //! [`tangent_space`]). It declares the scene's storage buffers at `@group(0)`, bindings
 //! 3–8; [`GpuScene`] packs maps, patches and a relief height map into exactly those

@@ -221,7 +221,10 @@ fn module_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
             files.extend(std::fs::read_dir(&path).unwrap().map(|e| e.unwrap().path()));
             continue;
         }
-        if path.extension().is_none_or(|e| e != "rs") || path.file_name().is_some_and(|n| n == "lib.rs") {
+        // `lib.rs` only declares and re-exports; a `tests.rs` file is a `#[cfg(test)]` module.
+        if path.extension().is_none_or(|e| e != "rs")
+            || path.file_name().is_some_and(|n| n == "lib.rs" || n == "tests.rs")
+        {
             continue;
         }
         let relative = path.strip_prefix(src).unwrap();

@@ -1,8 +1,11 @@
 //! CPU = GPU differential tests of `shaders/abuffer_mask.wgsl` against the
 //! `abuffer-mask` crate: table indices, popcounts and coverages bit for bit, for
-//! N = 32, 64, 128 over 100 000+ queries including special values and cell boundaries.
+//! N = 32, 64, 128 over 100 000+ queries (counted) including special values and cell
+//! boundaries; the half-plane parameters `(θ, v)` within WGSL's accuracy bounds (`atan2`
+//! 4096 ulp, see `half_plane_bounds`), and their table cells equal except within that
+//! rounding of a cell boundary.
 
-use abuffer_mask::{HalfPlane, MaskTable, MaskTableUniforms, TableLayout};
+use abuffer_mask::{HalfPlane, MaskTable, MaskTableUniforms, TableLayout, V_SATURATION};
 use glam::{UVec4, Vec3, Vec4};
 use integration_tests::{SPECIAL_F32, gpu};
 use rand::rngs::SmallRng;
@@ -67,6 +70,8 @@ fn check_masks<const WORDS: usize>(source: &str) {
     let mut input: Vec<UVec4> = words.chunks(4).map(|c| UVec4::new(c[0], c[1], c[2], c[3])).collect();
     let query_offset = input.len();
     let queries = queries(layout, WORDS as u64);
+    // The module documentation's claim.
+    assert!(queries.len() >= 100_000, "{} queries", queries.len());
     input.extend(queries.iter().map(|q| UVec4::from_array(q.map(f32::to_bits))));
     let bytes = uniforms(table.uniforms(), query_offset as u32);
     let gpu_counts: Vec<UVec4> = gpu().compute_map(source, "mask_queries", &bytes, &input).unwrap();
@@ -137,6 +142,27 @@ fn cone_elements() -> Vec<[Vec4; 2]> {
     elements
 }
 
+/// WGSL's accuracy bound of `atan2`: 4096 ulp of the result (WGSL §"Floating point
+/// accuracy"); the CPU's `libm::atan2f` adds 1 more.
+const ATAN2_ULPS: f32 = 4097.0;
+
+/// The rounding bounds `(Δθ, Δv)` of one cone element's half-plane, CPU against GPU:
+/// `θ = atan2(n_y, n_x)` within [`ATAN2_ULPS`] ulp of `θ`; `v = (l |n_z| − h) / (r ρ)`,
+/// `ρ = √(n_x² + n_y²)`, whose numerator may cancel: each side rounds it by ≤ 2 ulp of
+/// `|l n_z| + |h|` (a product and a difference, fused or not), and the rest (`ρ`: the sum
+/// of squares 2 ulp, WGSL's `sqrt` ≤ 4.5 ulp as `1 / inverseSqrt`; the product and the
+/// division ≤ 3.5 ulp) by ≤ 10 ulp relative; both sides counted.
+fn half_plane_bounds(a: Vec4, b: Vec4, cpu: &HalfPlane) -> (f32, f32) {
+    let ulp = |x: f32| x.abs().max(f32::MIN_POSITIVE) * f32::EPSILON;
+    let theta = ATAN2_ULPS * ulp(cpu.theta);
+    let limit = b.x * (a.y * a.y + a.z * a.z).sqrt();
+    let numerator = (b.y * a.w).abs() + a.x.abs();
+    let v = 2.0 * (2.0 * ulp(numerator) / limit + 10.0 * ulp(cpu.v));
+    // Non-finite inputs have no rounding bound: their results must be bit-equal.
+    let finite = |x: f32| if x.is_finite() { x } else { 0.0 };
+    (finite(theta), finite(v))
+}
+
 #[test]
 fn half_planes_match_the_cpu_within_tolerance_and_indices_match_off_boundaries() {
     let source = kernel_source();
@@ -145,32 +171,54 @@ fn half_planes_match_the_cpu_within_tolerance_and_indices_match_off_boundaries()
     let elements = cone_elements();
     let bytes = uniforms(table.uniforms(), 0);
     let results: Vec<UVec4> = gpu().compute_map(&source, "half_planes", &bytes, &elements).unwrap();
-    let (mut worst_theta, mut worst_v, mut equal, mut near_boundary_mismatches) = (0.0_f32, 0.0_f32, 0, 0);
+    assert_eq!(results.len(), elements.len());
+    assert!(elements.len() >= 100_000, "{} cone elements", elements.len());
+    let (mut worst_theta, mut worst_v, mut worst_ratio, mut equal, mut near_boundary_mismatches) =
+        (0.0_f32, 0.0_f32, 0.0_f32, 0, 0);
     for (element, result) in elements.iter().zip(&results) {
         let [a, b] = *element;
         let cpu = HalfPlane::from_cone_element(a.w, a.truncate(), b.x, b.y);
         let (theta, v) = (f32::from_bits(result.x), f32::from_bits(result.y));
-        worst_theta = worst_theta.max((cpu.theta - theta).abs());
-        worst_v = worst_v.max((cpu.v - v).abs());
+        let context = || format!("{element:?}: CPU {cpu:?} GPU ({theta}, {v})");
+        let (theta_bound, v_bound) = half_plane_bounds(Vec4::new(a.w, a.x, a.y, a.z), b, &cpu);
+        // A saturation decision (|offset| ≥ 2 r ρ: the half-plane is empty or full) may
+        // flip within rounding of |v| = 2; then θ and v are the saturated ones.
+        let saturation_flip = ((cpu.v.abs() == V_SATURATION) != (v.abs() == V_SATURATION))
+            && (cpu.v.abs() - V_SATURATION).abs().max((v.abs() - V_SATURATION).abs()) <= 2.0 * v_bound;
+        // Bit-equal results need no bound (the special elements: non-finite inputs give
+        // the empty half-plane on both sides).
+        let bit_equal = cpu.theta.to_bits() == result.x && cpu.v.to_bits() == result.y;
+        if !saturation_flip && !bit_equal {
+            let (theta_error, v_error) = ((cpu.theta - theta).abs(), (cpu.v - v).abs());
+            assert!(
+                theta_error <= theta_bound && v_error <= v_bound,
+                "{}: bounds ({theta_bound:e}, {v_bound:e})",
+                context()
+            );
+            worst_theta = worst_theta.max(theta_error);
+            worst_v = worst_v.max(v_error);
+            worst_ratio = worst_ratio.max(theta_error / theta_bound).max(v_error / v_bound);
+        }
         if layout.cell_index(cpu.theta, cpu.v) == result.z {
             equal += 1;
             continue;
         }
-        // Allowed only when the CPU value lies within 1e-3 of a cell of a boundary.
+        // Allowed only when the CPU value lies within its rounding bound of a cell
+        // boundary (or of saturation).
         let (t, s) = (cpu.theta * layout.theta_scale(), cpu.v * layout.v_scale());
-        let near = (t - t.round()).abs() < 1e-3 || (s - s.round()).abs() < 1e-3;
-        assert!(
-            near,
-            "{element:?}: CPU {cpu:?} cell {} GPU ({theta}, {v}) cell {}",
-            layout.cell_index(cpu.theta, cpu.v),
-            result.z
-        );
+        let near = saturation_flip
+            || (t - t.round()).abs() <= theta_bound * layout.theta_scale() + 2.0 * f32::EPSILON * t.abs()
+            || (s - s.round()).abs() <= v_bound * layout.v_scale() + 2.0 * f32::EPSILON * s.abs();
+        assert!(near, "{}: cell {} vs GPU cell {}", context(), layout.cell_index(cpu.theta, cpu.v), result.z);
         near_boundary_mismatches += 1;
     }
-    assert!(worst_theta <= 1e-5 && worst_v <= 1e-5, "θ differs by {worst_theta}, v by {worst_v}");
     println!(
-        "half planes: {} cone elements, max |Δθ| {worst_theta:e}, max |Δv| {worst_v:e}; cell indices equal for {equal}, \
-         {near_boundary_mismatches} differ within 1e-3 cell of a boundary",
+        "half planes: {} cone elements, max |Δθ| {worst_theta:e}, max |Δv| {worst_v:e} ({worst_ratio:.4} of the rounding \
+         bounds); cell indices equal for {equal}, {near_boundary_mismatches} differ within rounding of a boundary",
         elements.len()
     );
+    // The bound lets θ flip within 4097 ulp (≤ 9.8e-4 rad) of the 256 boundaries 0.0245
+    // rad apart, 8 % of the values at most; an adapter as accurate as lavapipe flips
+    // 0.04 %: at least 90 % of the elements must get equal indices.
+    assert!(equal * 10 >= elements.len() * 9, "only {equal} of {} cell indices equal", elements.len());
 }

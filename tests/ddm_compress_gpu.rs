@@ -1,5 +1,6 @@
 //! CPU = GPU differential test of `shaders/ddm_compress.wgsl` (the compressed distance
-//! map's access function) against `ddm-compress`: every voxel of several maps, bit for bit.
+//! map's access function) against `ddm-compress`: every voxel of several maps, bit for bit
+//! (23 700 queries, counted).
 
 use ddm_compress::CompressedMapUniforms;
 use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, MapKind, Triangle, compute_distance_maps};
@@ -64,4 +65,7 @@ fn access_matches_the_cpu_reference() {
         }
     }
     println!("{checked} voxel queries (inside and outside, blocks 1-5, 4 cones): GPU access equals CPU bit for bit");
+    // Exhaustive: every voxel of the 12 × 12 × 6 maps and the first ones past each face
+    // (13 × 13 × 7), and two far outside, for 5 block sizes and 4 cones.
+    assert_eq!(checked, 5 * 4 * (13 * 13 * 7 + 2));
 }

@@ -42,7 +42,7 @@ fn mean_gaps(
     triangles: &[Triangle],
     cones: DirectionCones,
 ) -> (f32, f32) {
-    let (mut sums, mut count) = ([0.0_f64; 2], 0_u32);
+    let (mut sums, mut count, mut considered, mut looser) = ([0.0_f64; 2], 0_u32, 0_u32, 0_u32);
     for z in 0..DIMS.z {
         for y in 0..DIMS.y {
             for x in 0..DIMS.x {
@@ -57,8 +57,14 @@ fn mean_gaps(
                 for c in 0..maps.values.len() {
                     let cone = cones.cone(c as u32);
                     let sampled = sampled_distance(UVec3::new(x, y, z), &near, cone.as_ref(), 8);
+                    considered += 1;
+                    looser += u32::from(maps.values[c][index] < reference.values[c][index]);
                     for (sum, (map, label)) in sums.iter_mut().zip([(maps, "search"), (reference, "reference")]) {
                         let stored = map.values[c][index];
+                        // The slack is the rounding of the sampled `f32` distance: ~10
+                        // operations on coordinates below 32 (the tile and its
+                        // neighbours), each within ulp(32) / 2 = 1.9e-6: 1e-4 covers them
+                        // with room.
                         assert!(
                             stored <= sampled + 1e-4,
                             "{name} {label}: voxel ({x}, {y}, {z}) cone {c}: stored {stored} > sampled {sampled}"
@@ -72,7 +78,15 @@ fn mean_gaps(
             }
         }
     }
-    assert!(count > 500, "{name}: only {count} voxel-cones checked");
+    println!(
+        "{name}: {count} of {considered} voxel-cones off the surface checked (a finite sampled value), {looser} \
+         looser than the reference"
+    );
+    // A voxel-cone is skipped when none of its 8² sampled pairs falls inside the cone:
+    // every downward cone of a voxel off the surface meets the surface below it (within the
+    // tile and its neighbours), and the sampled pairs miss a cone only for voxels right
+    // beside the surface, so at least half must be checked (measured 80–100 %).
+    assert!(count * 2 >= considered, "{name}: only {count} of {considered} voxel-cones checked");
     ((sums[0] / f64::from(count)) as f32, (sums[1] / f64::from(count)) as f32)
 }
 
@@ -90,9 +104,8 @@ fn every_mesostructure_gets_conservative_maps_at_least_as_tight_as_before() {
         let all = periodic(&triangles);
         let (search_gap, reference_gap) = mean_gaps(name, &maps, &reference, &all, cones);
         println!("{name}: mean (sampled - stored) search {search_gap:.3}, reference {reference_gap:.3} voxel");
-        assert!(
-            search_gap <= reference_gap + 1e-3,
-            "{name}: search {search_gap} looser than reference {reference_gap}"
-        );
+        // The claim, without slack (the sums are `f64`; measured: no single value looser
+        // than the reference's either).
+        assert!(search_gap <= reference_gap, "{name}: search {search_gap} looser than reference {reference_gap}");
     }
 }

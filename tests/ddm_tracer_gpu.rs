@@ -6,8 +6,23 @@
 //!
 //! Compared per ray: hit or miss, the cone, the step count, the hit point and normal.
 //! Single precision on both sides; the GPU may contract `a + b * c` into fused
-//! multiply-adds, so a ray whose step lands within rounding of a voxel wall can take one
-//! step more or less, and a hit point can move by a few ulps.
+//! multiply-adds and round `atan2` and `normalize` differently, so a ray whose step lands
+//! within rounding of a voxel wall can take one step more or less, and a hit point can
+//! move by a few ulps. No count of such rays is allowed in advance; each differing ray
+//! must be explained, ray by ray:
+//!
+//! - a different cone only for a direction within [`ATAN2_ERROR`] of a cone boundary (it
+//!   belongs to both cones; both maps are safe for it);
+//! - a different hit/miss, step count or exhaustion only for a ray whose CPU outcome
+//!   changes the same way when its origin or direction moves by [`PERTURBATION_ULPS`]
+//!   ulp (the rounding of a few operations: the ray is within rounding of a decision);
+//! - a different hit point or normal only within 4 times the spread of those perturbed
+//!   CPU traces (a noise estimate, printed), plus the rounding floor of a trace
+//!   ([`point_floor`], [`NORMAL_FLOOR`]).
+//!
+//! On lavapipe every ray agrees bit for bit except the relief-mapping normals (WGSL's
+//! `normalize` against glam's: within 4.9e-7, under [`NORMAL_FLOOR`]) and the 64 special
+//! rays at azimuth 270° (a 4-cone boundary), which the GPU assigns to the other cone.
 
 use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, compute_distance_maps};
 use ddm_tracer::{
@@ -21,6 +36,59 @@ use mesostructure::Mesostructure;
 use shader_registry::kernel_io::ddm_tracer::TraceRay;
 
 const DIMS: UVec3 = UVec3::new(12, 12, 6);
+
+/// WGSL's accuracy bound of `atan2` (4096 ulp of the result, WGSL §"Floating point
+/// accuracy"), in radians for results up to π: how far the GPU's azimuth may lie from
+/// the CPU's, hence how close to a cone boundary a direction must be for the two to pick
+/// different cones.
+const ATAN2_ERROR: f32 = 4096.0 * std::f32::consts::PI * f32::EPSILON;
+
+/// How far (in ulp of each coordinate) the perturbed CPU traces move a ray's origin and
+/// direction: the order of the rounding of the few operations FMA contraction may change.
+const PERTURBATION_ULPS: u32 = 4;
+
+/// The rounding of one `f32` operation on the tracer's values (coordinates below 64: a
+/// ray crosses the 6.5-voxel slab at ≥ 5° elevation, `t ≤ 6.5 / sin 5° < 75`, and the
+/// origins lie within 12 voxels), counted as a whole ulp of 128.
+const F32_STEP_ERROR: f32 = 128.0 * f32::EPSILON;
+
+/// The rounding floor of a hit point after `steps` steps: one [`F32_STEP_ERROR`] per
+/// step, and 4 for the slab entry and the hit.
+fn point_floor(steps: u32) -> f32 {
+    (steps + 4) as f32 * F32_STEP_ERROR
+}
+
+/// The rounding floor of a unit normal: WGSL's `inverseSqrt` within 2 ulp, the dot
+/// product and the scaling a few ulp more, per component of a unit vector: 16 ε.
+const NORMAL_FLOOR: f32 = 16.0 * f32::EPSILON;
+
+/// The fraction of rays that must be compared in full: the special rays at azimuth 270°
+/// (64 of 6320, 1 %) may fall into the other cone, random ones only within
+/// [`ATAN2_ERROR`] of one of 4 boundaries (probability 8 · 9.8e-4 / 2π ≈ 0.13 %), and
+/// rays within rounding of a decision are rarer still: 98 % leaves room for both.
+const MIN_COMPARED: f64 = 0.98;
+
+/// `x` moved by `ulps` ulp up (`up`) or down.
+fn nudged(x: f32, ulps: u32, up: bool) -> f32 {
+    (0..ulps).fold(x, |x, _| if up { x.next_up() } else { x.next_down() })
+}
+
+/// The ray with its origin, then its direction, moved by [`PERTURBATION_ULPS`] along
+/// each axis, both ways.
+fn perturbations(origin: Vec3, direction: Vec3) -> Vec<(Vec3, Vec3)> {
+    let mut rays = Vec::new();
+    for axis in 0..3 {
+        for up in [false, true] {
+            let mut o = origin;
+            o[axis] = nudged(o[axis], PERTURBATION_ULPS, up);
+            rays.push((o, direction));
+            let mut d = direction;
+            d[axis] = nudged(d[axis], PERTURBATION_ULPS, up);
+            rays.push((origin, d));
+        }
+    }
+    rays
+}
 
 fn kernel_source() -> String {
     shader_registry::test_kernel_source("ddm_tracer_compute").unwrap_or_else(|e| panic!("{e}"))
@@ -60,14 +128,21 @@ fn rays(count: usize, seed: u64) -> Vec<(Vec3, Vec3)> {
 
 struct Mismatches {
     rays: usize,
-    hit_miss: usize,
-    cone: usize,
-    steps: usize,
-    worst_point: f32,
-    worst_normal: f32,
+    /// Rays compared in full (same cone, same discrete outcome).
+    compared: usize,
+    /// Rays within [`ATAN2_ERROR`] of a cone boundary.
     boundary: usize,
     /// Rays on a cone boundary that CPU and GPU assigned to different cones.
     split: usize,
+    /// Rays whose hit/miss or steps differ, each within rounding of a decision (its
+    /// perturbed CPU traces differ the same way).
+    near_decision: usize,
+    /// Rays whose point or normal is not bit-identical.
+    inexact: usize,
+    worst_point: f32,
+    worst_normal: f32,
+    /// Largest point / normal difference as a fraction of the allowed one.
+    worst_ratio: f32,
 }
 
 fn compare(maps: &CompressedMaps, patches: Option<&VoxelPatches>, settings: TraceSettings, seed: u64) -> Mismatches {
@@ -93,15 +168,17 @@ fn compare_scene(
             &scene.storage_bytes(),
         )
         .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(results.len(), rays.len());
     let mut m = Mismatches {
         rays: rays.len(),
-        hit_miss: 0,
-        cone: 0,
-        steps: 0,
-        worst_point: 0.0,
-        worst_normal: 0.0,
+        compared: 0,
         boundary: 0,
         split: 0,
+        near_decision: 0,
+        inexact: 0,
+        worst_point: 0.0,
+        worst_normal: 0.0,
+        worst_ratio: 0.0,
     };
     for (&(origin, direction), gpu) in rays.iter().zip(&results) {
         let cpu = reference(origin, direction);
@@ -109,29 +186,91 @@ fn compare_scene(
         // it); CPU and GPU atan2 may round it to either side, and then read different
         // (equally valid) maps: such rays are counted, not compared.
         let sectors = kind.map_count() as f32;
-        let turns = direction.y.atan2(direction.x) / std::f32::consts::TAU * sectors;
-        let on_boundary = (turns - turns.round()).abs() < 1e-4;
+        let azimuth = direction.y.atan2(direction.x);
+        let sector_width = std::f32::consts::TAU / sectors;
+        let from_boundary = (azimuth / sector_width - (azimuth / sector_width).round()).abs() * sector_width;
+        let on_boundary = from_boundary <= ATAN2_ERROR;
         m.boundary += usize::from(on_boundary);
+        let context = || format!("ray {origin} {direction}: CPU {cpu:?}, GPU {gpu:?}");
         if cpu.cone != gpu.counts.y {
-            if on_boundary {
-                m.split += 1;
-            } else {
-                m.cone += 1;
-            }
+            assert!(on_boundary, "cone differs {from_boundary:e} rad from a boundary: {}", context());
+            m.split += 1;
             continue;
         }
         let gpu_hit = gpu.normal_hit.w == 1.0;
-        if cpu.hit.is_some() != gpu_hit {
-            m.hit_miss += 1;
+        let perturbed =
+            || perturbations(origin, direction).into_iter().map(|(o, d)| reference(o, d)).collect::<Vec<_>>();
+        let discrete_differs =
+            cpu.hit.is_some() != gpu_hit || cpu.steps != gpu.counts.x || u32::from(cpu.exhausted) != gpu.counts.z;
+        if discrete_differs {
+            // Allowed only where the CPU's own outcome changes the same way under a
+            // perturbation of the ray by rounding.
+            let near = perturbed().iter().any(|p| {
+                (cpu.hit.is_some() != gpu_hit && p.hit.is_some() == gpu_hit)
+                    || (cpu.steps != gpu.counts.x && p.steps != cpu.steps)
+                    || (u32::from(cpu.exhausted) != gpu.counts.z && p.exhausted != cpu.exhausted)
+            });
+            assert!(near, "well-conditioned ray differs: {}", context());
+            m.near_decision += 1;
             continue;
         }
-        m.steps += usize::from(cpu.steps != gpu.counts.x || u32::from(cpu.exhausted) != gpu.counts.z);
-        if let Some(hit) = cpu.hit {
-            m.worst_point = m.worst_point.max((hit.point - gpu.point_t.truncate()).length());
-            m.worst_normal = m.worst_normal.max((hit.normal - gpu.normal_hit.truncate()).length());
+        m.compared += 1;
+        let Some(hit) = cpu.hit else { continue };
+        let (point, normal) = (gpu.point_t.truncate(), gpu.normal_hit.truncate());
+        if hit.point == point && hit.normal == normal {
+            continue;
         }
+        m.inexact += 1;
+        // The spread of the CPU's own hit under perturbations of the ray by rounding.
+        let (mut point_spread, mut normal_spread) = (0.0_f32, 0.0_f32);
+        for p in perturbed() {
+            if let Some(other) = p.hit
+                && p.steps == cpu.steps
+                && other.voxel == hit.voxel
+            {
+                point_spread = point_spread.max((other.point - hit.point).length());
+                normal_spread = normal_spread.max((other.normal - hit.normal).length());
+            }
+        }
+        let (point_error, normal_error) = ((hit.point - point).length(), (hit.normal - normal).length());
+        let point_allowed = 4.0 * point_spread + point_floor(cpu.steps);
+        let normal_allowed = 4.0 * normal_spread + NORMAL_FLOOR;
+        assert!(
+            point_error <= point_allowed && normal_error <= normal_allowed,
+            "point differs by {point_error:e} (allowed {point_allowed:e}), normal by {normal_error:e} (allowed \
+             {normal_allowed:e}): {}",
+            context()
+        );
+        m.worst_point = m.worst_point.max(point_error);
+        m.worst_normal = m.worst_normal.max(normal_error);
+        m.worst_ratio = m.worst_ratio.max(point_error / point_allowed).max(normal_error / normal_allowed);
     }
     m
+}
+
+impl Mismatches {
+    fn report(&self, label: &str) {
+        println!(
+            "{label}: {} rays, {} compared in full ({} within atan2's error of a cone boundary, {} of them in the \
+             other cone; {} differ within rounding of a decision); {} points or normals not bit-identical, worst \
+             point {:e}, normal {:e} ({:.3} of the allowed difference)",
+            self.rays,
+            self.compared,
+            self.boundary,
+            self.split,
+            self.near_decision,
+            self.inexact,
+            self.worst_point,
+            self.worst_normal,
+            self.worst_ratio
+        );
+        assert!(
+            self.compared as f64 >= MIN_COMPARED * self.rays as f64,
+            "{label}: only {} of {} rays compared in full",
+            self.compared,
+            self.rays
+        );
+    }
 }
 
 #[test]
@@ -189,26 +328,7 @@ fn gpu_tracer_equals_the_cpu_reference() {
         ];
         for (name, maps, patches, trace_settings) in cases {
             let m = compare(&maps, patches, trace_settings, 0x5eed + index as u64);
-            println!(
-                "{} {name}: {} rays ({} on cone boundaries, {} of them in different cones), hit/miss differ {}, cone differs {}, steps differ {}, worst point {:e}, worst normal {:e}",
-                which.name(),
-                m.rays,
-                m.boundary,
-                m.split,
-                m.hit_miss,
-                m.cone,
-                m.steps,
-                m.worst_point,
-                m.worst_normal
-            );
-            // Measured on lavapipe: every count 0 and every difference exactly 0 (no
-            // contraction). The bounds leave room for an adapter that fuses: a handful of
-            // rays (≤ 0.1 %) taking another step, points within 1e-4 voxel.
-            assert_eq!(m.hit_miss, 0, "{} {name}", which.name());
-            // Only the 64 special rays at azimuth exactly 270° (a 4-cone boundary) split.
-            assert!(m.split <= 64, "{} {name}: {}", which.name(), m.split);
-            assert!(m.cone <= 2 && m.steps <= 6, "{} {name}", which.name());
-            assert!(m.worst_point <= 1e-4 && m.worst_normal <= 1e-3, "{} {name}", which.name());
+            m.report(&format!("{} {name}", which.name()));
         }
         // Relief mapping of the same tile's height map (2 texels per voxel, 32 + 8 steps).
         let mesh = MeshRaycaster::new(&triangles, Vec2::new(DIMS.x as f32, DIMS.y as f32));
@@ -228,20 +348,9 @@ fn gpu_tracer_equals_the_cpu_reference() {
             |o, d| relief_trace(&height_map, size_z, o, d, 32, 8),
             0x7e1e + index as u64,
         );
-        println!(
-            "{} relief: {} rays, hit/miss differ {}, steps differ {}, worst point {:e}, worst normal {:e}",
-            which.name(),
-            m.rays,
-            m.hit_miss,
-            m.steps,
-            m.worst_point,
-            m.worst_normal
-        );
-        // Measured on lavapipe: 0 hit/miss and step differences, points equal, normals
-        // within 4.6e-7 (WGSL's normalize() against glam's).
-        assert_eq!(m.hit_miss, 0, "{} relief", which.name());
-        assert!(m.steps <= 6, "{} relief", which.name());
-        assert!(m.worst_point <= 1e-4 && m.worst_normal <= 1e-5, "{} relief", which.name());
+        // Measured on lavapipe: points equal, normals within 4.9e-7 (WGSL's normalize()
+        // against glam's), under `NORMAL_FLOOR`.
+        m.report(&format!("{} relief", which.name()));
     }
 }
 
@@ -274,16 +383,15 @@ fn lone_triangle_patches_are_clipped_on_the_gpu_as_on_the_cpu() {
     let m = compare(&maps, Some(&patches), quadric, 0x10e);
     let rays = rays(6000, 0x10e);
     let hits = rays.iter().filter(|&&(o, d)| trace(&maps, Some(&patches), o, d, quadric).hit.is_some()).count();
-    println!(
-        "floating triangles: {} rays ({hits} hit on the CPU), hit/miss differ {}, steps differ {}, worst point {:e}",
-        m.rays, m.hit_miss, m.steps, m.worst_point
-    );
-    // Measured on lavapipe: 612 of 6320 rays hit, 0 hit/miss and step differences,
-    // points equal. With the WGSL clipping of lone bounded patches removed (checked
-    // once), 3679 rays differ: the GPU then hits the triangles' planes beside them.
-    assert!(hits > 500 && hits < m.rays - 500, "{hits}");
-    assert_eq!(m.hit_miss, 0);
-    assert!(m.steps <= 6 && m.worst_point <= 1e-4);
+    println!("floating triangles: {} rays, {hits} hit on the CPU", m.rays);
+    m.report("floating triangles");
+    // Both outcomes must be tested: each layer's triangles (area ≈ 0.11 voxel², in half
+    // of the voxels) cover ≈ 5.6 % of the tile seen from above, so at least 5 % of the
+    // rays hit (one layer's share less a margin; two layers give ≈ 11 %) and at least
+    // half miss. Measured on lavapipe: 612 of 6320 rays hit, every ray bit-identical.
+    // With the WGSL clipping of lone bounded patches removed (checked once), 3679 rays
+    // differ: the GPU then hits the triangles' planes beside them.
+    assert!(hits * 20 >= m.rays && (m.rays - hits) * 2 >= m.rays, "{hits} of {} rays hit", m.rays);
 }
 
 #[test]

@@ -1,8 +1,15 @@
-//! Regression thresholds of the impostor accuracy experiment (issue 3): SSIM of impostor
-//! renders against the mesh, on a reduced view set (16 directions, grains 32 px wide), for a
-//! few configurations. Thresholds sit just below the values measured on lavapipe (quoted
-//! beside each); the orderings are the paper's claims that our measurements confirm.
-//! The full sweep is `cargo xtask impostor-accuracy`.
+//! The impostor accuracy experiment (issue 3) on a reduced view set (16 directions,
+//! grains 32 px wide, n = 8, p = 64): SSIM of impostor renders against the mesh.
+//!
+//! Two kinds of test. The properties and the paper's claims, asserted without margins:
+//! the compact layout renders the same images as the paper's from 100 of 128 views;
+//! mixed sampling beats planar and spherical sampling on the bean; the hex nut, which
+//! breaks the quasi-spherical hypothesis, scores below the ball. And regression pins
+//! (`*_regression_pin`): no property bounds an SSIM, so their thresholds are the values
+//! measured on lavapipe (quoted in each pin's doc comment) less 0.005–0.01, which leaves
+//! room for another adapter's rasterization and filtering but fails on a real loss of
+//! accuracy. A change that moves a measured value should move its pin in the same
+//! commit, saying why. The full sweep is `cargo xtask impostor-accuracy`.
 
 use grain_impostor::accuracy::{AccuracySweep, SweepRow, SweepSettings};
 use grain_mesh::{Ball, CoffeeBean, GrainMesh, HexNut};
@@ -31,21 +38,32 @@ fn ssim(rows: &[SweepRow], mode: SamplingMode) -> f64 {
     rows.iter().find(|r| r.mode == mode && r.layout == ViewLayout::Listing1).map(|r| r.error.ssim).unwrap()
 }
 
+/// Regression pin of the ball's SSIM. Measured on lavapipe: planar 0.9291, spherical
+/// 0.9650, mixed 0.9355, mixed-smooth 0.9342 (paper and compact layouts alike).
 #[test]
-fn ball_impostors_reach_their_measured_ssim() {
+fn ball_ssim_regression_pin() {
+    let rows = measure("ball", Ball::default().mesh().unwrap(), &SamplingMode::ALL, &[ViewLayout::Listing1]);
+    assert!(ssim(&rows, SamplingMode::Mixed) >= 0.93);
+    assert!(ssim(&rows, SamplingMode::Planar) >= 0.92);
+    assert!(ssim(&rows, SamplingMode::Spherical) >= 0.96);
+    assert!(ssim(&rows, SamplingMode::MixedSmooth) >= 0.93);
+}
+
+#[test]
+fn the_compact_layout_renders_the_same_ball_images_from_fewer_views() {
     let rows = measure(
         "ball",
         Ball::default().mesh().unwrap(),
         &SamplingMode::ALL,
         &[ViewLayout::Listing1, ViewLayout::Compact],
     );
-    // Measured: planar 0.9291, spherical 0.9650, mixed 0.9355, mixed-smooth 0.9342.
-    assert!(ssim(&rows, SamplingMode::Mixed) >= 0.93);
-    assert!(ssim(&rows, SamplingMode::Planar) >= 0.92);
     // On a sphere the spherical proxy is (nearly) the surface itself: it wins.
-    assert!(ssim(&rows, SamplingMode::Spherical) >= 0.96);
+    let spherical = ssim(&rows, SamplingMode::Spherical);
+    for mode in [SamplingMode::Planar, SamplingMode::Mixed, SamplingMode::MixedSmooth] {
+        assert!(spherical > ssim(&rows, mode), "{mode:?}");
+    }
     // The compact layout stores each view once: it renders exactly the same images with
-    // 28 of 128 views fewer (n = 8).
+    // the 4n − 4 = 28 duplicated equator views of 2n² = 128 fewer (n = 8).
     for mode in SamplingMode::ALL {
         let of = |layout| rows.iter().find(|r| r.mode == mode && r.layout == layout).unwrap();
         let (paper, compact) = (of(ViewLayout::Listing1), of(ViewLayout::Compact));
@@ -57,22 +75,43 @@ fn ball_impostors_reach_their_measured_ssim() {
 #[test]
 fn mixed_sampling_beats_planar_and_spherical_on_the_bean() {
     let rows = measure("bean", CoffeeBean::default().mesh().unwrap(), &SamplingMode::ALL, &[ViewLayout::Listing1]);
-    // Measured: planar 0.8936, spherical 0.6917, mixed 0.9082.
+    // The paper's claim (§5): mixed sampling is better than either alone on a grain that
+    // is neither planar nor spherical.
+    let mixed = ssim(&rows, SamplingMode::Mixed);
+    assert!(mixed > ssim(&rows, SamplingMode::Planar));
+    assert!(mixed > ssim(&rows, SamplingMode::Spherical));
+}
+
+/// Regression pin of the bean's SSIM. Measured on lavapipe: planar 0.8936, spherical
+/// 0.6917, mixed 0.9082, and the official code's continuous variant (smoothstep weight)
+/// 0.9034: the paper's formula, jump at `d = ρ` included, scores higher here (pinned as
+/// an observation, not a claim of the paper).
+#[test]
+fn bean_ssim_regression_pin() {
+    let rows = measure("bean", CoffeeBean::default().mesh().unwrap(), &SamplingMode::ALL, &[ViewLayout::Listing1]);
     let mixed = ssim(&rows, SamplingMode::Mixed);
     assert!(mixed >= 0.90);
-    assert!(mixed > ssim(&rows, SamplingMode::Planar) + 0.005);
-    assert!(mixed > ssim(&rows, SamplingMode::Spherical) + 0.1);
-    // The official code's continuous variant (smoothstep weight) measured 0.9034: the
-    // paper's formula, jump at d = ρ included, scores higher here.
+    assert!(ssim(&rows, SamplingMode::Planar) >= 0.885);
+    assert!(ssim(&rows, SamplingMode::Spherical) >= 0.68);
     let smooth = ssim(&rows, SamplingMode::MixedSmooth);
     assert!(smooth >= 0.895 && smooth < mixed);
 }
 
+/// The hex nut breaks the quasi-spherical hypothesis: its mixed-sampling impostor scores
+/// below the ball's at the same settings.
 #[test]
 fn the_hex_nut_breaks_the_quasi_spherical_hypothesis() {
     let rows = measure("nut", HexNut::default().mesh().unwrap(), &[SamplingMode::Mixed], &[ViewLayout::Listing1]);
     let nut = ssim(&rows, SamplingMode::Mixed);
-    // Measured: mixed 0.8131 (bean 0.9082, ball 0.9355 at the same settings).
-    assert!(nut >= 0.80);
-    assert!(nut < 0.93, "the nut should score below the ball's mixed-sampling SSIM");
+    let ball = measure("ball", Ball::default().mesh().unwrap(), &[SamplingMode::Mixed], &[ViewLayout::Listing1]);
+    let ball = ssim(&ball, SamplingMode::Mixed);
+    assert!(nut < ball, "the nut ({nut}) should score below the ball's mixed-sampling SSIM ({ball})");
+}
+
+/// Regression pin of the hex nut's SSIM. Measured on lavapipe: mixed 0.8131 (bean 0.9082,
+/// ball 0.9355 at the same settings).
+#[test]
+fn nut_ssim_regression_pin() {
+    let rows = measure("nut", HexNut::default().mesh().unwrap(), &[SamplingMode::Mixed], &[ViewLayout::Listing1]);
+    assert!(ssim(&rows, SamplingMode::Mixed) >= 0.80);
 }

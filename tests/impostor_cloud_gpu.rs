@@ -2,9 +2,12 @@
 //!
 //! The atlas is built on the CPU: a sphere of radius `R` (so `r = R` and the proxy sphere
 //! is the sphere itself), every view a disc whose normals, coverage and depth are known
-//! exactly (4×4 supersampled per texel, premultiplied α, box-filtered mips). Rendering it
-//! must reproduce the sphere's normals, coverage and depth, and a cloud of spheres must
-//! resolve occlusion front to back like a ray tracer.
+//! exactly (4×4 supersampled per texel, premultiplied α, box-filtered mips). The pass must
+//! render what the CPU predicts from the same sampling (normals within the error bound of
+//! 8-bit, bilinearly filtered texels, derived in `view_normal_error_bound`), and a cloud
+//! of spheres must resolve occlusion front to back like a ray tracer. How close each
+//! sampling mode comes to the analytic sphere itself is the method's accuracy, measured
+//! and pinned (`sphere_impostor_against_the_analytic_sphere_regression_pin`).
 
 use glam::{Quat, Vec2, Vec3, Vec4};
 use grain_impostor::cloud::{AtlasBinding, CloudFrame, CloudSettings, GBufferBinding, ImpostorCloudPass};
@@ -313,10 +316,12 @@ fn hit_sphere(ray: &PixelRay, centre: Vec3, radius: f32) -> (Option<f32>, f32) {
 
 /// The CPU prediction of the impostor pass for one pixel: the sampler's four views and
 /// texture coordinates, each view evaluated analytically (a disc of radius `R`, no
-/// filtering), blended and rotated to world space. `None` when the blended α is below
-/// 0.5. Also returns whether a view reads within two texels of its disc's edge, where the
-/// GPU's filtered texels legitimately differ.
-fn predicted_normal(sampler: &ImpostorSampler, ray: &PixelRay, grain: &GrainInstance) -> (Option<Vec3>, bool) {
+/// filtering), blended and rotated to world space, with the length of the blended unit
+/// normals (below 1 where the views read different surface points; normalizing divides
+/// any error of the blend by it). `None` when the blended α is below 0.5. Also returns
+/// whether a view reads within two texels of its disc's edge, where the GPU's filtered
+/// texels legitimately differ.
+fn predicted_normal(sampler: &ImpostorSampler, ray: &PixelRay, grain: &GrainInstance) -> (Option<(Vec3, f32)>, bool) {
     let rotation = Quat::from_vec4(grain.rotation);
     let local =
         GrainRay::from_world(ray.origin, ray.direction, grain.centre_scale.truncate(), grain.centre_scale.w, rotation);
@@ -338,7 +343,33 @@ fn predicted_normal(sampler: &ImpostorSampler, ray: &PixelRay, grain: &GrainInst
             alpha += sample.weights[k];
         }
     }
-    ((alpha >= 0.5).then(|| rotation * (normal / alpha).normalize()), near_edge)
+    ((alpha >= 0.5).then(|| (rotation * (normal / alpha).normalize(), (normal / alpha).length())), near_edge)
+}
+
+/// The largest error (radians) of one view's filtered normal against the analytic disc at
+/// the same texture coordinates, where the point lies at least two texels inside the
+/// disc's edge (what `predicted_normal` compares), at level 0 (see
+/// `a_sphere_impostor_matches_the_cpu_prediction_in_every_mode`):
+///
+/// - 8-bit storage: each component of `0.5 n + 0.5` rounds by ≤ 0.5 / 255, so `n` by
+///   ≤ 1 / 255, the vector by ≤ √3 / 255 (bilinear weights are convex: the bound holds
+///   for the filtered value too);
+/// - filtering: a texel holds the mean of 4×4 point samples of `n` over it, and bilinear
+///   filtering interpolates texel values `h = 2R / p` apart; `n_x`, `n_y` are linear in
+///   the plane, `n_z = √(1 − ρ²)` has curvatures `1 / z³` (radial) and `1 / z`
+///   (tangential), so the box mean is within `h² / 24 · (1/z³ + 1/z)` of the centre
+///   value and bilinear interpolation within `h² / 8 · (1/z³ + 1/z)`, `z` taken at the
+///   footprint's edge (one texel outside the point: `ρ ≤ R − h`);
+/// - the G-buffer's half floats: ≤ 2⁻¹¹ relative per component, `√3 · 2⁻¹¹`.
+fn view_normal_error_bound() -> f32 {
+    let h = 2.0 * RADIUS / TEXELS as f32;
+    let quantization = 3.0_f32.sqrt() / 255.0;
+    let rho = (RADIUS - h) / RADIUS;
+    let z = (1.0 - rho * rho).sqrt();
+    let curvature = (1.0 / z.powi(3) + 1.0 / z) / RADIUS;
+    let filtering = (h * h / 8.0 + h * h / 24.0) * curvature;
+    let half = 3.0_f32.sqrt() * 2.0_f32.powi(-11);
+    quantization + filtering + half
 }
 
 fn camera() -> (CameraUniforms, Vec3) {
@@ -348,15 +379,39 @@ fn camera() -> (CameraUniforms, Vec3) {
     (camera, forward)
 }
 
-#[test]
-fn a_sphere_impostor_reproduces_the_analytic_sphere_in_every_mode() {
-    let atlas = sphere_atlas();
-    let (camera, forward) = camera();
+/// Renders the single turned sphere of the first two tests in `mode`.
+fn single_sphere(atlas: &SphereAtlas, mode: SamplingMode) -> (GrainInstance, Vec<Vec4>, Vec<f32>) {
+    let (camera, _) = camera();
     let rotation = Quat::from_euler(glam::EulerRot::XYZ, 0.7, -0.4, 2.1);
     let grain = GrainInstance::new(Vec3::ZERO, 1.0, rotation);
-    let mut results = Vec::new();
+    let (normals, depths, _) = render(atlas, &camera, &[grain], mode);
+    (grain, normals, depths)
+}
+
+/// Pixels of the analytic sphere's disc (hit by the pixel ray).
+fn sphere_pixels(camera: &CameraUniforms) -> usize {
+    (0..SIZE * SIZE)
+        .filter(|i| hit_sphere(&pixel_ray(camera, i % SIZE, i / SIZE), Vec3::ZERO, RADIUS).0.is_some())
+        .count()
+}
+
+/// The GPU's impostor pass against the CPU's prediction of it (the same sampling, each
+/// view's disc evaluated analytically): the coverage is the same, and the normals differ
+/// by at most [`view_normal_error_bound`] divided by the length of the blended normal, for
+/// every pixel whose views all read at least two texels inside their discs' edges.
+#[test]
+fn a_sphere_impostor_matches_the_cpu_prediction_in_every_mode() {
+    let atlas = sphere_atlas();
+    let (camera, _) = camera();
+    // The bound holds at mip level 0: the pass's level of detail is log2 of texels per
+    // pixel at the grain's distance, clamped at 0, and a pixel there is smaller than a
+    // texel (2R / p).
+    let pixel = 2.0 * camera.eye.truncate().length() * (0.5 * 0.8_f32).tan() / SIZE as f32;
+    let texel = 2.0 * RADIUS / TEXELS as f32;
+    assert!(pixel < texel, "pixel {pixel} >= texel {texel}: the pass reads level 1 or above");
+    let disc = sphere_pixels(&camera);
     for mode in SamplingMode::ALL {
-        let (normals, depths, _) = render(&atlas, &camera, &[grain], mode);
+        let (grain, normals, _) = single_sphere(&atlas, mode);
         let sampler = ImpostorSampler::new(
             OctahedralViews::new(SUBDIVISIONS).unwrap(),
             RADIUS,
@@ -366,7 +421,7 @@ fn a_sphere_impostor_reproduces_the_analytic_sphere_in_every_mode() {
             ViewSelection::PerGrainFromEye,
         )
         .unwrap();
-        let (mut predicted_pixels, mut worst_prediction) = (0, 0.0_f32);
+        let (mut predicted_pixels, mut worst_prediction, mut worst_ratio) = (0, 0.0_f32, 0.0_f32);
         for y in 0..SIZE {
             for x in 0..SIZE {
                 let i = (y * SIZE + x) as usize;
@@ -380,18 +435,55 @@ fn a_sphere_impostor_reproduces_the_analytic_sphere_in_every_mode() {
                     normals[i].w > 0.5,
                     "{mode:?} pixel ({x}, {y}): coverage differs from the CPU prediction"
                 );
-                if let Some(n) = predicted {
-                    let angle = normals[i].truncate().normalize().dot(n).clamp(-1.0, 1.0).acos().to_degrees();
-                    worst_prediction = worst_prediction.max(angle);
+                if let Some((n, length)) = predicted {
+                    let angle = normals[i].truncate().normalize().dot(n).clamp(-1.0, 1.0).acos();
+                    let bound = view_normal_error_bound() / length;
+                    assert!(
+                        angle <= bound,
+                        "{mode:?} pixel ({x}, {y}): GPU normal {:.3}° from the CPU prediction (bound {:.3}°)",
+                        angle.to_degrees(),
+                        bound.to_degrees()
+                    );
+                    worst_prediction = worst_prediction.max(angle.to_degrees());
+                    worst_ratio = worst_ratio.max(angle / bound);
                     predicted_pixels += 1;
                 }
             }
         }
         println!(
-            "{mode:?}: GPU vs CPU prediction of the impostor: {predicted_pixels} pixels, max normal difference {worst_prediction:.3}°"
+            "{mode:?}: GPU vs CPU prediction of the impostor: {predicted_pixels} of the disc's {disc} pixels compared, \
+             max normal difference {worst_prediction:.3}° ({worst_ratio:.3} of the bound; one view: {:.3}°)",
+            view_normal_error_bound().to_degrees()
         );
-        // Measured: ≤ 0.50° (8-bit normals, bilinear filtering and LOD against exact discs).
-        assert!(worst_prediction <= 0.7, "{mode:?}: GPU normals differ from the CPU prediction by {worst_prediction}°");
+        // The skip removes a ring along the silhouette (two texels inside each view's
+        // disc edge, ≈ 12 % of the disc for one view; the four views' rings are offset by
+        // the views' parallax in planar sampling): most of the disc must stay compared.
+        assert!(predicted_pixels * 2 >= disc, "{mode:?}: only {predicted_pixels} of {disc} pixels compared");
+    }
+}
+
+/// Regression pin of the impostor's accuracy against the analytic sphere itself (not
+/// the CPU prediction of the pass: that is the test above). Planar and mixed sampling
+/// read texels of other surface points (n = 8 views are up to ~9° from the camera), so
+/// their errors are the method's, and no property bounds them; the spherical mode is
+/// exact up to texels (`r = R`: the proxy sphere is the surface), but its worst pixels lie
+/// at the grazing limit of the comparison (`d ≤ 0.97 R`), where the views read their
+/// discs' edge texels and no filtering bound holds. Measured on lavapipe (pinned with a
+/// small margin for other adapters' filtering):
+///
+/// | mode | silhouette band | normal error mean / max | depth error max |
+/// |---|---|---|---|
+/// | spherical | 0 R | 0.13° / 0.51° | 0.0058 R |
+/// | mixed | 0.078 R | 8.2° / 21.1° | 0.348 R |
+/// | planar | 0.097 R | 11.4° / 22.3° | 0.368 R |
+/// | mixed-smooth | 0.088 R | 7.64° / 21.8° | 0.356 R |
+#[test]
+fn sphere_impostor_against_the_analytic_sphere_regression_pin() {
+    let atlas = sphere_atlas();
+    let (camera, forward) = camera();
+    let disc = sphere_pixels(&camera);
+    for mode in SamplingMode::ALL {
+        let (_, normals, depths) = single_sphere(&atlas, mode);
         let (mut coverage_errors, mut covered, mut worst_angle, mut sum_angle, mut worst_depth) =
             (0, 0, 0.0_f32, 0.0_f32, 0.0_f32);
         let mut silhouette_band = 0.0_f32;
@@ -401,7 +493,6 @@ fn a_sphere_impostor_reproduces_the_analytic_sphere_in_every_mode() {
                 let ray = pixel_ray(&camera, x, y);
                 let (hit, distance) = hit_sphere(&ray, Vec3::ZERO, RADIUS);
                 let gpu_covered = normals[i].w > 0.5;
-                // One pixel at the grain is ~0.03 R: the silhouette band is excused.
                 if gpu_covered != hit.is_some() {
                     silhouette_band = silhouette_band.max((distance - RADIUS).abs() / RADIUS);
                     // One pixel at the grain is ~0.03 R: a band of two pixels is excused.
@@ -426,25 +517,20 @@ fn a_sphere_impostor_reproduces_the_analytic_sphere_in_every_mode() {
         }
         let mean_angle = sum_angle / covered as f32;
         println!(
-            "{mode:?}: {covered} pixels, coverage errors {coverage_errors} (band {silhouette_band:.4} R), normal error mean {mean_angle:.3}° max {worst_angle:.3}°, depth error max {worst_depth:.5} R"
+            "{mode:?}: {covered} of the disc's {disc} pixels compared, coverage errors {coverage_errors} (band \
+             {silhouette_band:.4} R), normal error mean {mean_angle:.3}° max {worst_angle:.3}°, depth error max \
+             {worst_depth:.5} R"
         );
-        results.push((mode, covered, silhouette_band, mean_angle, worst_angle, worst_depth));
-    }
-    for (mode, covered, band, mean_angle, worst_angle, worst_depth) in results {
-        assert!(covered > 3_000, "{mode:?}: only {covered} pixels covered");
+        // Skipped: the grazing ring `d > 0.97 R` (1 − 0.97² ≈ 6 % of the disc) and pixels
+        // the impostor leaves uncovered (within the silhouette band): at least 90 %.
+        assert!(covered * 10 >= disc * 9, "{mode:?}: only {covered} of {disc} pixels compared");
         let (band_limit, mean_limit, max_limit, depth_limit) = match mode {
-            // Measured: band 0 R, mean 0.13°, max 0.51°, depth 0.0058 R (r = R: the proxy
-            // sphere is the surface, spherical sampling is exact up to texels).
             SamplingMode::Spherical => (0.03, 0.2, 0.7, 0.008),
-            // Measured: band 0.078 R, mean 8.2°, max 21.1°, depth 0.348 R.
             SamplingMode::Mixed => (0.09, 9.0, 23.0, 0.38),
-            // Measured: band 0.097 R, mean 11.4°, max 22.3°, depth 0.368 R (n = 8 views
-            // are up to ~9° from the camera; P reads texels of other surface points).
             SamplingMode::Planar => (0.11, 12.0, 24.0, 0.4),
-            // Measured: band 0.088 R, mean 7.64°, max 21.8°, depth 0.356 R.
             SamplingMode::MixedSmooth => (0.10, 8.5, 23.5, 0.39),
         };
-        assert!(band <= band_limit, "{mode:?}: coverage differs {band} R from the silhouette");
+        assert!(silhouette_band <= band_limit, "{mode:?}: coverage differs {silhouette_band} R from the silhouette");
         assert!(
             mean_angle <= mean_limit && worst_angle <= max_limit,
             "{mode:?}: normal error mean {mean_angle}° max {worst_angle}°"
@@ -474,18 +560,24 @@ fn a_cloud_of_spheres_resolves_occlusion_front_to_back() {
     // the second.
     let _ = render(&atlas, &camera, &grains, SamplingMode::Spherical);
     let (normals, depths, times) = render(&atlas, &camera, &grains, SamplingMode::Spherical);
-    let (mut agree, mut disagree, mut total) = (0, 0, 0);
+    // `strict`: covered pixels away from every silhouette and intersection curve, where
+    // the pixel must agree (elsewhere a disagreement is excused).
+    let (mut agree, mut disagree, mut total, mut strict) = (0, 0, 0, 0);
     for y in 0..SIZE {
         for x in 0..SIZE {
             let i = (y * SIZE + x) as usize;
             let ray = pixel_ray(&camera, x, y);
             let mut nearest: Option<(f32, Vec3)> = None;
             let mut hits = Vec::new();
-            let mut near_silhouette = false;
+            // Spheres whose outline passes within 0.1 r of the pixel ray: the ray
+            // parameter of their closest approach and their radius.
+            let mut silhouettes = Vec::new();
             for g in &grains {
                 let (centre, radius) = (g.centre_scale.truncate(), g.centre_scale.w * RADIUS);
                 let (hit, distance) = hit_sphere(&ray, centre, radius);
-                near_silhouette |= (distance - radius).abs() < 0.1 * radius;
+                if (distance - radius).abs() < 0.1 * radius {
+                    silhouettes.push(((centre - ray.origin).dot(ray.direction), radius));
+                }
                 if let Some(t) = hit {
                     hits.push(t);
                     if nearest.is_none_or(|(best, _)| t < best) {
@@ -493,6 +585,12 @@ fn a_cloud_of_spheres_resolves_occlusion_front_to_back() {
                     }
                 }
             }
+            // A silhouette excuses the pixel only if its sphere can cover it: within the
+            // band (`d ≥ 0.9 r`) the sphere's surface lies within √(1 − 0.9²) r < 0.44 r of
+            // its closest approach, so a sphere whose band starts behind the nearest hit
+            // (`t_c − 0.44 r` beyond it) is hidden there, and cannot change the pixel.
+            let mut near_silhouette =
+                silhouettes.iter().any(|&(t_c, radius)| nearest.is_none_or(|(t, _)| t_c - 0.44 * radius < t + 0.03));
             // Near the intersection curve of two interpenetrating spheres the nearest
             // surface switches: excused like silhouettes.
             hits.sort_by(f32::total_cmp);
@@ -505,7 +603,15 @@ fn a_cloud_of_spheres_resolves_occlusion_front_to_back() {
                 continue;
             };
             total += 1;
+            strict += usize::from(!near_silhouette);
             let depth = (ray.direction * t).dot(forward);
+            // The tolerances separate the right surface from a wrong one, not accuracy:
+            // away from intersection curves the next surface along the ray lies ≥ 0.03
+            // farther (≥ 0.03 · cos 0.57 > 0.025 in depth along `forward`, the pixel rays
+            // being within the half-diagonal of the 0.8 rad field of view), so a depth
+            // within 0.02 is the nearest sphere's; and the spherical impostor's normals are
+            // within about a degree of the sphere's (the tests above), far inside the
+            // 8.1° of `dot > 0.99`.
             let ok =
                 gpu_covered && (depths[i] - depth).abs() < 0.02 && normals[i].truncate().normalize().dot(normal) > 0.99;
             if ok {
@@ -516,7 +622,8 @@ fn a_cloud_of_spheres_resolves_occlusion_front_to_back() {
         }
     }
     println!(
-        "cloud of {} spheres: {total} covered pixels, {agree} agree with the ray tracer, {disagree} disagree away from silhouettes",
+        "cloud of {} spheres: {total} covered pixels ({strict} away from silhouettes and intersection curves), {agree} \
+         agree with the ray tracer, {disagree} disagree away from silhouettes",
         grains.len()
     );
     if let Some(t) = times {
@@ -525,6 +632,13 @@ fn a_cloud_of_spheres_resolves_occlusion_front_to_back() {
             t[0], t[1], t[2], t[3]
         );
     }
-    assert!(total > 5_000, "the cloud covers only {total} pixels");
+    // Compared strictly: the pixels that must agree. The excused bands (0.1 r each side
+    // of a visible outline: 1 − 0.9² = 19 % of a lone disc inside, as much outside, and
+    // the intersection curves) are a minority of the covered pixels: at least half must
+    // lie outside them (measured 8632 of 13378; counting the outlines of hidden spheres
+    // too, as this test once did, left 1684). The cloud covers a quarter of the image at
+    // least (its 400 spheres fill the centre).
+    assert!(total * 4 >= (SIZE * SIZE) as usize, "the cloud covers only {total} pixels");
+    assert!(strict * 2 >= total, "only {strict} of {total} covered pixels compared strictly");
     assert!(disagree == 0, "{disagree} pixels disagree with the ray tracer away from silhouettes");
 }

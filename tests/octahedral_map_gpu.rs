@@ -60,7 +60,13 @@ fn view_samples_match_the_cpu_reference() {
             directions.len(),
             &index_mismatches[..index_mismatches.len().min(5)]
         );
-        assert!(worst_weight_error <= 1e-6, "n={n}: weights differ by {worst_weight_error}");
+        // u = (2(x⁺ + y⁺) + |z|) / (2 |d|₁) · (n − 1): the sums are exact or within an ulp
+        // (≤ 3 on either side, fused or not), WGSL's division within 2.5 ulp, the scaling
+        // 1 ulp: ≤ 13 ulp of a value below 1 on both sides together, times `n − 1` into
+        // `u`, hence `α = u − ⌊u⌋`; the weights' products of `1 − α` add 3 ulp of 1.
+        // (Lavapipe rounds the division correctly: bit-identical.)
+        let weight_bound = (13.0 * (n.max(2) - 1) as f32 + 3.0) * f32::EPSILON;
+        assert!(worst_weight_error <= weight_bound, "n={n}: weights differ by {worst_weight_error} > {weight_bound:e}");
         println!("n={n}: {} directions, indices equal, max weight difference {worst_weight_error:e}", directions.len());
     }
 }
@@ -72,12 +78,16 @@ fn view_directions_match_the_cpu_reference() {
         let views = OctahedralViews::new(n).unwrap();
         let count = views.view_count();
         let mut indices: Vec<u32> = (0..count.min(50_000)).collect();
-        indices.extend((0..50_000_u32).map(|i| i.wrapping_mul(2_654_435_761) % count));
+        indices.extend((0..100_000_u32).map(|i| i.wrapping_mul(2_654_435_761) % count));
         indices.extend([count - 1, count, count + 1, u32::MAX]);
+        assert!(indices.len() >= 100_000);
         let gpu_directions: Vec<Vec4> = gpu().compute_map(&source, "view_directions", &uniforms(n), &indices).unwrap();
         for (index, gpu_direction) in indices.iter().zip(&gpu_directions) {
             let cpu = views.view_direction(*index).unwrap_or(Vec3::ZERO);
             let error = (cpu - gpu_direction.truncate()).abs().max_element();
+            // `normalize` of an integer lattice point: the squared length within 1 ulp,
+            // `inverseSqrt` 2 ulp (WGSL), the product 1 ulp: ≤ 4 ulp of a unit component
+            // on either side, 8 ε < 1e-6 together.
             assert!(error <= 1e-6, "n={n} view {index}: CPU {cpu} GPU {gpu_direction}");
         }
     }

@@ -142,40 +142,85 @@ fn first_hits_match_the_cpu_reference() {
         match (cpu, gpu_hit) {
             (Some(a), Some(b)) => {
                 hits += 1;
-                let bound =
-                    reference.roots.iter().find(|(t, _)| (t - f64::from(a)).abs() <= 1e-3).map_or(1e-6, |r| r.1);
+                // The double-precision root the CPU found: its error bound applies.
+                let bound = reference
+                    .roots
+                    .iter()
+                    .filter(|(t, e)| (t - f64::from(a)).abs() <= 2.0 * e + ULP_OF_T)
+                    .map(|r| r.1)
+                    .fold(None, |best: Option<f64>, e| Some(best.map_or(e, |b| b.min(e))));
+                let Some(bound) = bound else {
+                    panic!(
+                        "{query:?}: CPU t={a} is no double-precision root within its error bound: {:?}",
+                        reference.roots
+                    )
+                };
+                // CPU and GPU each within the bound, plus the final rounding of t.
+                let allowed = 2.0 * bound + ULP_OF_T;
                 let difference = f64::from((a - b).abs());
-                assert!(difference <= 2.0 * bound + 1e-7, "{query:?}: CPU t={a}, GPU t={b}, bound {bound}");
-                worst_ratio = worst_ratio.max(difference / (bound + 1e-7));
+                assert!(difference <= allowed, "{query:?}: CPU t={a}, GPU t={b}, bound {bound}");
+                worst_ratio = worst_ratio.max(difference / allowed);
             }
             (None, None) => {}
             (cpu, gpu) => panic!("{query:?}: CPU {cpu:?}, GPU {gpu:?} (well-conditioned)"),
         }
     }
-    assert!(hits > queries.len() / 10, "only {hits} hits: the test set is too easy");
-    assert!(ill_conditioned < queries.len() / 100, "{ill_conditioned} ill-conditioned queries of {}", queries.len());
     println!(
         "{} queries: {hits} hits agree, misses agree, {ill_conditioned} ill-conditioned skipped; \
          worst |t_cpu - t_gpu| = {worst_ratio:.3} of the rounding bound",
         queries.len()
     );
+    assert!(queries.len() >= 100_000, "{} queries", queries.len());
+    assert!(hits > queries.len() / 10, "only {hits} hits: the test set is too easy");
+    // Compared: all but the ill-conditioned queries, a root within its rounding bound of
+    // a range end or a near-tangent ray: rare for random rays (the bound is ~1e-6 of t),
+    // common only among the few special rays built tangent: at least 99 %.
+    assert!(ill_conditioned < queries.len() / 100, "{ill_conditioned} ill-conditioned queries of {}", queries.len());
 }
+
+/// The rounding of `t` itself: one ulp of the largest `t` of the queries (≤ 3).
+const ULP_OF_T: f64 = 4.0 * f32::EPSILON as f64;
 
 #[test]
 fn normals_match_the_cpu_reference() {
     let queries = queries();
     let results: Vec<Vec4> = gpu().compute_map(&kernel_source(), "normals", &[], &queries).unwrap();
-    let mut worst = 0.0_f32;
+    let (mut worst, mut worst_ratio, mut skipped) = (0.0_f32, 0.0_f64, 0);
     for (query, result) in queries.iter().zip(&results) {
         let q = query.quadric();
-        let gradient_length = quadric_fit::intersect::gradient(&q, query.origin.truncate()).length();
-        let cpu = normal(&q, query.origin.truncate());
-        if gradient_length < 1e-4 {
-            continue; // direction of a vanishing gradient is pure rounding
+        let p = query.origin.truncate();
+        let k = q.coefficients().map(f64::from);
+        let o = p.as_dvec3();
+        // Each gradient component is a sum of 4 terms, evaluated with (at most) 2
+        // roundings per term and 3 for the sum on either side (FMA or not): within
+        // 8 ε of the sum of the terms' magnitudes.
+        let magnitudes = DVec3::new(
+            (2.0 * k[0] * o.x).abs() + (k[3] * o.y).abs() + (k[5] * o.z).abs() + k[6].abs(),
+            (k[3] * o.x).abs() + (2.0 * k[1] * o.y).abs() + (k[4] * o.z).abs() + k[7].abs(),
+            (k[5] * o.x).abs() + (k[4] * o.y).abs() + (2.0 * k[2] * o.z).abs() + k[8].abs(),
+        );
+        let gradient_error = 8.0 * f64::from(f32::EPSILON) * magnitudes.length();
+        let gradient_length = f64::from(quadric_fit::intersect::gradient(&q, p).length());
+        // Normalizing divides the gradient's error by its length (the direction of a
+        // gradient within rounding of zero is rounding alone: skipped); CPU and GPU each
+        // within it, plus `normalize`'s own few ulp (inverseSqrt 2 ulp in WGSL).
+        if gradient_length <= 10.0 * gradient_error {
+            skipped += 1;
+            continue;
         }
+        let allowed = 2.0 * 2.0 * gradient_error / gradient_length + 8.0 * f64::from(f32::EPSILON);
+        let cpu = normal(&q, p);
         let error = (cpu - result.truncate()).abs().max_element();
-        assert!(error <= 1e-5, "{query:?}: CPU {cpu} GPU {result}");
+        assert!(f64::from(error) <= allowed, "{query:?}: CPU {cpu} GPU {result}, allowed {allowed:e}");
         worst = worst.max(error);
+        worst_ratio = worst_ratio.max(f64::from(error) / allowed);
     }
-    println!("normals: max component difference {worst:e}");
+    println!(
+        "normals: {} queries, {skipped} with a gradient within rounding of zero skipped, max component difference \
+         {worst:e} ({worst_ratio:.3} of the rounding bound)",
+        queries.len()
+    );
+    // Random points rarely lie within rounding of a quadric's singular point (the cone's
+    // apex is one special query): at least 99 % compared.
+    assert!(skipped * 100 < queries.len(), "{skipped} of {} skipped", queries.len());
 }

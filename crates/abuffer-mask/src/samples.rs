@@ -148,11 +148,15 @@ mod tests {
 
     #[test]
     fn patterns_are_poisson_disk() {
-        // Measured: see the module docs. Thresholds just below the measured distances.
-        for (n, min_distance) in [(32, 0.141), (64, 0.095), (128, 0.070)] {
+        // The definition of a good Poisson-disk pattern (Lagae & Dutré, "A comparison of
+        // methods for generating Poisson disk distributions", 2008): relative radius in
+        // [0.65, 0.85] — below, samples clump; above, the pattern nears a lattice and
+        // aliases. The measured distances (module docs) are pinned by
+        // `tests/accuracy.rs`.
+        for n in [32, 64, 128] {
             let pattern = SamplePattern::poisson_disk(n).unwrap();
-            assert!(pattern.min_distance() >= min_distance, "N={n}: {}", pattern.min_distance());
-            assert!(pattern.relative_radius() >= 0.70, "N={n}: {}", pattern.relative_radius());
+            let rho = pattern.relative_radius();
+            assert!((0.65..=0.85).contains(&rho), "N={n}: relative radius {rho}");
         }
     }
 

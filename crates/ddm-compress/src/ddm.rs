@@ -486,16 +486,31 @@ mod tests {
         }
     }
 
-    #[test]
-    fn search_over_the_hierarchy_agrees_with_the_search_over_every_triangle() {
+    /// The largest difference between the hierarchy's search and the search over every
+    /// triangle, for the convex cones (`[0]`) and the cut ones (`[1]`), asserting on the
+    /// way that both stay below a sampled upper estimate of the true value; and the
+    /// voxel-cones compared and considered.
+    fn search_differences() -> ([f32; 2], usize, usize, usize) {
         // The order in which pairs are met changes the upper bounds found on the way, so
         // the two searches may finalise different pairs: both stay below the true value
-        // (below a sampled upper estimate of it) and within `2 tolerance` of each other.
+        // (below a sampled upper estimate of it).
         let dims = UVec3::new(7, 6, 5);
-        let mut largest_difference = [0.0_f32; 2];
+        let (mut largest_difference, mut compared, mut considered, mut untouched) = ([0.0_f32; 2], 0, 0, 0);
         for seed in [0x9e37_79b9_7f4a_7c15_u64, 0x1234_5678_9abc_def1] {
             let triangles = random_scene(seed, 40, dims);
-            let settings = DistanceMapSettings { tolerance: 0.1, periodic_xy: false };
+            // Voxels that no triangle's bounding box reaches cannot be surface voxels.
+            let untouched_here = (0..dims.x * dims.y * dims.z)
+                .filter(|&i| {
+                    let v =
+                        Vec3::new((i % dims.x) as f32, ((i / dims.x) % dims.y) as f32, (i / (dims.x * dims.y)) as f32);
+                    triangles.iter().all(|t| {
+                        let [a, b, c] = t.0;
+                        let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
+                        hi.cmplt(v).any() || lo.cmpgt(v + Vec3::ONE).any()
+                    })
+                })
+                .count();
+            let settings = DistanceMapSettings { tolerance: TOLERANCE, periodic_xy: false };
             // `downward(4, 2)` and `downward(8, 3)` have bands short of the pole and the
             // horizon, whose convex cones are cut (see `convex_cone`).
             for (group, kind) in [
@@ -505,6 +520,7 @@ mod tests {
                 (1, downward(4, 2)),
                 (1, downward(8, 3)),
             ] {
+                untouched += untouched_here;
                 let fast = compute_distance_maps(dims, &triangles, kind, settings).unwrap();
                 let reference = reference_distance_maps(dims, &triangles, kind, settings).unwrap();
                 assert_eq!(fast.surface, reference.surface);
@@ -515,15 +531,20 @@ mod tests {
                     for y in 0..dims.y {
                         for x in 0..dims.x {
                             let index = (x + dims.x * (y + dims.y * z)) as usize;
+                            considered += 1;
+                            // Surface voxels store 0 in both (compared by `surface` above).
                             if fast.surface[index] {
                                 continue;
                             }
+                            compared += 1;
                             let mut search = VoxelSearch::new(&cone_list, settings.tolerance, fast.max_distance);
                             search.run_over_every_triangle(&triangles, &Aabb::voxel(x, y, z));
                             for (c, map) in fast.values.iter().enumerate() {
                                 let (hierarchy, every) = (map[index], search.value(c));
                                 let sampled =
                                     sampled_distance(UVec3::new(x, y, z), &triangles, cone_list[c].as_ref(), 6);
+                                // The slack: the sampled f32 distance's rounding (~10
+                                // operations on coordinates below 8).
                                 assert!(
                                     hierarchy <= sampled + 1e-4 && every <= sampled + 1e-4,
                                     "voxel {index} cone {c}"
@@ -535,11 +556,37 @@ mod tests {
                 }
             }
         }
-        // Measured: 0.061 voxel for the convex cones (the guarantee is 2 tolerance = 0.2;
-        // the hierarchy's search is also seeded with the previous voxel's witnesses, the
-        // other is not), 0.099 for the cut ones, whose pairs are more often finalised by
-        // size (their bounds cannot reach the witnesses' lengths).
-        assert!(largest_difference[0] <= 0.075, "{largest_difference:?}");
-        assert!(largest_difference[1] <= 0.11, "{largest_difference:?}");
+        (largest_difference, compared, considered, untouched)
+    }
+
+    /// The search tolerance of [`search_differences`].
+    const TOLERANCE: f32 = 0.1;
+
+    #[test]
+    fn search_over_the_hierarchy_agrees_with_the_search_over_every_triangle() {
+        let (largest, compared, considered, untouched) = search_differences();
+        #[cfg(feature = "std")]
+        std::println!(
+            "largest differences {largest:?}, {compared} of {considered} voxels off the surface ({untouched} beyond \
+             every triangle's bounding box)"
+        );
+        // Compared: at least the voxels beyond every triangle's bounding box.
+        assert!(untouched > 0 && compared >= untouched, "{compared} voxels compared, {untouched} untouched");
+        // For convex cones both values lie within about `2 tolerance` below the true value
+        // (module documentation), hence within `2 tolerance` of each other; the cut cones
+        // have no such guarantee (their values can be looser), only the bound checked
+        // above.
+        assert!(largest[0] <= 2.0 * TOLERANCE, "{largest:?}");
+    }
+
+    /// Regression pin of how close the two searches are, well inside the guarantee:
+    /// measured 0.061 voxel for the convex cones (the hierarchy's search is also seeded
+    /// with the previous voxel's witnesses, the other is not), 0.099 for the cut ones,
+    /// whose pairs are more often finalised by size (their bounds cannot reach the
+    /// witnesses' lengths); pinned at 0.075 and 0.11.
+    #[test]
+    fn search_difference_regression_pin() {
+        let (largest, _, _, _) = search_differences();
+        assert!(largest[0] <= 0.075 && largest[1] <= 0.11, "{largest:?}");
     }
 }

@@ -326,8 +326,17 @@ mod tests {
                         + 1e-5
             );
         }
-        let mean_ratio = ratio_sum / ratio_count as f32;
-        // Measured: 0.983 over the 178 triangles farther than 0.1 voxel.
-        assert!(mean_ratio > 0.95, "{mean_ratio} over {ratio_count}");
+        // Compared for tightness: the triangles farther than 0.1 voxel; their vertices
+        // spread over [-2.5, 3.5]³ around the unit box, so most are (measured 178 of 300).
+        assert!(ratio_count * 2 >= 300, "{ratio_count}");
+        separation_tightness_pin(ratio_sum / ratio_count as f32, ratio_count);
+    }
+
+    /// Regression pin of how tight the separation bound is (not a property: the bound is
+    /// exact only for face-to-face configurations, and no guarantee on its ratio to the
+    /// distance is derived): the mean `bound / distance` over the random triangles farther
+    /// than 0.1 voxel, measured 0.983 over 178 triangles, pinned at 0.95.
+    fn separation_tightness_pin(mean_ratio: f32, count: usize) {
+        assert!(mean_ratio > 0.95, "regression pin: mean ratio {mean_ratio} over {count}");
     }
 }

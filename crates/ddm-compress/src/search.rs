@@ -658,12 +658,17 @@ mod tests {
             }
         }
         let mean_gap = gap_sum / finite as f32;
-        // Measured: mean (sampled − bound) 0.108 voxel over 3128 pairs (part of it the
-        // sampling grid's own error), 4266 witnesses (0.131 and 3941 before the elevation
-        // bands' convex cones were cut).
-        assert!(finite > 500 && witnessed > 500, "{finite} {witnessed}");
-        assert!(mean_gap < 0.16, "mean gap {mean_gap}");
         #[cfg(feature = "std")]
         std::println!("mean gap {mean_gap} over {finite}, {witnessed} witnesses");
+        // Compared (a finite sampled value): the two full cone sets cover every direction,
+        // so every one of the 150 triangles is seen by a cone of each (a sampled pair lies
+        // in some cone); witnesses exist at least as often (the box point nearest a
+        // triangle point, in the cone of that direction).
+        assert!(finite >= 2 * 150 && witnessed >= 2 * 150, "{finite} {witnessed}");
+        // Regression pin (not a property: `sampled` is itself only an upper estimate, and
+        // no bound on the cone bounds' looseness is derived): measured mean (sampled −
+        // bound) 0.108 voxel over 3128 pairs, 4266 witnesses (0.131 and 3941 before the
+        // elevation bands' convex cones were cut), pinned at 0.16.
+        assert!(mean_gap < 0.16, "regression pin: mean gap {mean_gap}");
     }
 }

@@ -36,7 +36,7 @@ fn voxel_index(v: UVec3) -> usize {
 /// Mean and largest `sampled - stored` over the voxel-cones with a finite sampled value,
 /// asserting that no stored value exceeds the sampled one.
 fn gaps(maps: &DistanceMaps, triangles: &[Triangle], label: &str) -> (f32, f32) {
-    let (mut checked, mut total_gap, mut largest_gap) = (0, 0.0, 0.0_f32);
+    let (mut checked, mut considered, mut total_gap, mut largest_gap) = (0, 0, 0.0_f64, 0.0_f32);
     let dims = maps.dims;
     for z in 0..dims.z {
         for y in 0..dims.y {
@@ -47,21 +47,40 @@ fn gaps(maps: &DistanceMaps, triangles: &[Triangle], label: &str) -> (f32, f32) 
                     let cone = maps.kind.cones().and_then(|cones| cones.cone(c as u32));
                     let sampled = sampled_distance(v, triangles, cone.as_ref(), 32);
                     let stored = map[index];
+                    considered += 1;
+                    // The slack is the rounding of the sampled `f32` distance (~10
+                    // operations on coordinates below 8, each within ulp(8) / 2 = 4.8e-7):
+                    // 1e-4 covers it with room.
                     assert!(
                         stored <= sampled + 1e-4,
                         "{label}: voxel {v} cone {c}: stored {stored} > sampled {sampled}"
                     );
                     if sampled.is_finite() {
                         checked += 1;
-                        total_gap += sampled - stored;
+                        total_gap += f64::from(sampled - stored);
                         largest_gap = largest_gap.max(sampled - stored);
                     }
                 }
             }
         }
     }
-    assert!(checked > 100, "{label}: only {checked} voxel-cones see the surface");
-    (total_gap / checked as f32, largest_gap)
+    println!("{label}: {checked} of {considered} voxel-cones see the surface (a finite sampled value)");
+    // Skipped: voxel-cones through which no sampled pair reaches a triangle. The floor
+    // spans the whole tile, and every downward cone (elevations down to −90°) of every
+    // voxel meets it right below: those all count. Upward cones see only the plate and the
+    // pyramid's faces above some voxels.
+    let downward = match maps.kind.cones() {
+        Some(cones) => {
+            (0..cones.count()).filter(|&c| cones.cone(c).is_some_and(|cone| cone.elevation_max <= 0.0)).count()
+        }
+        None => 1,
+    };
+    let must_see = downward * (dims.x * dims.y * dims.z) as usize;
+    assert!(
+        checked >= must_see,
+        "{label}: only {checked} of {considered} voxel-cones see the surface ({must_see} must)"
+    );
+    ((total_gap / checked as f64) as f32, largest_gap)
 }
 
 #[test]
@@ -81,14 +100,32 @@ fn stored_values_never_exceed_sampled_distances() {
         println!(
             "{kind:?}: mean / max (sampled - stored): search {fast_mean:.3} / {fast_max:.3}, reference {reference_mean:.3} / {reference_max:.3} voxel"
         );
-        // The search is at least as tight as the previous computation on average.
-        assert!(fast_mean <= reference_mean + 1e-3, "search {fast_mean} looser than reference {reference_mean}");
-        // Measured mean gaps: 0.288 (full 4×2), 0.300 (downward 8×1), 0.169 (plain map)
-        // (before the cone-aware bounds and witnesses: 0.298, 0.312, 0.169); the
-        // reference: 0.466, 0.525, 0.196. Part of each is the sampling's own error (32²
-        // point pairs per triangle miss the nearest pair), which also makes the largest gap
-        // (3.3 voxel, the same for both) a sampling artefact of grazing directions.
-        assert!(fast_mean < 0.32, "the bound is too loose: {fast_mean}");
+        // The search is at least as tight as the previous computation on average (the
+        // claim, without slack: the sums are `f64`).
+        assert!(fast_mean <= reference_mean, "search {fast_mean} looser than reference {reference_mean}");
+    }
+}
+
+/// Regression pin of how tight the maps are. The mean `sampled − stored` mixes the maps'
+/// own looseness (at most `2 tolerance` per value for convex cones, see `ddm-compress`'s
+/// unit tests against exact values) with the sampling's error (32² point pairs per
+/// triangle miss the nearest pair by an amount no property bounds), so the threshold is a
+/// measured value: mean gaps 0.288 (full 4×2), 0.300 (downward 8×1), 0.169 (plain map)
+/// (before the cone-aware bounds and witnesses: 0.298, 0.312, 0.169; the reference
+/// computation: 0.466, 0.525, 0.196), pinned at 0.32. The largest gap (3.3 voxel, the
+/// same for both) is a sampling artefact of grazing directions and is not pinned.
+#[test]
+fn mean_gap_to_sampled_distances_regression_pin() {
+    let triangles = mesostructure();
+    let settings = DistanceMapSettings { tolerance: 0.05, periodic_xy: false };
+    for kind in [
+        MapKind::Directional(DirectionCones::full(4, 2).unwrap()),
+        MapKind::Directional(DirectionCones::downward(8, 1).unwrap()),
+        MapKind::Plain,
+    ] {
+        let maps = compute_distance_maps(DIMS, &triangles, kind, settings).unwrap();
+        let (mean, _) = gaps(&maps, &triangles, "search");
+        assert!(mean < 0.32, "{kind:?}: the maps got looser: mean gap {mean}");
     }
 }
 
@@ -125,34 +162,52 @@ fn sphere_tracing_never_steps_past_the_surface() {
         .map(|values| CompressedMap::compress(values, &directional.surface, DIMS, 2).unwrap())
         .collect();
     let plain = maps(MapKind::Plain);
-    let mut rays = 0;
+    let (mut rays, mut floor_rays, mut worst_overshoot) = (0, 0, 0.0_f32);
     for k in 0..4000_u32 {
         let f = |m: u32| ((k.wrapping_mul(m) % 1000) as f32 + 0.5) / 1000.0;
         let origin = Vec3::new(f(7919) * 6.0, f(104_729) * 6.0, 3.0 + f(1_299_709));
         let direction = Vec3::new(f(15_485_863) - 0.5, f(32_452_843) - 0.5, -0.2 - f(49_979_687)).normalize();
-        let Some(truth) = first_true_hit(&triangles, origin, direction) else { continue };
+        // Rays that reach the floor plane (z = 0.5) inside the tile: they must hit.
+        let t_floor = (0.5 - origin.z) / direction.z;
+        let on_floor = origin + t_floor * direction;
+        let reaches_floor = on_floor.x > 0.0 && on_floor.x < 6.0 && on_floor.y > 0.0 && on_floor.y < 6.0;
+        floor_rays += usize::from(reaches_floor);
+        let Some(truth) = first_true_hit(&triangles, origin, direction) else {
+            assert!(!reaches_floor, "ray {k} crosses the floor but hits nothing");
+            continue;
+        };
         rays += 1;
         for method in 0..3 {
             let mut t = 0.0_f32;
-            for _ in 0..200 {
+            for step in 0..200 {
                 let p = origin + t * direction;
                 if !(p.cmpge(Vec3::ZERO).all() && p.cmplt(DIMS.as_vec3()).all()) {
                     break;
                 }
                 let voxel = p.as_uvec3();
                 let cone = cones.cone_of(direction).unwrap();
-                let step = match method {
+                let value = match method {
                     0 => directional.values[cone as usize][voxel_index(voxel)],
                     1 => compressed[cone as usize].access(voxel).unwrap(),
                     _ => plain.values[0][voxel_index(voxel)],
                 };
-                if step <= 0.0 {
+                if value <= 0.0 {
                     break; // a surface voxel: the quadric / exact test takes over here
                 }
-                t += step;
-                assert!(t <= truth + 1e-4, "method {method}, ray {k}: stepped to {t} past the hit at {truth}");
+                t += value;
+                // Rounding alone: one ulp(16) (t and the coordinates stay below 16) per
+                // step taken, and 8 for the f32 Möller–Trumbore truth.
+                let slack = (step + 8) as f32 * 16.0 * f32::EPSILON;
+                worst_overshoot = worst_overshoot.max((t - truth) / slack);
+                assert!(t <= truth + slack, "method {method}, ray {k}: stepped to {t} past the hit at {truth}");
             }
         }
     }
-    assert!(rays > 2000, "only {rays} rays hit the mesostructure");
+    println!(
+        "{rays} of 4000 rays hit ({floor_rays} cross the floor inside the tile), worst step past the hit {worst_overshoot:.3} \
+         of the rounding slack"
+    );
+    // Every ray that crosses the floor inside the tile is compared (asserted above), and
+    // the rays start above the tile, most of them steep enough to cross it there.
+    assert!(rays >= floor_rays && floor_rays * 2 >= 4000, "only {rays} rays hit the mesostructure");
 }

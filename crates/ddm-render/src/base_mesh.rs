@@ -137,8 +137,10 @@ mod tests {
             worst = worst.max((v.tangent_u.truncate().length() / expected_u - 1.0).abs());
             worst = worst.max((v.bitangent_v.truncate().length() / expected_v - 1.0).abs());
         }
-        // Measured 3.57e-3: the fit sees chords, shorter than the arcs by about
-        // 1 − sin Δ / Δ ≈ Δ² / 6 = 2.9e-3 for the tube's Δ = 2π / 48.
-        assert!(worst < 4e-3, "relative error {worst}");
+        // A regression pin, not a derived bound: the fit sees chords, shorter than the arcs
+        // by 1 − sin Δ / Δ ≈ Δ² / 6 = 2.9e-3 for the tube's Δ = 2π / 48, but the measured
+        // 3.57e-3 exceeds that (the one-ring also mixes in neighbours at other radii of
+        // the ring, which no derivation here accounts for): pinned at 4e-3.
+        assert!(worst < 4e-3, "relative error {worst} (regression pin)");
     }
 }

@@ -1,7 +1,17 @@
 //! Over many random viewing rays per mesostructure: sphere tracing with conservative maps
 //! (plain, DDM, compressed; distance, block-cell and voxel-exit stepping) never steps past the first
-//! true intersection; compression does not change the hits of
-//! the full method (Algorithm 3.1); and the full method's hits are close to the truth.
+//! true intersection; compression changes a hit of the full method (Algorithm 3.1) only
+//! where one of the two traces jumped over a voxel whose patch bulges in front of the
+//! mesh; the exact triangles and the adaptive patches meet the accuracy goal; and the
+//! accuracy of the C⁰ and fitted quadric patches at this tiny size is pinned against
+//! regressions (`quadric_patch_accuracy_regression_pin`: measured values, no property
+//! bounds them).
+//!
+//! Float slack used below: a ray crosses the slab (6 voxels, plus the 0.5 above it) at
+//! ≥ 12° elevation, so `t ≤ 6.5 / sin 12° < 32` and every coordinate stays below 64; one
+//! `f32` operation on such values rounds by at most `ulp(64) / 2 = 64 ε / 2`
+//! ([`F32_STEP_ERROR`] = `64 ε`, counted whole), and a trace accumulates one such error
+//! per step plus a few for its start and hit point.
 
 use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, DistanceMaps, MapKind, compute_distance_maps};
 use ddm_tracer::{
@@ -10,8 +20,22 @@ use ddm_tracer::{
 };
 use glam::{UVec3, Vec2, Vec3};
 use mesostructure::Mesostructure;
+use std::sync::OnceLock;
 
 const DIMS: UVec3 = UVec3::new(12, 12, 6);
+
+/// Rays per mesostructure.
+const RAYS: usize = 1500;
+
+/// Rounding of one `f32` operation on values below 64 (see the module documentation),
+/// rounded up to a whole ulp.
+const F32_STEP_ERROR: f64 = 64.0 * f32::EPSILON as f64;
+
+/// How far a trace of `steps` steps may place a point past the exact one by rounding
+/// alone: one [`F32_STEP_ERROR`] per step, and 4 for the slab entry and the hit point.
+fn rounding_slack(steps: u32) -> f64 {
+    f64::from(steps + 4) * F32_STEP_ERROR
+}
 
 /// Random downward rays from above the slab (xorshift, fixed seed): elevation in
 /// [-85°, -12°].
@@ -123,7 +147,8 @@ fn sphere_tracing_never_steps_past_the_first_true_hit() {
         let mut compressed_steps = [0_u64; 2];
         // Distance stepping on compressed maps: the paper's rule, then block cells.
         let mut distance_steps = [0_u64; 2];
-        for (origin, direction) in rays(1500, 0x9e37_79b9_7f4a_7c15) {
+        let mut worst_slack_used = 0.0_f64;
+        for (origin, direction) in rays(RAYS, 0x9e37_79b9_7f4a_7c15) {
             let d = direction.normalize();
             let truth = s.mesh.first_hit(origin.as_dvec3(), d.as_dvec3(), 1e3);
             let runs = [
@@ -151,20 +176,36 @@ fn sphere_tracing_never_steps_past_the_first_true_hit() {
                 if let Some(truth) = truth {
                     let hit =
                         out.hit.unwrap_or_else(|| panic!("{}: missed a true hit {origin} {direction}", which.name()));
-                    // The entry of the first zero voxel lies before the true hit (the
-                    // slack is the f32 rounding of a point ~20 voxels along the ray).
+                    // The entry of the first zero voxel lies before the true hit, up to
+                    // the rounding of the steps that led there (`rounding_slack`).
+                    let past = f64::from(hit.t) - truth.t;
+                    worst_slack_used = worst_slack_used.max(past / rounding_slack(out.steps));
                     assert!(
-                        f64::from(hit.t) <= truth.t + 1e-4,
-                        "{}: stepped to {} past the true hit {} ({origin} {direction})",
+                        past <= rounding_slack(out.steps),
+                        "{}: stepped to {} past the true hit {} by more than rounding ({} steps; {origin} {direction})",
                         which.name(),
                         hit.t,
-                        truth.t
+                        truth.t,
+                        out.steps
                     );
                 }
             }
             true_hits += usize::from(truth.is_some());
         }
-        assert!(true_hits > 1000, "{}: {true_hits}", which.name());
+        println!(
+            "{}: {true_hits} of {RAYS} rays hit the mesh (each compared in 9 traces), worst overshoot {worst_slack_used:.3} of the rounding slack",
+            which.name()
+        );
+        // Rays that miss the mesh are only checked for not exhausting their steps. Every
+        // mesostructure but chain mail lies on a floor that covers the whole tile, so
+        // every downward ray hits it; chain mail's rings cover most of the tile seen
+        // from above at these elevations (the rings' holes, and their shadows along
+        // the ray, are smaller than the rings).
+        if which == Mesostructure::ChainMail {
+            assert!(true_hits * 2 >= RAYS, "{}: only {true_hits} of {RAYS} rays compared", which.name());
+        } else {
+            assert_eq!(true_hits, RAYS, "{}: a ray missed the floor", which.name());
+        }
         // Voxel-exit stepping reads the map fewer times (measured: see the output).
         println!("{}: DDM 4x1 steps, distance stepping {}, voxel-exit stepping {}", which.name(), steps[0], steps[1]);
         assert!(steps[1] < steps[0], "{}: {steps:?}", which.name());
@@ -181,11 +222,22 @@ fn sphere_tracing_never_steps_past_the_first_true_hit() {
             compressed_steps[0],
             compressed_steps[1]
         );
-        // Measured at 12x12x6, blocks of 4: the maze, bricks and beads cross every block
+        // Without a block cell larger than a voxel both read the same cells, step for
+        // step; with them, rays cross those blocks in fewer steps. Measured at
+        // 12x12x6, blocks of 4: the maze, bricks and beads have surface in every block
         // (equal counts), the ball 6691 -> 6149, chain mail 3037 -> 2834.
-        assert!(compressed_steps[1] <= compressed_steps[0], "{}: {compressed_steps:?}", which.name());
-        if matches!(which, Mesostructure::Ball | Mesostructure::ChainMail) {
+        let empty_blocks = (0..compressed.maps.len() as u32).any(|cone| {
+            let map = compressed.cone_map(cone).unwrap();
+            (0..DIMS.z).any(|z| {
+                (0..DIMS.y).any(|y| (0..DIMS.x).any(|x| map.cell_distance(UVec3::new(x, y, z)).size != UVec3::ONE))
+            })
+        });
+        println!("{}: blocks of 4 without surface: {empty_blocks}", which.name());
+        assert_eq!(empty_blocks, matches!(which, Mesostructure::Ball | Mesostructure::ChainMail), "{}", which.name());
+        if empty_blocks {
             assert!(compressed_steps[1] < compressed_steps[0], "{}: {compressed_steps:?}", which.name());
+        } else {
+            assert_eq!(compressed_steps[1], compressed_steps[0], "{}", which.name());
         }
         // With the paper's rule the blocks' smaller values cost steps (§4); block cells
         // win them back (measured: see the output).
@@ -197,84 +249,196 @@ fn sphere_tracing_never_steps_past_the_first_true_hit() {
             steps[0]
         );
         // Measured at 12x12x6, blocks of 4: the ball 16956 -> 15583 (raw 15886), chain mail
-        // 4709 -> 4163 (raw 4461); the other three have surface in every block.
-        assert!(distance_steps[1] <= distance_steps[0], "{}: {distance_steps:?}", which.name());
-        if matches!(which, Mesostructure::Ball | Mesostructure::ChainMail) {
+        // 4709 -> 4163 (raw 4461); the other three have surface in every block, and then
+        // compressed and raw values agree, step for step.
+        if empty_blocks {
+            assert!(distance_steps[1] < distance_steps[0], "{}: {distance_steps:?}", which.name());
             assert!(distance_steps[1] < steps[0], "{}: {distance_steps:?} raw {}", which.name(), steps[0]);
+        } else {
+            assert_eq!(distance_steps, [steps[0]; 2], "{}", which.name());
         }
     }
 }
 
-/// Compression changes, accuracy: `(hit/miss or point differences raw vs compressed,
-/// wrong hit/miss against the mesh, hits within 1e-3 voxel, rays both hit)`, both traced
-/// with `stepping` (with voxel-exit or block-cell stepping the compressed maps cross blocks without
-/// surface in one step).
-fn quadric_counts(s: &Scene, patches: &VoxelPatches, stepping: Stepping) -> (usize, usize, usize, usize) {
+/// Per ray of [`quadric_counts`]: how raw and compressed maps compare, and how the raw
+/// trace compares with the mesh.
+#[derive(Clone, Copy, Debug, Default)]
+struct Counts {
+    /// Rays traced.
+    rays: usize,
+    /// Hit/miss or hit point differs between raw and compressed maps.
+    differ: usize,
+    /// Raw and compressed hits in the same voxel (compared bit for bit).
+    same_voxel: usize,
+    /// Hit where the mesh has none, or the reverse (raw maps).
+    wrong: usize,
+    /// Raw hits within 1e-3 voxel of the mesh's first hit.
+    close: usize,
+    /// Rays where both the raw trace and the mesh hit.
+    hits: usize,
+    /// Largest distance of a raw hit to the mesh's first hit, over the rays both hit.
+    worst: f64,
+}
+
+/// Traces `RAYS` rays with `patches` through raw and compressed (blocks of 4) DDMs with
+/// `stepping` (with voxel-exit or block-cell stepping the compressed maps cross blocks
+/// without surface in one step), and checks the property that makes compression
+/// transparent, ray by ray:
+///
+/// - the tracer intersects a voxel's patches from where the ray enters the voxel, so a
+///   hit depends only on the ray and the voxel: two hits in the same voxel are
+///   bit-identical;
+/// - raw and compressed traces may still hit different voxels: a step that is safe for
+///   the mesh (the maps are conservative for the mesh, not for the patches) may jump
+///   over a zero voxel whose patch bulges in front of the mesh, and the other trace,
+///   stepping differently, lands in it. Then the earlier of the two hits lies in a voxel
+///   the other trace crossed in one mesh-safe step, so it lies before the mesh's first
+///   hit (up to the rounding of the steps): a difference with the earlier hit behind
+///   the mesh's first hit is a bug.
+fn quadric_counts(s: &Scene, patches: &VoxelPatches, stepping: Stepping) -> Counts {
     let quadric = TraceSettings { method: Method::Quadric, max_steps: 1024, stepping };
     let compressed = CompressedMaps::compress(&s.ddm, 4).unwrap();
-    let (mut differ, mut wrong, mut close, mut hits) = (0, 0, 0, 0);
-    for (origin, direction) in rays(1500, 0x1234_5678_9abc_def1) {
+    let mut c = Counts::default();
+    for (origin, direction) in rays(RAYS, 0x1234_5678_9abc_def1) {
+        c.rays += 1;
         let raw = trace(&s.ddm, Some(patches), origin, direction, quadric);
         let packed = trace(&compressed, Some(patches), origin, direction, quadric);
-        match (raw.hit, packed.hit) {
-            (Some(a), Some(b)) if (a.point - b.point).length() <= 1e-5 => {}
-            (None, None) => {}
-            _ => differ += 1,
-        }
         let truth = s.mesh.first_hit(origin.as_dvec3(), direction.normalize().as_dvec3(), 1e3);
+        // Same voxel: the hits are 12 voxels (a tile) apart at least otherwise.
+        if let (Some(a), Some(b)) = (raw.hit, packed.hit)
+            && a.voxel == b.voxel
+            && (a.t - b.t).abs() < 1.0
+        {
+            c.same_voxel += 1;
+            assert_eq!(a, b, "{origin} {direction}: hits in the same voxel differ");
+        }
+        let differs = match (raw.hit, packed.hit) {
+            (Some(a), Some(b)) => (a.point - b.point).length() > 1e-5,
+            (None, None) => false,
+            _ => true,
+        };
+        if differs {
+            c.differ += 1;
+            let (earlier, steps) = match (raw.hit, packed.hit) {
+                (Some(a), Some(b)) if b.t < a.t => (b, packed.steps),
+                (Some(a), _) => (a, raw.steps),
+                (None, Some(b)) => (b, packed.steps),
+                (None, None) => unreachable!(),
+            };
+            if let Some(truth) = truth {
+                assert!(
+                    f64::from(earlier.t) <= truth.t + rounding_slack(steps),
+                    "{origin} {direction}: raw {raw:?} and compressed {packed:?} differ, the earlier hit lies \
+                     behind the mesh's first hit {}",
+                    truth.t
+                );
+            }
+        }
         match (raw.hit, truth) {
             (Some(a), Some(b)) => {
-                hits += 1;
-                close += usize::from((a.point.as_dvec3() - b.point).length() <= 1e-3);
+                c.hits += 1;
+                let distance = (a.point.as_dvec3() - b.point).length();
+                c.close += usize::from(distance <= 1e-3);
+                c.worst = c.worst.max(distance);
             }
             (None, None) => {}
-            _ => wrong += 1,
+            _ => c.wrong += 1,
         }
     }
-    (differ, wrong, close, hits)
+    c
+}
+
+/// [`quadric_counts`] of the C⁰ patches and of the fitted quadrics, per mesostructure,
+/// traced once for the two tests that read them.
+fn quadric_results() -> &'static [(Mesostructure, Counts, Counts)] {
+    static RESULTS: OnceLock<Vec<(Mesostructure, Counts, Counts)>> = OnceLock::new();
+    RESULTS.get_or_init(|| {
+        Mesostructure::ALL
+            .into_iter()
+            .map(|which| {
+                let s = scene(which);
+                let c0 = quadric_counts(&s, &s.patches, Stepping::Distance);
+                let fitted = quadric_counts(&s, &s.fitted, Stepping::Distance);
+                println!(
+                    "{}: C0 patches: compressed differs {}, wrong hit/miss {}, within 1e-3 voxel {}/{}, {} hits in \
+                     the same voxel; fitted quadrics: compressed differs {}, wrong {}, within {}/{}, {} in the same voxel",
+                    which.name(),
+                    c0.differ,
+                    c0.wrong,
+                    c0.close,
+                    c0.hits,
+                    c0.same_voxel,
+                    fitted.differ,
+                    fitted.wrong,
+                    fitted.close,
+                    fitted.hits,
+                    fitted.same_voxel
+                );
+                (which, c0, fitted)
+            })
+            .collect()
+    })
 }
 
 #[test]
-fn compression_is_transparent_and_the_quadric_hits_are_accurate() {
-    for which in Mesostructure::ALL {
-        let s = scene(which);
-        let (differ, wrong, close, hits) = quadric_counts(&s, &s.patches, Stepping::Distance);
-        let (f_differ, f_wrong, f_close, f_hits) = quadric_counts(&s, &s.fitted, Stepping::Distance);
-        println!(
-            "{}: C0 patches: compressed differs {differ}, wrong hit/miss {wrong}, within 1e-3 voxel {close}/{hits}; \
-             fitted quadrics: compressed differs {f_differ}, wrong {f_wrong}, within {f_close}/{f_hits}",
-            which.name()
-        );
-        // The tracer intersects a voxel's patches from where the ray enters the voxel, so
-        // a hit depends only on the ray and the voxel, not on the steps before it: raw and
-        // compressed maps give bit-identical hits whenever they visit the same zero
-        // voxels. They may not: a step that is safe for the mesh may jump over a zero
-        // voxel whose quadric bulges past the mesh, and the other stepping lands in it.
-        // Measured: 0 differences everywhere except chain mail with fitted quadrics (3 of
-        // 1500; tori a few voxels thick at this size). Before the entry-point rule: 2 on
-        // the ball (C0 and fitted) and 1–2 on chain mail. The issue's goal (identical
-        // classification, hits within 1e-5 voxel) is met by the C0 patches here, and by
-        // the exact triangles and the adaptive patches on every mesostructure (next test).
-        let allowed_fitted = if which == Mesostructure::ChainMail { 3 } else { 0 };
-        assert_eq!(differ, 0, "{}", which.name());
-        assert!(f_differ <= allowed_fitted, "{}: {f_differ}", which.name());
-        // Regression guards at this tiny size (12 × 12 × 6: maze blocks 1.5 voxels wide,
-        // the ball's radius 2.1 voxels), measured out of 1500 rays (wrong hit/miss, hits
-        // within 1e-3 voxel of the mesh):
-        // C0 patches: maze 55, 1173/1445; bricks 91, 895/1409; beads 145, 197/1355; ball 0, 1246/1500.
-        // Fitted: maze 0, 1333/1500; bricks 38, 1227/1462; beads 1, 320/1499; ball 0, 1239/1500.
-        // Chain mail: C0 275, 5/954; fitted 177, 36/1055 (too thin for 12 × 12 × 6).
-        // The full measurement is `cargo xtask ddm-trace`.
-        let (c0_wrong, fitted_wrong) = match which {
-            Mesostructure::Maze(_) => (60, 3),
-            Mesostructure::Bricks => (100, 45),
-            Mesostructure::Beads => (160, 3),
-            Mesostructure::ChainMail => (300, 200),
-            _ => (2, 2),
+fn compression_changes_a_quadric_hit_only_past_a_bulging_patch() {
+    // `quadric_counts` asserts the property ray by ray; here, that it was exercised.
+    for &(which, c0, fitted) in quadric_results() {
+        for (name, c) in [("C0", c0), ("fitted", fitted)] {
+            assert_eq!(c.rays, RAYS, "{} {name}", which.name());
+            // Every mesostructure but chain mail has a floor under every ray, so most
+            // rays hit on both maps, in the same voxel unless they differ (chain mail:
+            // rings over most of the tile, see the first test).
+            let floor = if which == Mesostructure::ChainMail { RAYS / 2 } else { RAYS * 9 / 10 };
+            assert!(c.same_voxel >= floor, "{} {name}: only {} hits compared bit for bit", which.name(), c.same_voxel);
+        }
+    }
+}
+
+/// A regression pin, not an accuracy bound: at this tiny size (12 × 12 × 6: maze blocks
+/// 1.5 voxels wide, the ball's radius 2.1 voxels, chain mail's tori a few voxels thick)
+/// one quadric per voxel cannot follow the mesh (sharp edges, two sheets in a voxel), and
+/// no property bounds how many of 1500 rays the C⁰ patches or the fitted quadrics get
+/// wrong or how many land within 1e-3 voxel of the mesh. The pins are the values
+/// measured when they were set; a change that makes any of them worse fails here, and a
+/// change that improves one should lower the pin in the same commit. The full
+/// measurement, at useful sizes, is `cargo xtask ddm-trace`.
+///
+/// Pinned (rays compressed differs / wrong hit/miss / within 1e-3 voxel, of 1500):
+///
+/// | | C⁰ patches | fitted quadrics |
+/// |---|---|---|
+/// | maze | 0 / 55 / 1173 | 0 / 0 / 1333 |
+/// | bricks | 0 / 91 / 895 | 0 / 38 / 1227 |
+/// | beads | 0 / 145 / 197 | 0 / 1 / 320 |
+/// | ball | 0 / 0 / 1246 | 0 / 0 / 1239 |
+/// | chain mail | 0 / 275 / 5 | 3 / 177 / 36 |
+///
+/// The compression differences are allowed by the property (see
+/// `compression_changes_a_quadric_hit_only_past_a_bulging_patch`); their count is
+/// pinned. Before the entry-point rule they were 2 on the ball (C⁰ and fitted) and 1–2
+/// on chain mail.
+#[test]
+fn quadric_patch_accuracy_regression_pin() {
+    for &(which, c0, fitted) in quadric_results() {
+        // (differ, wrong, close) for the C⁰ patches, then the fitted quadrics.
+        let pins = match which {
+            Mesostructure::Maze(_) => [(0, 55, 1173), (0, 0, 1333)],
+            Mesostructure::Bricks => [(0, 91, 895), (0, 38, 1227)],
+            Mesostructure::Beads => [(0, 145, 197), (0, 1, 320)],
+            Mesostructure::Ball => [(0, 0, 1246), (0, 0, 1239)],
+            Mesostructure::ChainMail => [(0, 275, 5), (3, 177, 36)],
         };
-        assert!(wrong <= c0_wrong && f_wrong <= fitted_wrong, "{}: {wrong} / {f_wrong}", which.name());
-        if which == Mesostructure::Ball {
-            assert!(close * 100 >= hits * 80 && f_close * 100 >= f_hits * 80, "{}", which.name());
+        for ((name, c), (differ, wrong, close)) in [("C0", c0), ("fitted", fitted)].into_iter().zip(pins) {
+            assert!(
+                c.differ <= differ && c.wrong <= wrong && c.close >= close,
+                "{} {name}: compressed differs {} (pin {differ}), wrong {} (pin {wrong}), within 1e-3 voxel {} \
+                 (pin {close})",
+                which.name(),
+                c.differ,
+                c.wrong,
+                c.close
+            );
         }
     }
 }
@@ -289,21 +453,40 @@ fn exact_triangles_and_the_adaptive_choice_meet_the_accuracy_goal() {
             ("adaptive 1e-3, voxel exit", &s.adaptive, Stepping::VoxelExit),
             ("adaptive 1e-3, block cells", &s.adaptive, Stepping::BlockCells),
         ] {
-            let (differ, wrong, close, hits) = quadric_counts(&s, patches, stepping);
+            let c = quadric_counts(&s, patches, stepping);
             println!(
                 "{} {name}: {} quadric voxels, {} triangle voxels, {} patches ({} bytes); compressed differs \
-                 {differ}, wrong hit/miss {wrong}, within 1e-3 voxel {close}/{hits}",
+                 {}, wrong hit/miss {}, within 1e-3 voxel {}/{}, worst {:e} voxel",
                 which.name(),
                 patches.quadric_voxels,
                 patches.triangle_voxels,
                 patches.patches.len(),
-                patches.byte_size()
+                patches.byte_size(),
+                c.differ,
+                c.wrong,
+                c.close,
+                c.hits,
+                c.worst
             );
-            // The issue's goals: compression changes no hit (classification, points within
-            // 1e-5 voxel), no hole or false hit, 99.9 % of the hits within 1e-3 voxel.
-            assert_eq!(differ, 0, "{} {name}", which.name());
-            assert_eq!(wrong, 0, "{} {name}", which.name());
-            assert!(close * 1000 >= hits * 999, "{} {name}: {close}/{hits}", which.name());
+            // Rays compared against the mesh: every ray on a floor, most on chain mail
+            // (see the first test).
+            let floor = if which == Mesostructure::ChainMail { RAYS / 2 } else { RAYS };
+            assert!(c.hits >= floor, "{} {name}: only {} hits compared", which.name(), c.hits);
+            // The issue's goals (a specification, not a measurement): compression changes
+            // no hit (classification, points within 1e-5 voxel), no hole or false hit,
+            // 99.9 % of the hits within 1e-3 voxel.
+            assert_eq!(c.differ, 0, "{} {name}", which.name());
+            assert_eq!(c.wrong, 0, "{} {name}", which.name());
+            assert!(c.close * 1000 >= c.hits * 999, "{} {name}: {}/{}", which.name(), c.close, c.hits);
+            if name == "triangles" {
+                // The patches are the mesh itself: no approximation error, only the
+                // rounding of an `f32` ray–plane intersection (`F32_STEP_ERROR / |cos|`,
+                // ~1e-5 voxel here) and, at a triangle edge, the `f32` and the exact ray
+                // hitting the two faces beside it (measured worst 1.1e-4 voxel, maze):
+                // the 0.1 % the goal leaves to approximation is not needed, every hit is
+                // within 1e-3 voxel.
+                assert_eq!(c.close, c.hits, "{} triangles: worst {:e} voxel", which.name(), c.worst);
+            }
         }
         // The adaptive choice keeps a quadric somewhere and is never larger than the
         // triangles.

@@ -310,23 +310,69 @@ mod tests {
         assert_eq!(mip_count(128), 8);
     }
 
+    /// Half an ulp of `x` in IEEE half precision (normal range).
+    fn half_f16_ulp(x: f32) -> f32 {
+        0.5 * 2.0_f32.powi(x.abs().log2().floor() as i32 - 10)
+    }
+
     #[test]
     fn texel_encoding_round_trips_within_quantization() {
-        let texel = AtlasTexel {
-            normal: Vec3::new(0.48, -0.6, 0.64),
-            albedo: Vec3::new(0.8, 0.2, 0.05),
-            roughness: 0.3,
-            metallic: 0.6,
-            depth: -0.42,
-            alpha: 0.75,
-        };
-        let back = unpremultiply(decode_premultiplied(encode_texel(&texel)));
-        // Measured: normal 6.9e-3 (8 bits of (0.5n+0.5)α, doubled by un-mapping), albedo 2.7e-3,
-        // roughness 1.6e-3, metallic 2.1e-3, depth 7.8e-5, alpha 0 (0.75 is exact in f16).
-        assert!((back.normal - texel.normal).abs().max_element() < 8e-3, "{back:?}");
-        assert!((back.albedo - texel.albedo).abs().max_element() < 3.5e-3, "{back:?}");
-        assert!((back.roughness - texel.roughness).abs() < 2.5e-3 && (back.metallic - texel.metallic).abs() < 2.5e-3);
-        assert!((back.depth - texel.depth).abs() < 1e-4 && (back.alpha - texel.alpha).abs() < 1e-6);
+        let texels = [
+            AtlasTexel {
+                normal: Vec3::new(0.48, -0.6, 0.64),
+                albedo: Vec3::new(0.8, 0.2, 0.05),
+                roughness: 0.3,
+                metallic: 0.6,
+                depth: -0.42,
+                alpha: 0.75,
+            },
+            AtlasTexel {
+                normal: Vec3::new(-0.8, 0.0, 0.6),
+                albedo: Vec3::new(0.01, 0.5, 0.99),
+                roughness: 0.95,
+                metallic: 0.02,
+                depth: 0.9,
+                alpha: 0.31,
+            },
+            AtlasTexel {
+                normal: Vec3::new(0.0, 1.0, 0.0),
+                albedo: Vec3::splat(0.18),
+                roughness: 0.5,
+                metallic: 0.0,
+                depth: 0.05,
+                alpha: 1.0,
+            },
+        ];
+        for texel in texels {
+            let back = unpremultiply(decode_premultiplied(encode_texel(&texel)));
+            // The quantization bounds. A value `x` stored premultiplied in 8 bits and divided
+            // by its layer's 8-bit α is off by `(½/255 + x |α − α₈|) / α₈` (the code's
+            // rounding, and the α it was multiplied with against the one it is divided
+            // by); the normal's `(0.5 n + 0.5)` mapping doubles it; sRGB codes round by
+            // half a code step, which in linear units is at most half the larger of the
+            // neighbouring decoded gaps; depth and α are half floats (half an ulp each,
+            // depth divided by the half-float α). Plus 1e-6 of f32 rounding.
+            let a8 = f32::from(unorm8(texel.alpha)) / 255.0;
+            let a16 = f16_bits_to_f32(f32_to_f16_bits(texel.alpha));
+            let byte = |x: f32| (0.5 / 255.0 + x * (texel.alpha - a8).abs()) / a8 + 1e-6;
+            let srgb = |x: f32| {
+                let code = srgb8(x * texel.alpha);
+                let below = if code > 0 { srgb8_to_linear(code) - srgb8_to_linear(code - 1) } else { 0.0 };
+                let above = if code < 255 { srgb8_to_linear(code + 1) - srgb8_to_linear(code) } else { 0.0 };
+                (0.5 * below.max(above) + x * (texel.alpha - a8).abs()) / a8 + 1e-6
+            };
+            for k in 0..3 {
+                let mapped = 0.5 * texel.normal[k] + 0.5;
+                assert!((back.normal[k] - texel.normal[k]).abs() <= 2.0 * byte(mapped), "{texel:?} -> {back:?}");
+                assert!((back.albedo[k] - texel.albedo[k]).abs() <= srgb(texel.albedo[k]), "{texel:?} -> {back:?}");
+            }
+            assert!((back.roughness - texel.roughness).abs() <= byte(texel.roughness), "{back:?}");
+            assert!((back.metallic - texel.metallic).abs() <= byte(texel.metallic), "{back:?}");
+            let depth = texel.depth * texel.alpha;
+            let depth_bound = (half_f16_ulp(depth) + texel.depth.abs() * (texel.alpha - a16).abs()) / a16 + 1e-6;
+            assert!((back.depth - texel.depth).abs() <= depth_bound, "{back:?}");
+            assert!((back.alpha - texel.alpha).abs() <= half_f16_ulp(texel.alpha), "{back:?}");
+        }
         assert_eq!(unpremultiply(decode_premultiplied(encode_texel(&AtlasTexel::default()))), AtlasTexel::default());
     }
 

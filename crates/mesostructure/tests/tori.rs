@@ -112,9 +112,11 @@ fn chain_mail_rings_never_touch_across_tiles_and_interlock() {
                 assert_eq!(linked.len(), 4, "{size}: flat ring {i} linked by {}", linked.len());
             }
         }
-        // Touching tubes would be 2 tube radii apart; measured: 2.5 on every tile (0.0375 s).
+        // Tubes touch when their centre circles come within 2 tube radii; the faceted
+        // tubes lie inside the exact ones (their vertices are on them), so more than 2
+        // radii keeps the meshes apart (measured: 2.5 on every tile, 0.0375 s).
         println!("{size}: centre circles at least {:.3} tube radii apart", closest / tube);
-        assert!(closest > 2.0 * tube * 1.2, "{size}: centre circles {closest} apart, tubes {tube}");
+        assert!(closest > 2.0 * tube, "{size}: centre circles {closest} apart, tubes {tube}");
         // Periodic: every ring shifted by a tile size is a ring of the pattern, taken modulo the tile.
         for p in &rings {
             let wrapped = |c: Vec3| Vec3::new(c.x.rem_euclid(size.x as f32), c.y.rem_euclid(size.y as f32), c.z);

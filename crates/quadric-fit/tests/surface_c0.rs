@@ -35,6 +35,34 @@ fn crossed_voxels(signed: impl Fn(DVec3) -> f64) -> Vec<GridPoint> {
     out
 }
 
+/// Faces shared by two of `voxels` whose four corners are not all on one side of
+/// `signed`: the faces the surface crosses, which `check_c0` must find segments on.
+fn crossed_shared_faces(voxels: &[GridPoint], signed: impl Fn(DVec3) -> f64) -> usize {
+    let set: BTreeSet<GridPoint> = voxels.iter().copied().collect();
+    let mut count = 0;
+    for &v in voxels {
+        for normal in 0..3 {
+            let mut w = [v.0, v.1, v.2];
+            w[normal] += 1;
+            if !set.contains(&(w[0], w[1], w[2])) {
+                continue;
+            }
+            let o = corner((w[0], w[1], w[2]));
+            let (a, b) = ((normal + 1) % 3, (normal + 2) % 3);
+            let signs: BTreeSet<bool> = (0..4)
+                .map(|c| {
+                    let mut p = o;
+                    p[a] += f64::from(c & 1);
+                    p[b] += f64::from(c >> 1);
+                    signed(p) < 0.0
+                })
+                .collect();
+            count += usize::from(signs.len() == 2);
+        }
+    }
+    count
+}
+
 /// Step a: fit each voxel's quadric to points of the true surface in the voxel and its
 /// half-voxel neighbourhood (a 7³ lattice projected onto the surface).
 fn fitted(voxels: &[GridPoint], project: impl Fn(DVec3) -> DVec3) -> BTreeMap<GridPoint, Quadric> {
@@ -162,8 +190,13 @@ fn sphere_from_fitted_quadrics_is_c0() {
         surface.voxels.len(),
         surface.edge_points.len()
     );
-    assert!(faces > 100, "{faces}");
+    // Every face the sphere crosses between two crossed voxels is checked.
+    assert_eq!(faces, crossed_shared_faces(&voxels, |p| p.distance(c) - r));
     assert!(sizes[0] > 0 && sizes[1] > 0, "{sizes:?}");
+    // The patches pass through their polygons' points by construction, and a sphere is a
+    // quadric, so the fit reproduces it: what remains is `f64` rounding (~1e-15 relative
+    // per operation; the fit's normal equations lose a few digits to their condition),
+    // far below 1e-9 (segments, points) and 1e-6 (the fit).
     assert!(seg_max < 1e-9, "{seg_max}");
     assert!(point_max < 1e-9, "{point_max}");
     assert!(rep_max < 1e-6, "{rep_max}");
@@ -212,8 +245,10 @@ fn tilted_plane_exact_and_fitted_is_c0() {
              max representative-point distance {rep_max:.2e}",
             surface.voxels.len()
         );
-        assert!(faces > 100);
+        // Every face the plane crosses between two crossed voxels is checked.
+        assert_eq!(faces, crossed_shared_faces(&voxels, |p| n.dot(p - o)), "{label}");
         assert!(sizes[0] > 0 && sizes[1] > 0 && sizes[2] > 0, "{sizes:?}");
+        // Exact by construction (and a plane is a quadric): `f64` rounding only.
         assert!(seg_max < 1e-9 && point_max < 1e-9 && rep_max < 1e-9, "{seg_max} {point_max} {rep_max}");
     }
 }

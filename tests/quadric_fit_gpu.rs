@@ -25,10 +25,10 @@ fn quadrics(rng: &mut SmallRng, count: usize) -> Vec<GpuQuadric> {
             1 => Quadric::new([1.0, 1.0, 1.0, 0.0, 0.0, 0.0, -2.0 * c, -2.0 * c, -2.0 * c, 3.0 * c * c - 0.09]),
             2 => Quadric::new([1.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0, -1.0, 0.0, 0.5 - 0.04]),
             3 => Quadric::new([1.0, 1.0, -1.0, 0.0, 0.0, 0.0, -1.0, -1.0, 2.0 * c, 0.5 - c * c]),
-            4 => Quadric::plane(DVec3::new(r(rng), r(rng), r(rng)), r(rng)).map(|q| {
-                let mut k = q.coefficients;
+            4 => Quadric::plane(DVec3::new(r(rng), r(rng), r(rng)), r(rng)).and_then(|q| {
+                let mut k = q.coefficients();
                 k[0] = 1e-7 * r(rng);
-                Quadric { coefficients: k }
+                Quadric::new(k)
             }),
             _ => bilinear_quadric(
                 DVec3::new(0.0, 0.0, rng.random()),
@@ -37,7 +37,7 @@ fn quadrics(rng: &mut SmallRng, count: usize) -> Vec<GpuQuadric> {
                 DVec3::new(0.0, 1.0, rng.random()),
             ),
         };
-        if let Some(q) = quadric {
+        if let Ok(q) = quadric {
             out.push(GpuQuadric::from_quadric(&q.normalized()));
         }
     }

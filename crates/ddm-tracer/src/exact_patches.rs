@@ -95,7 +95,7 @@ fn bounded_patch(corners: &[DVec3], normal: DVec3) -> Option<TracePatch> {
     if !(3..=4).contains(&corners.len()) {
         return None;
     }
-    let plane = Quadric::plane(normal, -normal.dot(corners[0]))?;
+    let plane = Quadric::plane(normal, -normal.dot(corners[0])).ok()?;
     let gpu = GpuQuadric::from_quadric(&plane);
     let corner = |i: usize| corners[i.min(corners.len() - 1)].as_vec3().extend(0.0);
     Some(TracePatch {

@@ -353,7 +353,7 @@ fn c0_surface(
 /// The single, unbounded patch of a voxel's fitted `quadric` (grid coordinates),
 /// relative to the voxel corner `origin`.
 fn fitted_patch(quadric: &Quadric, origin: DVec3) -> Option<TracePatch> {
-    let local = quadric.in_frame(origin, 1.0)?;
+    let local = quadric.in_frame(origin, 1.0).ok()?;
     let gpu = GpuQuadric::from_quadric(&local);
     Some(TracePatch {
         abcd: gpu.abcd,
@@ -370,7 +370,7 @@ fn trace_patch(quadric: &Quadric, polygon: &[DVec3], origin: DVec3) -> Option<Tr
     if polygon.len() < 3 || polygon.len() > 4 {
         return None;
     }
-    let local = quadric.in_frame(origin, 1.0)?;
+    let local = quadric.in_frame(origin, 1.0).ok()?;
     let gpu = GpuQuadric::from_quadric(&local);
     let corner = |i: usize| {
         let p = polygon[i.min(polygon.len() - 1)] - origin;

@@ -139,7 +139,7 @@ pub fn fit_plane(points: &[DVec3]) -> Result<QuadricFit, FitError> {
         return Err(FitError::Collinear);
     }
     let normal = DVec3::from_array(vectors[0]);
-    let quadric = Quadric::plane(normal, -normal.dot(centroid)).ok_or(FitError::Overflow)?;
+    let quadric = Quadric::plane(normal, -normal.dot(centroid)).map_err(|_| FitError::Overflow)?;
     Ok(QuadricFit { quadric, kind: FitKind::Plane, rms_distance: rms_distance(&quadric, points) })
 }
 
@@ -180,9 +180,9 @@ pub fn fit_quadric(points: &[DVec3]) -> Result<QuadricFit, FitError> {
     if values[1] <= RELATIVE_ZERO * values[9] {
         return Ok(plane);
     }
-    let in_unit_frame = Quadric::new(vectors[0]).ok_or(FitError::Overflow)?;
+    let in_unit_frame = Quadric::new(vectors[0]).map_err(|_| FitError::Overflow)?;
     // Back to world coordinates: Q(p) = Q'((p - centroid) / scale).
-    let quadric = in_unit_frame.in_frame(-centroid / scale, 1.0 / scale).ok_or(FitError::Overflow)?;
+    let quadric = in_unit_frame.in_frame(-centroid / scale, 1.0 / scale).map_err(|_| FitError::Overflow)?;
     Ok(QuadricFit { quadric, kind: FitKind::Quadric, rms_distance: rms_distance(&quadric, points) })
 }
 
@@ -227,7 +227,7 @@ mod tests {
         let noise_floor = f64::EPSILON * center.length_squared() / (2.0 * radius);
         assert!(fit.rms_distance < 10.0 * noise_floor, "{} vs floor {noise_floor}", fit.rms_distance);
         // A sphere: equal squared coefficients, no cross terms.
-        let [a, b, c, d, e, f, ..] = fit.quadric.coefficients;
+        let [a, b, c, d, e, f, ..] = fit.quadric.coefficients();
         assert!((a - b).abs() < 1e-6 * a.abs() && (a - c).abs() < 1e-6 * a.abs(), "{:?}", fit.quadric);
         assert!(d.abs() + e.abs() + f.abs() < 1e-6 * a.abs());
     }

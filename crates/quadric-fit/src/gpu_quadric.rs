@@ -25,7 +25,7 @@ gpu_struct! {
 impl GpuQuadric {
     /// The single-precision form of `quadric` (rounded to nearest).
     pub fn from_quadric(quadric: &Quadric) -> Self {
-        let c = quadric.coefficients.map(|x| x as f32);
+        let c = quadric.coefficients().map(|x| x as f32);
         Self {
             abcd: Vec4::new(c[0], c[1], c[2], c[3]),
             efgh: Vec4::new(c[4], c[5], c[6], c[7]),

@@ -93,7 +93,7 @@ pub use fit::{FitError, FitKind, QuadricFit, fit_plane, fit_quadric};
 pub use gpu_quadric::GpuQuadric;
 pub use intersect::{first_hit, normal};
 pub use patch::{bilinear_quadric, triangle_quadric};
-pub use quadric::Quadric;
+pub use quadric::{Quadric, QuadricError};
 pub use surface::{C0Surface, build_surface};
 #[cfg(feature = "wgsl")]
 pub use wgsl::WGSL;

@@ -17,27 +17,36 @@
 
 use glam::{DMat3, DVec3};
 
-use crate::quadric::Quadric;
+use crate::quadric::{Quadric, QuadricError};
 
 /// `Δ` below this fraction of `|a||b||c|` counts as coplanar.
 const COPLANAR: f64 = 1e-9;
 
-/// The plane through three points, or `None` when they are collinear or not finite.
-pub fn triangle_quadric(p1: DVec3, p2: DVec3, p3: DVec3) -> Option<Quadric> {
+/// The first corner of `points` that is not finite.
+fn non_finite_corner(points: &[DVec3]) -> Result<(), QuadricError> {
+    match points.iter().position(|p| !p.is_finite()) {
+        Some(index) => Err(QuadricError::NonFinitePoint { index }),
+        None => Ok(()),
+    }
+}
+
+/// The plane through three points; an error when one is not finite
+/// ([`QuadricError::NonFinitePoint`]) or they are collinear ([`QuadricError::Degenerate`]).
+pub fn triangle_quadric(p1: DVec3, p2: DVec3, p3: DVec3) -> Result<Quadric, QuadricError> {
+    non_finite_corner(&[p1, p2, p3])?;
     let normal = (p2 - p1).cross(p3 - p1);
     if !normal.is_finite() || normal.length_squared() <= f64::MIN_POSITIVE {
-        return None;
+        return Err(QuadricError::Degenerate);
     }
     Quadric::plane(normal, -normal.dot(p1))
 }
 
 /// The quadric through the bilinear patch `P1, P2, P3, P4` (in order around the patch),
-/// or the plane of a planar patch (Newell's normal), or `None` for degenerate patches
-/// (all points collinear or coincident, or not finite).
-pub fn bilinear_quadric(p1: DVec3, p2: DVec3, p3: DVec3, p4: DVec3) -> Option<Quadric> {
-    if ![p1, p2, p3, p4].iter().all(|p| p.is_finite()) {
-        return None;
-    }
+/// or the plane of a planar patch (Newell's normal); an error when a corner is not finite
+/// ([`QuadricError::NonFinitePoint`]) or the corners are collinear or coincident
+/// ([`QuadricError::Degenerate`]).
+pub fn bilinear_quadric(p1: DVec3, p2: DVec3, p3: DVec3, p4: DVec3) -> Result<Quadric, QuadricError> {
+    non_finite_corner(&[p1, p2, p3, p4])?;
     let a = p1 + p3 - p2 - p4;
     let b = p2 - p1;
     let c = p4 - p1;
@@ -54,7 +63,7 @@ pub fn bilinear_quadric(p1: DVec3, p2: DVec3, p3: DVec3, p4: DVec3) -> Option<Qu
         }
         let centroid = (p1 + p2 + p3 + p4) / 4.0;
         if normal.length_squared() <= f64::MIN_POSITIVE {
-            return None;
+            return Err(QuadricError::Degenerate);
         }
         return Quadric::plane(normal, -normal.dot(centroid));
     }
@@ -97,9 +106,19 @@ mod tests {
         let q = bilinear_quadric(DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y).unwrap();
         assert!(q.is_plane());
         assert!(q.value(DVec3::new(0.3, 0.9, 0.0)).abs() < 1e-15);
-        assert!(bilinear_quadric(DVec3::ZERO, DVec3::X, DVec3::X * 2.0, DVec3::X * 3.0).is_none());
-        assert!(bilinear_quadric(DVec3::NAN, DVec3::X, DVec3::Y, DVec3::Z).is_none());
-        assert!(triangle_quadric(DVec3::ZERO, DVec3::X, DVec3::X * 2.0).is_none());
+        assert_eq!(
+            bilinear_quadric(DVec3::ZERO, DVec3::X, DVec3::X * 2.0, DVec3::X * 3.0),
+            Err(QuadricError::Degenerate)
+        );
+        assert_eq!(
+            bilinear_quadric(DVec3::X, DVec3::NAN, DVec3::Y, DVec3::Z),
+            Err(QuadricError::NonFinitePoint { index: 1 })
+        );
+        assert_eq!(triangle_quadric(DVec3::ZERO, DVec3::X, DVec3::X * 2.0), Err(QuadricError::Degenerate));
+        assert_eq!(
+            triangle_quadric(DVec3::ZERO, DVec3::X, DVec3::splat(f64::INFINITY)),
+            Err(QuadricError::NonFinitePoint { index: 2 })
+        );
         let t = triangle_quadric(DVec3::X, DVec3::Y, DVec3::Z).unwrap();
         assert!(t.value(DVec3::splat(1.0 / 3.0)).abs() < 1e-15);
     }

@@ -3,38 +3,88 @@
 
 use glam::{DMat3, DVec3};
 
+/// Why a quadric (or a patch's quadric) could not be made.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum QuadricError {
+    /// A coefficient is NaN or infinite (the first such index, in eq. 1's order).
+    NonFiniteCoefficient {
+        /// Index in `[A, B, C, D, E, F, G, H, I, J]`.
+        index: usize,
+    },
+    /// Every coefficient is zero: the equation describes no surface.
+    ZeroCoefficients,
+    /// A plane's normal is the zero vector.
+    ZeroNormal,
+    /// [`Quadric::in_frame`]'s scale is zero or not finite.
+    InvalidScale {
+        /// The scale given.
+        scale: f64,
+    },
+    /// A patch corner is NaN or infinite (its index among the corners).
+    NonFinitePoint {
+        /// Index of the corner.
+        index: usize,
+    },
+    /// The patch's corners are collinear or coincident: they span no surface.
+    Degenerate,
+}
+
+impl core::fmt::Display for QuadricError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::NonFiniteCoefficient { index } => write!(f, "quadric coefficient {index} is not finite"),
+            Self::ZeroCoefficients => write!(f, "every quadric coefficient is zero: no surface"),
+            Self::ZeroNormal => write!(f, "the plane's normal is zero"),
+            Self::InvalidScale { scale } => write!(f, "frame scale {scale} is zero or not finite"),
+            Self::NonFinitePoint { index } => write!(f, "patch corner {index} is not finite"),
+            Self::Degenerate => write!(f, "the patch's corners are collinear or coincident"),
+        }
+    }
+}
+
+impl core::error::Error for QuadricError {}
+
 /// A quadric surface `Q(p) = 0` with the coefficients of eq. 1, in double precision.
 ///
-/// Coefficients are stored in the paper's order `[A, B, C, D, E, F, G, H, I, J]`.
-/// A quadric and any non-zero multiple of it describe the same surface; constructors
-/// return it normalized to a unit coefficient vector (see [`Quadric::normalized`]).
+/// Coefficients are in the paper's order `[A, B, C, D, E, F, G, H, I, J]`, finite and not
+/// all zero (every constructor checks it, so no function re-checks it). A quadric and any
+/// non-zero multiple of it describe the same surface; [`Quadric::normalized`] gives the
+/// unit coefficient vector with a non-negative first non-zero coefficient.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Quadric {
-    /// `[A, B, C, D, E, F, G, H, I, J]` of eq. 1.
-    pub coefficients: [f64; 10],
+    coefficients: [f64; 10],
 }
 
 impl Quadric {
-    /// The quadric with the given coefficients, or `None` if one is not finite or all are
+    /// The quadric with the given coefficients; an error when one is not finite or all are
     /// zero (which describes no surface).
-    pub fn new(coefficients: [f64; 10]) -> Option<Self> {
-        let finite = coefficients.iter().all(|c| c.is_finite());
-        let nonzero = coefficients.iter().any(|&c| c != 0.0);
-        (finite && nonzero).then_some(Self { coefficients })
+    pub fn new(coefficients: [f64; 10]) -> Result<Self, QuadricError> {
+        if let Some(index) = coefficients.iter().position(|c| !c.is_finite()) {
+            return Err(QuadricError::NonFiniteCoefficient { index });
+        }
+        if coefficients.iter().all(|&c| c == 0.0) {
+            return Err(QuadricError::ZeroCoefficients);
+        }
+        Ok(Self { coefficients })
     }
 
-    /// The plane `normal · p + offset = 0` as a (degree-one) quadric, or `None` when
-    /// `normal` is zero or a value is not finite.
-    pub fn plane(normal: DVec3, offset: f64) -> Option<Self> {
+    /// `[A, B, C, D, E, F, G, H, I, J]` of eq. 1.
+    pub fn coefficients(&self) -> [f64; 10] {
+        self.coefficients
+    }
+
+    /// The plane `normal · p + offset = 0` as a (degree-one) quadric, normalized; an error
+    /// when `normal` is zero or a value is not finite.
+    pub fn plane(normal: DVec3, offset: f64) -> Result<Self, QuadricError> {
         if normal == DVec3::ZERO {
-            return None;
+            return Err(QuadricError::ZeroNormal);
         }
         Self::new([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, normal.x, normal.y, normal.z, offset]).map(Self::normalized)
     }
 
     /// The quadric `pᵀ M p + L · p + J` for a symmetric `M` (its off-diagonal entries are
-    /// half the cross coefficients D, E, F).
-    pub fn from_matrix(m: DMat3, l: DVec3, j: f64) -> Option<Self> {
+    /// half the cross coefficients D, E, F); errors as [`Quadric::new`].
+    pub fn from_matrix(m: DMat3, l: DVec3, j: f64) -> Result<Self, QuadricError> {
         let c = [
             m.x_axis.x,
             m.y_axis.y,
@@ -106,10 +156,11 @@ impl Quadric {
     }
 
     /// The quadric in coordinates `p' = (p - origin) / scale`: if `self` is `Q(p)`, the
-    /// result is `Q(origin + scale p')`. `None` if `scale` is zero or not finite.
-    pub fn in_frame(&self, origin: DVec3, scale: f64) -> Option<Self> {
+    /// result is `Q(origin + scale p')`, normalized. An error when `scale` is zero or not
+    /// finite, or the moved coefficients overflow.
+    pub fn in_frame(&self, origin: DVec3, scale: f64) -> Result<Self, QuadricError> {
         if !(scale.is_finite() && scale != 0.0) {
-            return None;
+            return Err(QuadricError::InvalidScale { scale });
         }
         // Q(o + s p') = s² p'ᵀMp' + s (2Mo + L)·p' + Q(o)
         let m = self.quadratic_matrix() * (scale * scale);
@@ -153,14 +204,21 @@ mod tests {
                 assert!(t.value(q).abs() < 1e-9, "{p} -> {q}: {}", t.value(q));
             }
         }
-        assert!(s.in_frame(origin, 0.0).is_none());
+        assert_eq!(s.in_frame(origin, 0.0), Err(QuadricError::InvalidScale { scale: 0.0 }));
     }
 
     #[test]
     fn degenerate_coefficients_are_rejected() {
-        assert!(Quadric::new([0.0; 10]).is_none());
-        assert!(Quadric::new([f64::NAN; 10]).is_none());
-        assert!(Quadric::plane(DVec3::ZERO, 1.0).is_none());
+        assert_eq!(Quadric::new([0.0; 10]), Err(QuadricError::ZeroCoefficients));
+        let mut one_nan = [1.0; 10];
+        one_nan[3] = f64::NAN;
+        assert_eq!(Quadric::new(one_nan), Err(QuadricError::NonFiniteCoefficient { index: 3 }));
+        assert_eq!(Quadric::new([f64::INFINITY; 10]), Err(QuadricError::NonFiniteCoefficient { index: 0 }));
+        assert_eq!(Quadric::plane(DVec3::ZERO, 1.0), Err(QuadricError::ZeroNormal));
+        assert_eq!(Quadric::plane(DVec3::Z, f64::NAN), Err(QuadricError::NonFiniteCoefficient { index: 9 }));
+        let mut message = alloc::string::String::new();
+        core::fmt::write(&mut message, format_args!("{}", QuadricError::NonFiniteCoefficient { index: 9 })).unwrap();
+        assert!(message.contains("coefficient 9"), "{message}");
         assert!(Quadric::plane(DVec3::Z, -0.5).unwrap().is_plane());
     }
 }

@@ -221,7 +221,7 @@ pub fn edge_crossing(quadric: &Quadric, edge: GridEdge) -> EdgeCrossing {
 }
 
 fn crossing_between(quadric: &Quadric, start: DVec3, axis: usize, f0: f64, f1: f64) -> EdgeCrossing {
-    let alpha = quadric.coefficients[axis];
+    let alpha = quadric.coefficients()[axis];
     let beta = quadric.gradient(start)[axis];
     let gamma = f0;
     let f = |t: f64| {
@@ -361,10 +361,13 @@ pub fn polygon_patches(points: &[DVec3]) -> Vec<Patch> {
     let mut patches = Vec::new();
     let mut push = |polygon: Vec<DVec3>| {
         let quadric = match polygon.as_slice() {
-            [a, b, c] => triangle_quadric(*a, *b, *c),
-            [a, b, c, d] => bilinear_quadric(*a, *b, *c, *d),
+            [a, b, c] => triangle_quadric(*a, *b, *c).ok(),
+            [a, b, c, d] => bilinear_quadric(*a, *b, *c, *d).ok(),
+            // Only triangles and quads are built below.
             _ => None,
         };
+        // A degenerate (collinear) piece has no surface to add: the remaining pieces cover
+        // the polygon.
         if let Some(quadric) = quadric {
             patches.push(Patch { polygon, quadric });
         }

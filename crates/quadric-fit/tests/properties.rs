@@ -32,7 +32,7 @@ proptest! {
     fn fitting_any_points_never_panics(points in proptest::collection::vec(point(), 0..40)) {
         match fit_quadric(&points) {
             Ok(fit) => {
-                prop_assert!(fit.quadric.coefficients.iter().all(|c| c.is_finite()));
+                prop_assert!(fit.quadric.coefficients().iter().all(|c| c.is_finite()));
                 prop_assert!(points.len() >= 3);
                 if points.len() < 9 {
                     prop_assert_eq!(fit.kind, FitKind::Plane);
@@ -54,12 +54,12 @@ proptest! {
     ) {
         let [p1, p2, p3, p4] = corners.map(|(x, y, z)| DVec3::new(x, y, z));
         let q = bilinear_quadric(p1, p2, p3, p4);
-        prop_assume!(q.is_some());
+        prop_assume!(q.is_ok());
         let q = q.unwrap();
         let x = (1.0 - u) * (1.0 - v) * p1 + u * (1.0 - v) * p2 + u * v * p3 + (1.0 - u) * v * p4;
         // Exact in real arithmetic: |Q(x)| is the `f64` rounding of its terms (and of x),
         // 64 ε of their magnitude allows ~20 roundings on either side.
-        let rounding = 64.0 * f64::EPSILON * term_magnitude(&q.coefficients, x);
+        let rounding = 64.0 * f64::EPSILON * term_magnitude(&q.coefficients(), x);
         prop_assert!(q.value(x).abs() <= rounding, "|Q| {} > rounding bound {rounding}", q.value(x).abs());
     }
 
@@ -71,7 +71,7 @@ proptest! {
         t_max in 0.1_f32..3.0,
     ) {
         let quadric = Quadric::new(coefficients);
-        prop_assume!(quadric.is_some());
+        prop_assume!(quadric.is_ok());
         let gpu = GpuQuadric::from_quadric(&quadric.unwrap().normalized());
         let origin = Vec3::new(origin.0, origin.1, origin.2);
         let direction = Vec3::new(direction.0, direction.1, direction.2);
@@ -88,7 +88,7 @@ proptest! {
         let (o, r) = (origin.as_dvec3(), direction.as_dvec3());
         let p = o + f64::from(t) * r;
         let g = exact.gradient(p).length();
-        let magnitude = term_magnitude(&exact.coefficients, o.abs() + f64::from(t) * r.abs());
+        let magnitude = term_magnitude(&exact.coefficients(), o.abs() + f64::from(t) * r.abs());
         let rounding = 32.0 * f64::from(f32::EPSILON) * magnitude;
         // A gradient within rounding of zero leaves the distance undefined.
         prop_assume!(g > 10.0 * rounding);

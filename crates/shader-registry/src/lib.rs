@@ -96,11 +96,9 @@ pub fn write_generated_files(workspace_root: &std::path::Path) -> Result<Vec<(St
         let declarations =
             module.generate_declarations().map_err(|e| format!("{}: {e}", module.declarations_path()))?;
         // The header names what the module uses of its dependencies: generate it from the
-        // declarations just written, not from the embedded (possibly stale) ones.
-        let with_fresh =
-            WgslModule { declarations: Box::leak(declarations.clone().into_boxed_str()), ..*module.module };
-        let files =
-            [(module.declarations_path(), declarations), (module.naga_oil_header_path(), naga_oil_header(&with_fresh))];
+        // declarations about to be written, not from the embedded (possibly stale) ones.
+        let header = naga_oil_header(module.module, &declarations);
+        let files = [(module.declarations_path(), declarations), (module.naga_oil_header_path(), header)];
         for (relative, text) in files {
             let path = workspace_root.join(&relative);
             let unchanged = std::fs::read_to_string(&path).is_ok_and(|old| old == text);
@@ -136,7 +134,7 @@ impl CrateModule {
 
     /// The `naga_oil` header as the sources say it should be now.
     pub fn generate_naga_oil_header(&self) -> String {
-        naga_oil_header(self.module)
+        naga_oil_header(self.module, self.module.declarations)
     }
 
     /// The module composed with its dependencies ([`WgslModule::parts`]), each part

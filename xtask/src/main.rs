@@ -18,6 +18,7 @@ mod ddm_trace;
 mod fig9;
 mod impostor_accuracy;
 mod impostor_cloud;
+mod occlusion_check;
 mod showcase;
 
 use std::path::{Path, PathBuf};
@@ -161,6 +162,13 @@ pub const COMMANDS: &[Command] = &[
         exclusive: &[("obj", "grain")],
         positional: Positional::OutDir("target/impostor-cloud"),
         run: impostor_cloud::run,
+    },
+    Command {
+        name: "occlusion-check",
+        flags: &[value("cases", "N"), value("seed", "S")],
+        exclusive: &[],
+        positional: Positional::None,
+        run: occlusion_check::run,
     },
 ];
 

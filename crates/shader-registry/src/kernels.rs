@@ -39,6 +39,7 @@ macro_rules! test_kernel {
 static KERNELS: &[TestKernel] = &[
     test_kernel!("octahedral_map_differential", &octahedral_map::WGSL, kernel_io::octahedral_map::STRUCTS),
     test_kernel!("impostor_sampling_differential", &octahedral_map::WGSL, kernel_io::octahedral_map::STRUCTS),
+    test_kernel!("occlusion_cone_differential", &occlusion_cone::WGSL, &[]),
     test_kernel!("quadric_fit_differential", &quadric_fit::WGSL, kernel_io::quadric_fit::STRUCTS),
     test_kernel!("ddm_compress_differential", &ddm_compress::WGSL, &[]),
     test_kernel!("abuffer_mask_differential", &abuffer_mask::WGSL, &[]),

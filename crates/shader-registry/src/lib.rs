@@ -50,6 +50,11 @@ static MODULES: &[CrateModule] = &[
         library_files: &["wgsl/octahedral_map.wgsl"],
     },
     CrateModule {
+        module: &occlusion_cone::WGSL,
+        crate_dir: "crates/occlusion-cone",
+        library_files: &["wgsl/occlusion_cone.wgsl"],
+    },
+    CrateModule {
         module: &quadric_fit::WGSL,
         crate_dir: "crates/quadric-fit",
         library_files: &["wgsl/quadric_fit.wgsl"],

@@ -239,10 +239,10 @@ impl Args<'_> {
     }
 }
 
-/// A positive integer.
-pub fn positive(text: &str) -> Result<u32, String> {
-    match text.parse::<u32>() {
-        Ok(n) if n > 0 => Ok(n),
+/// A positive integer (of the type the caller asks for: `u32`, `u64`, …).
+pub fn positive<T: std::str::FromStr + PartialOrd + Default>(text: &str) -> Result<T, String> {
+    match text.parse::<T>() {
+        Ok(n) if n > T::default() => Ok(n),
         _ => Err("expected a positive integer".to_owned()),
     }
 }
@@ -337,7 +337,7 @@ mod tests {
             assert!(grid_size(bad).is_err(), "{bad}");
         }
         assert_eq!(positive("3"), Ok(3));
-        assert!(positive("0").is_err() && positive("-1").is_err() && positive("x").is_err());
+        assert!(positive::<u32>("0").is_err() && positive::<u32>("-1").is_err() && positive::<u64>("x").is_err());
     }
 
     #[test]

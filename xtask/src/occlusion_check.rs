@@ -5,18 +5,10 @@
 
 use std::time::Instant;
 
-use crate::cli::Args;
+use crate::cli::{Args, positive};
 
 /// Configurations decided by default.
 pub const DEFAULT_CASES: u64 = 10_000_000;
-
-/// A positive `u64`.
-pub fn positive_u64(text: &str) -> Result<u64, String> {
-    match text.parse::<u64>() {
-        Ok(n) if n > 0 => Ok(n),
-        _ => Err("expected a positive integer".to_owned()),
-    }
-}
 
 /// Any `u64`, decimal or `0x` hexadecimal.
 pub fn seed(text: &str) -> Result<u64, String> {
@@ -28,7 +20,7 @@ pub fn seed(text: &str) -> Result<u64, String> {
 }
 
 pub fn run(args: &Args<'_>) -> Result<(), String> {
-    let cases = args.parse_value("cases", positive_u64)?.unwrap_or(DEFAULT_CASES);
+    let cases = args.parse_value("cases", positive::<u64>)?.unwrap_or(DEFAULT_CASES);
     let seed = args.parse_value("seed", seed)?.unwrap_or(0x0cc1_0de5);
     let started = Instant::now();
     let report = occlusion_cone::check_conservative(cases, seed);

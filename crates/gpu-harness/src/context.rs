@@ -50,6 +50,11 @@ impl AdapterPreference {
     }
 }
 
+/// The features [`Gpu::new`] enables whenever the adapter has them.
+pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
+    .union(wgpu::Features::SHADER_INT64)
+    .union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
+
 /// Lower is better.
 fn rank(device_type: wgpu::DeviceType) -> u8 {
     match device_type {
@@ -107,9 +112,11 @@ impl Gpu {
         Self::on_adapter(adapter, features)
     }
 
-    /// A device on `adapter` with `features` plus timestamp queries when it has them.
+    /// A device on `adapter` with `features` plus, when the adapter has them,
+    /// [`OPTIONAL_FEATURES`]: timestamp queries and 64-bit integers with atomic min/max (the
+    /// grain splitter's 64-bit occluder map).
     pub(crate) fn on_adapter(adapter: wgpu::Adapter, features: wgpu::Features) -> Result<Self, HarnessError> {
-        let optional = wgpu::Features::TIMESTAMP_QUERY & adapter.features();
+        let optional = OPTIONAL_FEATURES & adapter.features();
         let descriptor = wgpu::DeviceDescriptor {
             label: Some("gpu-harness"),
             required_features: features | optional,

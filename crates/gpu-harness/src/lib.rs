@@ -52,7 +52,7 @@ mod timing;
 
 pub use bound::UploadedStorage;
 pub use compute::WORKGROUP_SIZE;
-pub use context::{ADAPTER_ENV, AdapterPreference, Gpu, error_scoped};
+pub use context::{ADAPTER_ENV, AdapterPreference, Gpu, OPTIONAL_FEATURES, error_scoped};
 pub use error::HarnessError;
 pub use render::RENDER_FORMAT;
 pub use timing::{GpuTiming, TimingSource};

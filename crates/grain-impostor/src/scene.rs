@@ -101,7 +101,8 @@ impl CameraUniforms {
 
 /// Right-handed world → view transform of a camera at `eye` looking along `forward`
 /// (the view looks down its `-z` axis). The glam build used here lacks the camera helpers.
-fn look_to_rh(eye: Vec3, forward: Vec3, up: Vec3) -> Mat4 {
+/// Public so that other passes (the grain splitter) build bit-identical matrices.
+pub fn look_to_rh(eye: Vec3, forward: Vec3, up: Vec3) -> Mat4 {
     let f = forward.normalize();
     let s = f.cross(up).normalize();
     let u = s.cross(f);
@@ -113,8 +114,9 @@ fn look_to_rh(eye: Vec3, forward: Vec3, up: Vec3) -> Mat4 {
     )
 }
 
-/// Right-handed perspective projection with clip depth in `[0, 1]` (wgpu).
-fn perspective_rh(fov_y_radians: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
+/// Right-handed perspective projection with clip depth in `[0, 1]` (wgpu), vertical field
+/// of view `fov_y_radians`, `aspect` = width / height.
+pub fn perspective_rh(fov_y_radians: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
     let h = 1.0 / (0.5 * fov_y_radians).tan();
     let w = h / aspect;
     let r = far / (near - far);
@@ -128,7 +130,7 @@ fn perspective_rh(fov_y_radians: f32, aspect: f32, near: f32, far: f32) -> Mat4 
 
 /// Right-handed orthographic projection of the square `[-extent, extent]²` with clip depth in
 /// `[0, 1]` between `near` and `far`.
-fn orthographic_rh(extent: f32, near: f32, far: f32) -> Mat4 {
+pub fn orthographic_rh(extent: f32, near: f32, far: f32) -> Mat4 {
     let r = 1.0 / (near - far);
     Mat4::from_cols(
         Vec4::new(1.0 / extent, 0.0, 0.0, 0.0),

@@ -1,0 +1,456 @@
+//! The GPU splitter: pipelines and buffers built once, one frame encoded per call.
+
+use crate::camera::SplitCamera;
+use crate::error::SplitError;
+use crate::lists::{COUNTER_WORDS, INDIRECT_WORDS, LIST_COUNT, MAX_GROUPS_PER_DIMENSION, SPLIT_WORKGROUP};
+use crate::settings::{SplitParams, SplitSettings};
+use crate::shaders::{int64_capabilities, occluder_map_32_shader, occluder_map_64_shader, split_shader};
+
+/// How the occluder map is built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OccluderMapKind {
+    /// The 64-bit map where the device has `SHADER_INT64_ATOMIC_MIN_MAX`, else the 32-bit one.
+    Auto,
+    /// One 64-bit `atomicMax` per pixel of `(~depth << 32) | ~index` (one pass).
+    Atomic64,
+    /// Two passes of 32-bit atomics (depth, then the index of the grains at that depth).
+    TwoPass32,
+}
+
+/// The order of the elements within a list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ListOrder {
+    /// One atomic cursor per list (`GrainViewer`'s global atomic splitting): the order within a
+    /// list changes from run to run.
+    Atomic,
+    /// Ascending grain index (block prefix sums and a workgroup scan): deterministic, one
+    /// more dispatch.
+    Stable,
+}
+
+/// What a splitter is built for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SplitterOptions {
+    /// The most grains a frame may hold.
+    pub capacity: u32,
+    /// The occluder map's size in pixels (the cameras' viewport).
+    pub size: (u32, u32),
+    /// How the occluder map is built.
+    pub occluder_map: OccluderMapKind,
+    /// The order within the lists.
+    pub order: ListOrder,
+}
+
+/// Timestamp queries for a frame: four slots from `first` (occluder map begin and end,
+/// splitter begin and end).
+#[derive(Clone, Copy, Debug)]
+pub struct SplitTimestamps<'a> {
+    /// The query set (of type `Timestamp`).
+    pub query_set: &'a wgpu::QuerySet,
+    /// The first of the four slots.
+    pub first: u32,
+}
+
+struct MapResources {
+    kind: OccluderMapKind,
+    /// 64-bit: the map; 32-bit: the depth map.
+    words: wgpu::Buffer,
+    /// 32-bit only: the index map and the per-grain squares.
+    ids_and_splats: Option<(wgpu::Buffer, wgpu::Buffer)>,
+    pipelines: Vec<wgpu::ComputePipeline>,
+    layout: wgpu::BindGroupLayout,
+}
+
+/// The occluder map and the splitter of one grain type, for up to `capacity` grains seen at
+/// one viewport size. Build it once; [`GrainSplitter::encode`] records a frame.
+pub struct GrainSplitter {
+    settings: SplitSettings,
+    options: SplitterOptions,
+    camera: wgpu::Buffer,
+    params: wgpu::Buffer,
+    map: MapResources,
+    state: wgpu::Buffer,
+    counters: wgpu::Buffer,
+    block_counts: wgpu::Buffer,
+    elements: wgpu::Buffer,
+    indirect: wgpu::Buffer,
+    split_layout: wgpu::BindGroupLayout,
+    count: wgpu::ComputePipeline,
+    scan: wgpu::ComputePipeline,
+    offsets: wgpu::ComputePipeline,
+    write: wgpu::ComputePipeline,
+}
+
+/// The bind groups of one grain buffer (make them once per buffer with
+/// [`GrainSplitter::bind`]).
+pub struct SplitBindings {
+    map: wgpu::BindGroup,
+    split: wgpu::BindGroup,
+}
+
+fn whole(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
+}
+
+fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    }
+}
+
+const UNIFORM: wgpu::BufferBindingType = wgpu::BufferBindingType::Uniform;
+const READ: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: true };
+const WRITE: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: false };
+
+impl GrainSplitter {
+    /// Validates the settings, the options against the device's limits and features, and
+    /// the shaders with naga; builds the pipelines and the buffers.
+    pub fn new(device: &wgpu::Device, settings: SplitSettings, options: SplitterOptions) -> Result<Self, SplitError> {
+        settings.validate()?;
+        let (width, height) = options.size;
+        // The camera checks the viewport like this.
+        SplitCamera::perspective(glam::Vec3::Z, glam::Vec3::ZERO, glam::Vec3::Y, 1.0, options.size, (0.1, 1.0))?;
+        if options.capacity == 0 || options.capacity == u32::MAX {
+            return Err(SplitError::InvalidSetting {
+                field: "capacity",
+                reason: format!("{}: must be in 1..{}", options.capacity, u32::MAX),
+            });
+        }
+        let features = device.features();
+        let has_64 = features.contains(wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
+        let kind = match options.occluder_map {
+            OccluderMapKind::Auto if has_64 => OccluderMapKind::Atomic64,
+            OccluderMapKind::Auto => OccluderMapKind::TwoPass32,
+            OccluderMapKind::Atomic64 if !has_64 => {
+                return Err(SplitError::MissingFeature("SHADER_INT64_ATOMIC_MIN_MAX (the 64-bit occluder map)"));
+            }
+            other => other,
+        };
+        let limits = device.limits();
+        let blocks = options.capacity.div_ceil(SPLIT_WORKGROUP);
+        let groups_limit = limits.max_compute_workgroups_per_dimension.min(MAX_GROUPS_PER_DIMENSION);
+        if u64::from(blocks) > u64::from(groups_limit) * u64::from(groups_limit) {
+            return Err(SplitError::TooLarge {
+                what: "grain capacity in workgroups",
+                requested: u64::from(blocks),
+                limit: u64::from(groups_limit) * u64::from(groups_limit),
+            });
+        }
+        let pixels = u64::from(width) * u64::from(height);
+        let capacity = u64::from(options.capacity);
+        let storage_limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        let sized = |what: &'static str, bytes: u64| {
+            if bytes > storage_limit {
+                Err(SplitError::TooLarge { what, requested: bytes, limit: storage_limit })
+            } else {
+                Ok(bytes.max(16))
+            }
+        };
+        let map_bytes = sized("occluder map bytes", pixels * if kind == OccluderMapKind::Atomic64 { 8 } else { 4 })?;
+        let grain_bytes = sized("grain buffer bytes", capacity * 16)?;
+        let word_bytes = sized("per-grain word bytes", capacity * 4)?;
+        let block_bytes = sized("block count bytes", u64::from(blocks) * 16)?;
+        let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
+        let buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
+            device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage, mapped_at_creation: false })
+        };
+        let uniform_usage = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
+
+        let module = |shader: wgsl_gen::ComposedShader, capabilities| {
+            shader.validate_with(capabilities).map_err(|e| SplitError::InvalidShader(e.to_string()))?;
+            Ok::<_, SplitError>(device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(shader.name()),
+                source: wgpu::ShaderSource::Wgsl(shader.source().to_owned().into()),
+            }))
+        };
+        let pipelines = |module: &wgpu::ShaderModule, layout: &wgpu::BindGroupLayout, entries: &[&str]| {
+            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("grain splitter"),
+                bind_group_layouts: &[Some(layout)],
+                immediate_size: 0,
+            });
+            entries
+                .iter()
+                .map(|entry| {
+                    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                        label: Some(entry),
+                        layout: Some(&pipeline_layout),
+                        module,
+                        entry_point: Some(entry),
+                        compilation_options: Default::default(),
+                        cache: None,
+                    })
+                })
+                .collect::<Vec<_>>()
+        };
+        let shared = [entry(0, UNIFORM), entry(1, UNIFORM), entry(2, READ)];
+
+        let map = if kind == OccluderMapKind::Atomic64 {
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("occluder map 64"),
+                entries: &[shared[0], shared[1], shared[2], entry(3, WRITE)],
+            });
+            let module = module(occluder_map_64_shader(), int64_capabilities())?;
+            MapResources {
+                kind,
+                words: buffer("occluder map (64-bit)", map_bytes, usage),
+                ids_and_splats: None,
+                pipelines: pipelines(&module, &layout, &["occluder_splat_64"]),
+                layout,
+            }
+        } else {
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("occluder map 32"),
+                entries: &[shared[0], shared[1], shared[2], entry(3, WRITE), entry(4, WRITE), entry(5, WRITE)],
+            });
+            let module = module(occluder_map_32_shader(), naga::valid::Capabilities::default())?;
+            MapResources {
+                kind,
+                words: buffer("occluder map depths (32-bit)", map_bytes, usage),
+                ids_and_splats: Some((
+                    buffer("occluder map ids (32-bit)", map_bytes, usage),
+                    buffer("occluder map squares", grain_bytes, usage),
+                )),
+                pipelines: pipelines(&module, &layout, &["occluder_depth_32", "occluder_id_32"]),
+                layout,
+            }
+        };
+
+        let split_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grain splitter"),
+            entries: &[
+                shared[0],
+                shared[1],
+                shared[2],
+                entry(3, READ),
+                entry(4, WRITE),
+                entry(5, WRITE),
+                entry(6, WRITE),
+                entry(7, WRITE),
+                entry(8, WRITE),
+            ],
+        });
+        let split_module = module(split_shader(), naga::valid::Capabilities::default())?;
+        let write_entry = match options.order {
+            ListOrder::Atomic => "split_write_atomic",
+            ListOrder::Stable => "split_write_stable",
+        };
+        let mut split =
+            pipelines(&split_module, &split_layout, &["split_count", "split_scan", "split_offsets", write_entry])
+                .into_iter();
+        let mut next = || split.next().expect("four entry points were requested");
+        let (count, scan, offsets, write) = (next(), next(), next(), next());
+        Ok(Self {
+            settings,
+            options: SplitterOptions { occluder_map: kind, ..options },
+            camera: buffer("splitter camera", size_of::<SplitCamera>() as u64, uniform_usage),
+            params: buffer("splitter params", size_of::<SplitParams>() as u64, uniform_usage),
+            map,
+            state: buffer("grain states", word_bytes, usage),
+            counters: buffer("split counters", u64::from(COUNTER_WORDS) * 4, usage),
+            block_counts: buffer("split block counts", block_bytes, usage),
+            elements: buffer("split elements", word_bytes, usage),
+            indirect: buffer(
+                "split indirect arguments",
+                u64::from(LIST_COUNT * INDIRECT_WORDS) * 4,
+                usage | wgpu::BufferUsages::INDIRECT,
+            ),
+            split_layout,
+            count,
+            scan,
+            offsets,
+            write,
+        })
+    }
+
+    /// The bind groups for a grain buffer of `(centre, scale)` `vec4<f32>`s (usage
+    /// `STORAGE`, at least 16 bytes).
+    pub fn bind(&self, device: &wgpu::Device, grains: &wgpu::Buffer) -> Result<SplitBindings, SplitError> {
+        if !grains.usage().contains(wgpu::BufferUsages::STORAGE) || grains.size() < 16 {
+            return Err(SplitError::InvalidBuffer(format!(
+                "the grain buffer ({} bytes, {:?}) needs STORAGE usage and at least one grain",
+                grains.size(),
+                grains.usage()
+            )));
+        }
+        let shared = [whole(0, &self.camera), whole(1, &self.params), whole(2, grains)];
+        let map = match &self.map.ids_and_splats {
+            None => device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("occluder map 64"),
+                layout: &self.map.layout,
+                entries: &[shared[0].clone(), shared[1].clone(), shared[2].clone(), whole(3, &self.map.words)],
+            }),
+            Some((ids, splats)) => device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("occluder map 32"),
+                layout: &self.map.layout,
+                entries: &[
+                    shared[0].clone(),
+                    shared[1].clone(),
+                    shared[2].clone(),
+                    whole(3, &self.map.words),
+                    whole(4, ids),
+                    whole(5, splats),
+                ],
+            }),
+        };
+        let split = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("grain splitter"),
+            layout: &self.split_layout,
+            entries: &[
+                shared[0].clone(),
+                shared[1].clone(),
+                shared[2].clone(),
+                whole(3, self.occluder_words().0),
+                whole(4, &self.state),
+                whole(5, &self.counters),
+                whole(6, &self.block_counts),
+                whole(7, &self.elements),
+                whole(8, &self.indirect),
+            ],
+        });
+        Ok(SplitBindings { map, split })
+    }
+
+    /// Records one frame: the camera and settings are written through `queue` (so encode one
+    /// frame per submission), then the occluder map, the decisions, the counts, the offsets
+    /// and indirect arguments, and the element lists. Nothing is read back.
+    /// `grain_count` must not exceed the capacity, nor the bound buffer's length.
+    pub fn encode(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        bindings: &SplitBindings,
+        camera: &SplitCamera,
+        grain_count: u32,
+        timestamps: Option<SplitTimestamps<'_>>,
+    ) -> Result<(), SplitError> {
+        if camera.size() != self.options.size {
+            return Err(SplitError::InvalidCamera {
+                field: "size",
+                reason: format!("{:?} differs from the splitter's {:?}", camera.size(), self.options.size),
+            });
+        }
+        if grain_count > self.options.capacity {
+            return Err(SplitError::TooLarge {
+                what: "grain count",
+                requested: u64::from(grain_count),
+                limit: u64::from(self.options.capacity),
+            });
+        }
+        let blocks = grain_count.div_ceil(SPLIT_WORKGROUP);
+        let x = blocks.clamp(1, MAX_GROUPS_PER_DIMENSION);
+        let y = blocks.div_ceil(x).max(1);
+        let stride = if self.map.kind == OccluderMapKind::Atomic64 { 2 } else { 1 };
+        queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(camera));
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&self.settings.params(grain_count, stride, blocks)));
+        encoder.clear_buffer(&self.map.words, 0, None);
+        if let Some((ids, _)) = &self.map.ids_and_splats {
+            encoder.clear_buffer(ids, 0, None);
+        }
+        encoder.clear_buffer(&self.counters, 0, None);
+        let writes = |begin: u32| {
+            timestamps.map(|t| wgpu::ComputePassTimestampWrites {
+                query_set: t.query_set,
+                beginning_of_pass_write_index: Some(t.first + begin),
+                end_of_pass_write_index: Some(t.first + begin + 1),
+            })
+        };
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("occluder map"),
+                timestamp_writes: writes(0),
+            });
+            pass.set_bind_group(0, &bindings.map, &[]);
+            for pipeline in &self.map.pipelines {
+                pass.set_pipeline(pipeline);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+        }
+        let mut pass = encoder
+            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("split"), timestamp_writes: writes(2) });
+        pass.set_bind_group(0, &bindings.split, &[]);
+        pass.set_pipeline(&self.count);
+        pass.dispatch_workgroups(x, y, 1);
+        if self.options.order == ListOrder::Stable {
+            pass.set_pipeline(&self.scan);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
+        pass.set_pipeline(&self.offsets);
+        pass.dispatch_workgroups(1, 1, 1);
+        pass.set_pipeline(&self.write);
+        pass.dispatch_workgroups(x, y, 1);
+        Ok(())
+    }
+
+    /// Forgets every grain's tier history (the next frame uses the plain thresholds).
+    pub fn reset_history(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.clear_buffer(&self.state, 0, None);
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &SplitSettings {
+        &self.settings
+    }
+
+    /// The options, with the occluder map kind resolved (never `Auto`).
+    pub fn options(&self) -> &SplitterOptions {
+        &self.options
+    }
+
+    /// The element lists (`u32` grain indices, list `l` at `counters.offset[l]`).
+    pub fn elements(&self) -> &wgpu::Buffer {
+        &self.elements
+    }
+
+    /// The counters ([`crate::SplitCounters`]).
+    pub fn counters(&self) -> &wgpu::Buffer {
+        &self.counters
+    }
+
+    /// The indirect arguments ([`crate::ListIndirect`] per list; usage `INDIRECT`).
+    pub fn indirect(&self) -> &wgpu::Buffer {
+        &self.indirect
+    }
+
+    /// Byte offset of list `list`'s arguments in [`GrainSplitter::indirect`].
+    pub fn indirect_offset(list: u32) -> u64 {
+        u64::from(list * INDIRECT_WORDS) * 4
+    }
+
+    /// The per-grain state words (tier code, model).
+    pub fn state(&self) -> &wgpu::Buffer {
+        &self.state
+    }
+
+    /// The occluder map's words and their stride per pixel: `~index` of the pixel's grain, 0
+    /// for none (64-bit map: the low word of each pixel, stride 2).
+    pub fn occluder_words(&self) -> (&wgpu::Buffer, u32) {
+        match &self.map.ids_and_splats {
+            None => (&self.map.words, 2),
+            Some((ids, _)) => (ids, 1),
+        }
+    }
+
+    /// Every buffer the splitter owns, named, with its usage. None can be mapped: a frame
+    /// never waits on the CPU.
+    pub fn buffers(&self) -> Vec<(&'static str, &wgpu::Buffer)> {
+        let mut buffers = vec![
+            ("camera", &self.camera),
+            ("params", &self.params),
+            ("occluder map", &self.map.words),
+            ("state", &self.state),
+            ("counters", &self.counters),
+            ("block counts", &self.block_counts),
+            ("elements", &self.elements),
+            ("indirect", &self.indirect),
+        ];
+        if let Some((ids, splats)) = &self.map.ids_and_splats {
+            buffers.push(("occluder ids", ids));
+            buffers.push(("occluder squares", splats));
+        }
+        buffers
+    }
+}

@@ -57,6 +57,9 @@ pub enum Positional {
     /// Every word after the command, passed on unread (`bench`'s criterion arguments),
     /// shown as this placeholder.
     PassThrough(&'static str),
+    /// A subject from a list, then an optional output folder (its default:
+    /// `target/<command>/<subject>`): `bench-gpu culling [OUT_DIR]`.
+    SubjectThenOutDir(&'static [&'static str]),
 }
 
 /// A command: its name, its arguments and what runs it.
@@ -86,6 +89,10 @@ impl Command {
             Positional::None => {}
             Positional::OutDir(_) => words.push("[OUT_DIR]".to_owned()),
             Positional::PassThrough(placeholder) => words.push(format!("[{placeholder}]")),
+            Positional::SubjectThenOutDir(subjects) => {
+                words.push(subjects.join("|"));
+                words.push("[OUT_DIR]".to_owned());
+            }
         }
         let shown = |flag: &Flag| match flag.takes {
             Takes::Nothing => format!("--{}", flag.name),
@@ -114,7 +121,7 @@ impl Command {
 
     /// Parses the words after the command's name.
     pub fn parse(&self, words: &[String]) -> Result<Parsed<'_>, String> {
-        let mut args = Args { command: self, out_dir: None, values: Vec::new(), rest: Vec::new() };
+        let mut args = Args { command: self, subject: None, out_dir: None, values: Vec::new(), rest: Vec::new() };
         // A leading `--` only separates the arguments from the command (`cargo xtask
         // bench -- ARGS`); a later one ends the flags.
         let words = words.strip_prefix(&["--".to_owned()]).unwrap_or(words);
@@ -136,8 +143,18 @@ impl Command {
                 Some(Arg::Value(word)) => {
                     let word = word.to_string_lossy().into_owned();
                     match (self.positional, &args.out_dir) {
-                        (Positional::OutDir(_), None) => args.out_dir = Some(PathBuf::from(word)),
-                        (Positional::OutDir(_), Some(first)) => {
+                        (Positional::SubjectThenOutDir(subjects), _) if args.subject.is_none() => {
+                            if !subjects.contains(&word.as_str()) {
+                                return Err(
+                                    self.error(format!("unknown subject `{word}` (known: {})", subjects.join(", ")))
+                                );
+                            }
+                            args.subject = Some(word);
+                        }
+                        (Positional::OutDir(_) | Positional::SubjectThenOutDir(_), None) => {
+                            args.out_dir = Some(PathBuf::from(word));
+                        }
+                        (Positional::OutDir(_) | Positional::SubjectThenOutDir(_), Some(first)) => {
                             return Err(self.error(format!(
                                 "unexpected argument `{word}`: OUT_DIR is already `{}`",
                                 first.display()
@@ -176,6 +193,9 @@ impl Command {
             }
             args.values.push((flag.name, given));
         }
+        if let (Positional::SubjectThenOutDir(subjects), None) = (self.positional, &args.subject) {
+            return Err(self.error(format!("needs a subject: {}", subjects.join(", "))));
+        }
         for &(first, second) in self.exclusive {
             if args.flag(first) && args.flag(second) {
                 return Err(self.error(format!("--{first} and --{second} exclude each other")));
@@ -196,6 +216,7 @@ pub enum Parsed<'c> {
 /// A command's parsed arguments.
 pub struct Args<'c> {
     command: &'c Command,
+    subject: Option<String>,
     out_dir: Option<PathBuf>,
     /// `(flag, value)` in the order given (the value empty for a switch).
     values: Vec<(&'static str, String)>,
@@ -229,8 +250,16 @@ impl Args<'_> {
         match (&self.out_dir, self.command.positional) {
             (Some(dir), _) => dir.clone(),
             (None, Positional::OutDir(default)) => crate::workspace_root().join(default),
+            (None, Positional::SubjectThenOutDir(_)) => {
+                crate::workspace_root().join("target").join(self.command.name).join(self.subject())
+            }
             (None, _) => crate::workspace_root(),
         }
+    }
+
+    /// The subject of a [`Positional::SubjectThenOutDir`] command (empty for others).
+    pub fn subject(&self) -> &str {
+        self.subject.as_deref().unwrap_or("")
     }
 
     /// The words passed through unread (a [`Positional::PassThrough`] command).

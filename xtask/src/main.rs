@@ -9,8 +9,10 @@
 //! charts and print.
 
 mod abuffer_chart;
+mod bench_gpu;
 mod chart;
 mod cli;
+mod culling_chart;
 mod ddm_compression;
 mod ddm_render;
 mod ddm_steps;
@@ -100,6 +102,13 @@ pub const COMMANDS: &[Command] = &[
         positional: Positional::PassThrough("CRITERION ARGS"),
         run: bench,
     },
+    Command {
+        name: "bench-gpu",
+        flags: &[value("sizes", "LIST"), value("frames", "N")],
+        exclusive: &[],
+        positional: Positional::SubjectThenOutDir(&["culling"]),
+        run: bench_gpu::run,
+    },
     Command { name: "codegen", flags: &[], exclusive: &[], positional: Positional::None, run: |_| codegen() },
     Command {
         name: "showcase",
@@ -170,6 +179,13 @@ pub const COMMANDS: &[Command] = &[
         exclusive: &[],
         positional: Positional::None,
         run: occlusion_check::run,
+    },
+    Command {
+        name: "culling-chart",
+        flags: &[value("grains", "COUNT"), QUICK],
+        exclusive: &[],
+        positional: Positional::OutDir("target/culling"),
+        run: culling_chart::run,
     },
 ];
 
@@ -357,11 +373,24 @@ mod tests {
                 Positional::OutDir(_) => command.parse(&words("a b")).err(),
                 Positional::None => command.parse(&words("a")).err(),
                 Positional::PassThrough(_) => continue,
+                Positional::SubjectThenOutDir(subjects) => command.parse(&words(&format!("{} a b", subjects[0]))).err(),
             };
             let error = error.unwrap_or_else(|| panic!("{} took it", command.name));
             assert!(error.contains("unexpected argument"), "{error}");
             assert!(error.ends_with(&command.usage()), "{error}");
         }
+    }
+
+    #[test]
+    fn a_subject_is_required_known_and_names_the_default_folder() {
+        let error = parse("bench-gpu", "").err().unwrap();
+        assert!(error.contains("needs a subject: culling"), "{error}");
+        let error = parse("bench-gpu", "sorting").err().unwrap();
+        assert!(error.contains("unknown subject `sorting` (known: culling)"), "{error}");
+        let args = parse("bench-gpu", "culling --frames 50").unwrap();
+        assert_eq!(args.subject(), "culling");
+        assert!(args.out_dir().ends_with("target/bench-gpu/culling"));
+        assert_eq!(parse("bench-gpu", "culling out").unwrap().out_dir(), PathBuf::from("out"));
     }
 
     #[test]

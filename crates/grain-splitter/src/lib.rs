@@ -60,6 +60,7 @@
 //!
 //! # Modules
 //!
+//! - [`bench`]: GPU timing of the passes (`cargo xtask bench-gpu culling`).
 //! - [`camera`]: [`SplitCamera`] and the projections of a centre.
 //! - [`tiers`]: [`Tier`], [`TierThresholds`] (measured mesh threshold, hysteresis).
 //! - [`settings`]: [`SplitSettings`] and the shaders' uniform block.
@@ -67,8 +68,11 @@
 //! - [`reference`]: the CPU reference.
 //! - [`shaders`]: the generated declarations and the composed shaders.
 //! - [`splitter`]: [`GrainSplitter`], the GPU passes.
+//! - [`sweep`]: the culling experiments of Fig. 15 (ratio `r/R`, splat factor) on the CPU
+//!   reference.
 //! - [`error`]: the error type, [`SplitError`].
 
+pub mod bench;
 pub mod camera;
 pub mod error;
 pub mod lists;
@@ -76,6 +80,7 @@ pub mod reference;
 pub mod settings;
 pub mod shaders;
 pub mod splitter;
+pub mod sweep;
 pub mod tiers;
 
 pub use camera::{Projected, SplitCamera};

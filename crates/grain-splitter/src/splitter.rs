@@ -41,8 +41,8 @@ pub struct SplitterOptions {
     pub order: ListOrder,
 }
 
-/// Timestamp queries for a frame: four slots from `first` (occluder map begin and end,
-/// splitter begin and end).
+/// Timestamp queries: [`GrainSplitter::encode`] writes four slots from `first` (occluder map
+/// begin and end, splitter begin and end); each of its two halves writes two.
 #[derive(Clone, Copy, Debug)]
 pub struct SplitTimestamps<'a> {
     /// The query set (of type `Timestamp`).
@@ -92,6 +92,14 @@ fn whole(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
 }
 
+fn writes(timestamps: Option<SplitTimestamps<'_>>) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    timestamps.map(|t| wgpu::ComputePassTimestampWrites {
+        query_set: t.query_set,
+        beginning_of_pass_write_index: Some(t.first),
+        end_of_pass_write_index: Some(t.first + 1),
+    })
+}
+
 fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
@@ -119,8 +127,7 @@ impl GrainSplitter {
                 reason: format!("{}: must be in 1..{}", options.capacity, u32::MAX),
             });
         }
-        let features = device.features();
-        let has_64 = features.contains(wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
+        let has_64 = Self::supports_atomic64(device);
         let kind = match options.occluder_map {
             OccluderMapKind::Auto if has_64 => OccluderMapKind::Atomic64,
             OccluderMapKind::Auto => OccluderMapKind::TwoPass32,
@@ -266,6 +273,36 @@ impl GrainSplitter {
         })
     }
 
+    /// Whether `device` can build the 64-bit occluder map ([`OccluderMapKind::Atomic64`]).
+    pub fn supports_atomic64(device: &wgpu::Device) -> bool {
+        device.features().contains(wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX)
+    }
+
+    /// Uploads `(centre, scale)` grains into a new storage buffer (usage `STORAGE |
+    /// COPY_DST`, so that a frame loop rewrites it with `queue.write_buffer`); an error when
+    /// it exceeds the device's storage-binding limit.
+    pub fn upload_grains(device: &wgpu::Device, grains: &[glam::Vec4]) -> Result<wgpu::Buffer, SplitError> {
+        use wgpu::util::DeviceExt;
+        let bytes = size_of_val(grains) as u64;
+        let limits = device.limits();
+        let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        if bytes > limit {
+            return Err(SplitError::TooLarge {
+                what: "grain buffer bytes (max_storage_buffer_binding_size)",
+                requested: bytes,
+                limit,
+            });
+        }
+        if grains.is_empty() {
+            return Err(SplitError::InvalidBuffer("no grains to upload".into()));
+        }
+        Ok(device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("grains (centre, scale)"),
+            contents: bytemuck::cast_slice(grains),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        }))
+    }
+
     /// The bind groups for a grain buffer of `(centre, scale)` `vec4<f32>`s (usage
     /// `STORAGE`, at least 16 bytes).
     pub fn bind(&self, device: &wgpu::Device, grains: &wgpu::Buffer) -> Result<SplitBindings, SplitError> {
@@ -314,11 +351,31 @@ impl GrainSplitter {
         Ok(SplitBindings { map, split })
     }
 
-    /// Records one frame: the camera and settings are written through `queue` (so encode one
-    /// frame per submission), then the occluder map, the decisions, the counts, the offsets
-    /// and indirect arguments, and the element lists. Nothing is read back.
-    /// `grain_count` must not exceed the capacity, nor the bound buffer's length.
+    /// Records one frame: [`GrainSplitter::encode_occluder_map`], then
+    /// [`GrainSplitter::encode_split`]. The camera and settings are written through `queue`
+    /// (so encode one frame per submission). Nothing is read back. `grain_count` must not
+    /// exceed the capacity, nor the bound buffer's length.
     pub fn encode(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        bindings: &SplitBindings,
+        camera: &SplitCamera,
+        grain_count: u32,
+        timestamps: Option<SplitTimestamps<'_>>,
+    ) -> Result<(), SplitError> {
+        self.encode_occluder_map(queue, encoder, bindings, camera, grain_count, timestamps)?;
+        self.encode_split(
+            encoder,
+            bindings,
+            grain_count,
+            timestamps.map(|t| SplitTimestamps { first: t.first + 2, ..t }),
+        )
+    }
+
+    /// Writes the camera and settings through `queue` and records the occluder map (one
+    /// compute pass; timestamps, when given, at slots `first` and `first + 1`).
+    pub fn encode_occluder_map(
         &self,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
@@ -333,16 +390,7 @@ impl GrainSplitter {
                 reason: format!("{:?} differs from the splitter's {:?}", camera.size(), self.options.size),
             });
         }
-        if grain_count > self.options.capacity {
-            return Err(SplitError::TooLarge {
-                what: "grain count",
-                requested: u64::from(grain_count),
-                limit: u64::from(self.options.capacity),
-            });
-        }
-        let blocks = grain_count.div_ceil(SPLIT_WORKGROUP);
-        let x = blocks.clamp(1, MAX_GROUPS_PER_DIMENSION);
-        let y = blocks.div_ceil(x).max(1);
+        let (x, y, blocks) = self.grid(grain_count)?;
         let stride = if self.map.kind == OccluderMapKind::Atomic64 { 2 } else { 1 };
         queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(camera));
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&self.settings.params(grain_count, stride, blocks)));
@@ -350,27 +398,34 @@ impl GrainSplitter {
         if let Some((ids, _)) = &self.map.ids_and_splats {
             encoder.clear_buffer(ids, 0, None);
         }
-        encoder.clear_buffer(&self.counters, 0, None);
-        let writes = |begin: u32| {
-            timestamps.map(|t| wgpu::ComputePassTimestampWrites {
-                query_set: t.query_set,
-                beginning_of_pass_write_index: Some(t.first + begin),
-                end_of_pass_write_index: Some(t.first + begin + 1),
-            })
-        };
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("occluder map"),
-                timestamp_writes: writes(0),
-            });
-            pass.set_bind_group(0, &bindings.map, &[]);
-            for pipeline in &self.map.pipelines {
-                pass.set_pipeline(pipeline);
-                pass.dispatch_workgroups(x, y, 1);
-            }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("occluder map"),
+            timestamp_writes: writes(timestamps),
+        });
+        pass.set_bind_group(0, &bindings.map, &[]);
+        for pipeline in &self.map.pipelines {
+            pass.set_pipeline(pipeline);
+            pass.dispatch_workgroups(x, y, 1);
         }
-        let mut pass = encoder
-            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("split"), timestamp_writes: writes(2) });
+        Ok(())
+    }
+
+    /// Records the splitter's passes (one compute pass; timestamps at `first` and
+    /// `first + 1`), reading the occluder map, camera and settings of the last
+    /// [`GrainSplitter::encode_occluder_map`] with the same `grain_count`.
+    pub fn encode_split(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        bindings: &SplitBindings,
+        grain_count: u32,
+        timestamps: Option<SplitTimestamps<'_>>,
+    ) -> Result<(), SplitError> {
+        let (x, y, _) = self.grid(grain_count)?;
+        encoder.clear_buffer(&self.counters, 0, None);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("split"),
+            timestamp_writes: writes(timestamps),
+        });
         pass.set_bind_group(0, &bindings.split, &[]);
         pass.set_pipeline(&self.count);
         pass.dispatch_workgroups(x, y, 1);
@@ -383,6 +438,20 @@ impl GrainSplitter {
         pass.set_pipeline(&self.write);
         pass.dispatch_workgroups(x, y, 1);
         Ok(())
+    }
+
+    /// The `(x, y)` workgroup grid and the block count of `grain_count` grains.
+    fn grid(&self, grain_count: u32) -> Result<(u32, u32, u32), SplitError> {
+        if grain_count > self.options.capacity {
+            return Err(SplitError::TooLarge {
+                what: "grain count",
+                requested: u64::from(grain_count),
+                limit: u64::from(self.options.capacity),
+            });
+        }
+        let blocks = grain_count.div_ceil(SPLIT_WORKGROUP);
+        let x = blocks.clamp(1, MAX_GROUPS_PER_DIMENSION);
+        Ok((x, blocks.div_ceil(x).max(1), blocks))
     }
 
     /// Forgets every grain's tier history (the next frame uses the plain thresholds).

@@ -35,11 +35,12 @@ pub fn pile(grains: usize) -> Result<Stacking, String> {
 
 fn write_csv(path: &Path, rows: &[(&str, f32, CullingPoint)]) -> Result<(), String> {
     let mut csv = String::from(
-        "shot,fov_y_degrees,ratio,splat_factor,grains,in_frustum,cone_culled,rendered_fraction,map_filled_fraction\n",
+        "shot,fov_y_degrees,ratio,splat_factor,grains,in_frustum,cone_culled,rendered_fraction,map_filled_fraction,\
+         fusion_extra,rendered_fraction_with_fusion,fusion_rays_checked,fusion_violations\n",
     );
     for (shot, fov, p) in rows {
         csv += &format!(
-            "{shot},{:.1},{:.3},{:.3},{},{},{},{:.6},{:.6}\n",
+            "{shot},{:.1},{:.3},{:.3},{},{},{},{:.6},{:.6},{},{:.6},{},{}\n",
             fov.to_degrees(),
             p.ratio,
             p.splat_factor,
@@ -47,13 +48,18 @@ fn write_csv(path: &Path, rows: &[(&str, f32, CullingPoint)]) -> Result<(), Stri
             p.in_frustum,
             p.cone_culled,
             p.rendered_fraction(),
-            f64::from(p.map_filled) / f64::from(p.map_pixels)
+            f64::from(p.map_filled) / f64::from(p.map_pixels),
+            p.fusion_extra,
+            p.rendered_fraction_with_fusion(),
+            p.fusion_rays,
+            p.fusion_violations
         );
     }
     std::fs::write(path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
-type Series = (String, RGBColor, Vec<(f64, f64)>);
+/// Label, colour, dashed, points.
+type Series = (String, RGBColor, bool, Vec<(f64, f64)>);
 
 fn draw(path: &Path, caption: &str, x_desc: &str, x_range: (f64, f64), series: &[Series]) -> Result<(), String> {
     render_png(path, (1200, 800), |root| {
@@ -73,12 +79,13 @@ fn draw(path: &Path, caption: &str, x_desc: &str, x_range: (f64, f64), series: &
             .label_style(("sans-serif", 18))
             .draw()
             .map_err(e)?;
-        for (label, colour, points) in series {
+        for (label, colour, dashed, points) in series {
+            let width = if *dashed { 1 } else { 3 };
             chart
-                .draw_series(LineSeries::new(points.clone(), colour.stroke_width(3)))
+                .draw_series(LineSeries::new(points.clone(), colour.stroke_width(width)))
                 .map_err(e)?
                 .label(label.as_str())
-                .legend(legend_stroke(*colour, 3, 24));
+                .legend(legend_stroke(*colour, width, 24));
             chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, colour.filled()))).map_err(e)?;
         }
         draw_legend(&mut chart, 18, SeriesLabelPosition::LowerLeft)?;
@@ -109,18 +116,29 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         let label = format!("{} ({:.0}° field of view)", shot.name, shot.fov_y.to_degrees());
         println!("  {label}: {} of {grains} grains in the frustum", points[0].in_frustum);
         for p in &points {
-            println!("    r/R = {:.2}: {:.1} % rendered", p.ratio, 100.0 * p.rendered_fraction());
+            println!(
+                "    r/R = {:.2}: {:.1} % rendered with the cone, {:.1} % with fusion too ({} rays checked, {} reach a culled grain)",
+                p.ratio,
+                100.0 * p.rendered_fraction(),
+                100.0 * p.rendered_fraction_with_fusion(),
+                p.fusion_rays,
+                p.fusion_violations
+            );
         }
-        ratio_series.push((
-            label.clone(),
-            colour,
-            points.iter().map(|p| (f64::from(p.ratio), p.rendered_fraction())).collect(),
-        ));
-        splat_series.push((
-            label,
-            colour,
-            splats.iter().map(|p| (f64::from(p.splat_factor), p.rendered_fraction())).collect(),
-        ));
+        let violations: u64 = points.iter().chain(&splats).map(|p| p.fusion_violations).sum();
+        if violations > 0 {
+            return Err(format!("{}: {violations} rays reach a grain that fusion culled: not conservative", shot.name));
+        }
+        let curve = |points: &[CullingPoint], x: fn(&CullingPoint) -> f32, y: fn(&CullingPoint) -> f64| {
+            points.iter().map(|p| (f64::from(x(p)), y(p))).collect::<Vec<_>>()
+        };
+        let ratio: fn(&CullingPoint) -> f32 = |p| p.ratio;
+        let splat: fn(&CullingPoint) -> f32 = |p| p.splat_factor;
+        let (cone, fused) = (CullingPoint::rendered_fraction, CullingPoint::rendered_fraction_with_fusion);
+        ratio_series.push((label.clone(), colour, false, curve(&points, ratio, cone)));
+        ratio_series.push((format!("{label}, + occluder fusion"), colour, true, curve(&points, ratio, fused)));
+        splat_series.push((label.clone(), colour, false, curve(&splats, splat, cone)));
+        splat_series.push((format!("{label}, + occluder fusion"), colour, true, curve(&splats, splat, fused)));
         ratio_rows.extend(points.into_iter().map(|p| (shot.name, shot.fov_y, p)));
         splat_rows.extend(splats.into_iter().map(|p| (shot.name, shot.fov_y, p)));
     }

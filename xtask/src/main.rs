@@ -215,7 +215,7 @@ fn bench(args: &Args<'_>) -> Result<(), String> {
 
 /// Everything that can be shown so far, at quick settings: the octahedral layout, impostor
 /// accuracy (Fig. 12-13), the DDM tracer's tables and its renders on a plane and a torus,
-/// the A-buffer masks' coverage error and Fig. 9.
+/// the A-buffer masks' coverage error, Fig. 15 (occlusion culling) and Fig. 9.
 fn showcase(args: &Args<'_>) -> Result<(), String> {
     let out = args.out_dir();
     showcase::run(&out)?;
@@ -224,6 +224,7 @@ fn showcase(args: &Args<'_>) -> Result<(), String> {
     run_command("ddm-trace", &[&out_text, "--quick"])?;
     run_command("ddm-render", &[&out_text, "--quick"])?;
     abuffer_chart::run(&out)?;
+    run_command("culling-chart", &[&out_text, "--quick"])?;
     run_command("fig9", &[&out_text, "--quick"])
 }
 

@@ -66,6 +66,7 @@
 //! - [`settings`]: [`SplitSettings`] and the shaders' uniform block.
 //! - [`lists`]: list and culling codes, [`SplitCounters`], [`ListIndirect`], the state word.
 //! - [`reference`]: the CPU reference.
+//! - [`fusion`]: occluder fusion, a conservative depth bound per pixel and its max pyramid (CPU, `f64`).
 //! - [`shaders`]: the generated declarations and the composed shaders.
 //! - [`splitter`]: [`GrainSplitter`], the GPU passes.
 //! - [`sweep`]: the culling experiments of Fig. 15 (ratio `r/R`, splat factor) on the CPU
@@ -75,6 +76,7 @@
 pub mod bench;
 pub mod camera;
 pub mod error;
+pub mod fusion;
 pub mod lists;
 pub mod reference;
 pub mod settings;
@@ -85,6 +87,7 @@ pub mod tiers;
 
 pub use camera::{Projected, SplitCamera};
 pub use error::SplitError;
+pub use fusion::{DepthPyramid, FusionCheck, FusionCounts, check_fusion, fused_split_counts};
 pub use lists::{
     CULLED_CONE, CULLED_FRUSTUM, LIST_COUNT, LIST_IMPOSTOR_OCCLUDER, LIST_IMPOSTOR_REST, LIST_MESH, LIST_POINT,
     ListIndirect, SplitCounters,

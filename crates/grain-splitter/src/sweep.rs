@@ -11,6 +11,7 @@ use glam::{Vec3, Vec4};
 
 use crate::camera::SplitCamera;
 use crate::error::SplitError;
+use crate::fusion::{check_fusion, fused_split_counts};
 use crate::reference::{occluder_map, split};
 use crate::settings::SplitSettings;
 
@@ -27,6 +28,12 @@ pub struct CullingPoint {
     pub in_frustum: u32,
     /// Grains culled by the occlusion cone.
     pub cone_culled: u32,
+    /// Grains that occluder fusion ([`crate::fusion`]) culls besides those.
+    pub fusion_extra: u32,
+    /// Rays cast by the fusion check ([`crate::fusion::check_fusion`], 4 per fused grain).
+    pub fusion_rays: u64,
+    /// Of those, rays that reach a culled grain before its pixel's occluder: must be 0.
+    pub fusion_violations: u64,
     /// Pixels of the occluder map holding an occluder.
     pub map_filled: u32,
     /// Pixels of the occluder map.
@@ -41,9 +48,18 @@ impl CullingPoint {
         }
         f64::from(self.in_frustum - self.cone_culled) / f64::from(self.in_frustum)
     }
+
+    /// The same with occluder fusion as well as the cone.
+    pub fn rendered_fraction_with_fusion(&self) -> f64 {
+        if self.in_frustum == 0 {
+            return 1.0;
+        }
+        f64::from(self.in_frustum - self.cone_culled - self.fusion_extra) / f64::from(self.in_frustum)
+    }
 }
 
-/// One frame of the CPU reference with `settings`, counted.
+/// One frame of the CPU reference with `settings`, counted, with occluder fusion and its
+/// ray check.
 pub fn culling_point(
     camera: &SplitCamera,
     settings: &SplitSettings,
@@ -51,12 +67,17 @@ pub fn culling_point(
 ) -> Result<CullingPoint, SplitError> {
     let map = occluder_map(camera, settings, grains);
     let out = split(camera, settings, grains, &map, &[])?;
+    let fused = fused_split_counts(camera, settings, grains, &map);
+    let check = check_fusion(camera, settings, grains, &map, 4, 0x5eed);
     Ok(CullingPoint {
         ratio: settings.occluder_radius / settings.outer_radius,
         splat_factor: settings.splat_factor,
         grains: grains.len() as u32,
         in_frustum: grains.len() as u32 - out.counters.culled[0],
         cone_culled: out.counters.culled[1],
+        fusion_extra: fused.fusion_only,
+        fusion_rays: check.rays,
+        fusion_violations: check.violations,
         map_filled: map.filled() as u32,
         map_pixels: map.ids.len() as u32,
     })
@@ -159,6 +180,8 @@ mod tests {
         assert_eq!(points[2].map_filled, 0);
         assert_eq!(points[2].rendered_fraction(), 1.0);
         assert!(points[0].cone_culled > 0, "balls in a dense lattice hide each other");
+        assert!(points.iter().all(|p| p.fusion_violations == 0));
+        assert_eq!(points[2].fusion_extra, 0, "no inner radius, no fusion");
         assert!(points.iter().all(|p| p.in_frustum == points[0].in_frustum));
         let bad = SplitSettings { splat_factor: -1.0, ..base };
         assert!(culling_point(&camera, &bad, &grains).unwrap_err().to_string().contains("splat_factor"));

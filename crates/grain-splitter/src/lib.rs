@@ -53,19 +53,19 @@
 //!
 //! # CPU reference
 //!
-//! [`reference`] evaluates the same decisions with the same `f32` operations (each shader
+//! [`reference`](mod@reference) evaluates the same decisions with the same `f32` operations (each shader
 //! function names its Rust twin) and lists in ascending order; the GPU tests compare the
 //! lists as sets, the counts and the indirect arguments. With [`ListOrder::Stable`] the GPU
 //! lists are in that order too.
 //!
 //! # Modules
 //!
-//! - [`bench`]: GPU timing of the passes (`cargo xtask bench-gpu culling`).
+//! - [`bench`](mod@bench): GPU timing of the passes (`cargo xtask bench-gpu culling`).
 //! - [`camera`]: [`SplitCamera`] and the projections of a centre.
 //! - [`tiers`]: [`Tier`], [`TierThresholds`] (measured mesh threshold, hysteresis).
 //! - [`settings`]: [`SplitSettings`] and the shaders' uniform block.
 //! - [`lists`]: list and culling codes, [`SplitCounters`], [`ListIndirect`], the state word.
-//! - [`reference`]: the CPU reference.
+//! - [`reference`](mod@reference): the CPU reference.
 //! - [`fusion`]: occluder fusion, a conservative depth bound per pixel and its max pyramid (CPU, `f64`).
 //! - [`shaders`]: the generated declarations and the composed shaders.
 //! - [`splitter`]: [`GrainSplitter`], the GPU passes.

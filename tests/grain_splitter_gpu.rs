@@ -117,11 +117,7 @@ fn ambiguous_splats(camera: &SplitCamera, settings: &SplitSettings, grains: &[Ve
     grains
         .iter()
         .map(|&g| {
-            let projected = camera.project(g.truncate());
-            let (Some(pixel), true) = (projected.pixel, projected.view_depth > 0.0) else { return false };
-            let focal = camera.projection.x;
-            let h = (settings.splat_factor * settings.occluder_radius * g.w * focal / projected.view_depth)
-                .min(grain_splitter::settings::MAX_SPLAT_HALF);
+            let Some((pixel, h, _)) = reference::splat_half(camera, settings, g) else { return false };
             let near = |x: f32| (x - x.round()).abs() < EDGE_TOLERANCE;
             near(pixel.x - h) || near(pixel.x + h) || near(pixel.y - h) || near(pixel.y + h)
         })

@@ -17,7 +17,7 @@ fn occluder_depth_32(
     @builtin(num_workgroups) workgroups: vec3<u32>,
     @builtin(local_invocation_index) local: u32,
 ) {
-    let index = split_block(workgroup, workgroups) * SPLIT_WORKGROUP + local;
+    let index = split_grain(workgroup, workgroups, local);
     if index >= params.counts.x {
         return;
     }
@@ -42,7 +42,7 @@ fn occluder_id_32(
     @builtin(num_workgroups) workgroups: vec3<u32>,
     @builtin(local_invocation_index) local: u32,
 ) {
-    let index = split_block(workgroup, workgroups) * SPLIT_WORKGROUP + local;
+    let index = split_grain(workgroup, workgroups, local);
     if index >= params.counts.x {
         return;
     }

@@ -13,6 +13,11 @@ fn split_block(workgroup: vec3<u32>, workgroups: vec3<u32>) -> u32 {
     return workgroup.y * workgroups.x + workgroup.x;
 }
 
+// The grain of invocation `local` of that workgroup.
+fn split_grain(workgroup: vec3<u32>, workgroups: vec3<u32>, local: u32) -> u32 {
+    return split_block(workgroup, workgroups) * SPLIT_WORKGROUP + local;
+}
+
 // Rust: camera::transform. m · (p, 1) as a sum of scaled columns, in this order.
 fn split_transform(m: array<vec4<f32>, 4>, p: vec3<f32>) -> vec4<f32> {
     return m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3];

@@ -189,7 +189,7 @@ fn split_write_atomic(
     @builtin(num_workgroups) workgroups: vec3<u32>,
     @builtin(local_invocation_index) local: u32,
 ) {
-    let index = split_block(workgroup, workgroups) * SPLIT_WORKGROUP + local;
+    let index = split_grain(workgroup, workgroups, local);
     if index >= params.counts.x {
         return;
     }

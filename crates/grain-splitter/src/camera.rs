@@ -182,7 +182,7 @@ fn frustum_planes(clip_from_world: Mat4) -> [Vec4; 6] {
     [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2].map(|plane| plane / plane.truncate().length())
 }
 
-fn check_viewport((width, height): (u32, u32)) -> Result<(), SplitError> {
+pub(crate) fn check_viewport((width, height): (u32, u32)) -> Result<(), SplitError> {
     if width == 0 || height == 0 || width > MAX_VIEWPORT_SIDE || height > MAX_VIEWPORT_SIDE {
         return Err(SplitError::InvalidCamera {
             field: "size",

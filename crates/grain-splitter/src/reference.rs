@@ -48,10 +48,10 @@ impl OccluderMap {
     }
 }
 
-/// A grain's occluder-map square: inclusive pixel bounds and the depth key, or `None` when
-/// the grain writes nothing (no solid core, not in front of the eye, off screen).
-/// Twin of `split_splat` (WGSL).
-pub fn splat(camera: &SplitCamera, settings: &SplitSettings, grain: Vec4) -> Option<Splat> {
+/// The centre's pixel, the half-side of the grain's occluder-map square in pixels and the
+/// centre's view depth, or `None` when the grain writes nothing (no solid core, not in front
+/// of the eye). The first half of [`splat`].
+pub fn splat_half(camera: &SplitCamera, settings: &SplitSettings, grain: Vec4) -> Option<(glam::Vec2, f32, f32)> {
     let radius = settings.occluder_radius * grain.w;
     if radius.is_nan() || radius <= 0.0 {
         return None;
@@ -64,7 +64,14 @@ pub fn splat(camera: &SplitCamera, settings: &SplitSettings, grain: Vec4) -> Opt
     }
     let focal = camera.projection.x;
     let radius_pixels = if camera.is_perspective() { radius * focal / depth } else { radius * focal };
-    let half = (settings.splat_factor * radius_pixels).min(MAX_SPLAT_HALF);
+    Some((pixel, (settings.splat_factor * radius_pixels).min(MAX_SPLAT_HALF), depth))
+}
+
+/// A grain's occluder-map square: inclusive pixel bounds and the depth key, or `None` when
+/// the grain writes nothing (no solid core, not in front of the eye, off screen).
+/// Twin of `split_splat` (WGSL).
+pub fn splat(camera: &SplitCamera, settings: &SplitSettings, grain: Vec4) -> Option<Splat> {
+    let (pixel, half, depth) = splat_half(camera, settings, grain)?;
     let (width, height) = (camera.viewport.x, camera.viewport.y);
     let lo = |x: f32, side: f32| (x - half).floor().clamp(-1.0, side);
     let hi = |x: f32, side: f32| (x + half).floor().clamp(-1.0, side);

@@ -92,6 +92,12 @@ fn whole(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
 }
 
+/// The largest storage buffer the device binds.
+fn storage_limit(device: &wgpu::Device) -> u64 {
+    let limits = device.limits();
+    limits.max_storage_buffer_binding_size.min(limits.max_buffer_size)
+}
+
 fn writes(timestamps: Option<SplitTimestamps<'_>>) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
     timestamps.map(|t| wgpu::ComputePassTimestampWrites {
         query_set: t.query_set,
@@ -119,8 +125,7 @@ impl GrainSplitter {
     pub fn new(device: &wgpu::Device, settings: SplitSettings, options: SplitterOptions) -> Result<Self, SplitError> {
         settings.validate()?;
         let (width, height) = options.size;
-        // The camera checks the viewport like this.
-        SplitCamera::perspective(glam::Vec3::Z, glam::Vec3::ZERO, glam::Vec3::Y, 1.0, options.size, (0.1, 1.0))?;
+        crate::camera::check_viewport(options.size)?;
         if options.capacity == 0 || options.capacity == u32::MAX {
             return Err(SplitError::InvalidSetting {
                 field: "capacity",
@@ -148,7 +153,7 @@ impl GrainSplitter {
         }
         let pixels = u64::from(width) * u64::from(height);
         let capacity = u64::from(options.capacity);
-        let storage_limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        let storage_limit = storage_limit(device);
         let sized = |what: &'static str, bytes: u64| {
             if bytes > storage_limit {
                 Err(SplitError::TooLarge { what, requested: bytes, limit: storage_limit })
@@ -284,8 +289,7 @@ impl GrainSplitter {
     pub fn upload_grains(device: &wgpu::Device, grains: &[glam::Vec4]) -> Result<wgpu::Buffer, SplitError> {
         use wgpu::util::DeviceExt;
         let bytes = size_of_val(grains) as u64;
-        let limits = device.limits();
-        let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        let limit = storage_limit(device);
         if bytes > limit {
             return Err(SplitError::TooLarge {
                 what: "grain buffer bytes (max_storage_buffer_binding_size)",

@@ -12,7 +12,7 @@ use glam::{Vec3, Vec4};
 use crate::camera::SplitCamera;
 use crate::error::SplitError;
 use crate::fusion::{check_fusion, fused_split_counts};
-use crate::reference::{occluder_map, split};
+use crate::reference::occluder_map;
 use crate::settings::SplitSettings;
 
 /// The culling of one frame.
@@ -65,16 +65,16 @@ pub fn culling_point(
     settings: &SplitSettings,
     grains: &[Vec4],
 ) -> Result<CullingPoint, SplitError> {
+    settings.validate()?;
     let map = occluder_map(camera, settings, grains);
-    let out = split(camera, settings, grains, &map, &[])?;
     let fused = fused_split_counts(camera, settings, grains, &map);
     let check = check_fusion(camera, settings, grains, &map, 4, 0x5eed);
     Ok(CullingPoint {
         ratio: settings.occluder_radius / settings.outer_radius,
         splat_factor: settings.splat_factor,
         grains: grains.len() as u32,
-        in_frustum: grains.len() as u32 - out.counters.culled[0],
-        cone_culled: out.counters.culled[1],
+        in_frustum: grains.len() as u32 - fused.frustum,
+        cone_culled: fused.cone,
         fusion_extra: fused.fusion_only,
         fusion_rays: check.rays,
         fusion_violations: check.violations,

@@ -15,6 +15,10 @@ const CULLED_FRUSTUM: u32 = 4u;
 
 const CULLED_CONE: u32 = 5u;
 
+const CULLED_HIZ: u32 = 6u;
+
+const CULL_REASONS: u32 = 3u;
+
 const STATE_TIER_MASK: u32 = 255u;
 
 const STATE_MODEL_SHIFT: u32 = 8u;
@@ -49,6 +53,26 @@ const FLAG_CONE: u32 = 2u;
 
 const FLAG_HYSTERESIS: u32 = 4u;
 
+const FLAG_HIZ: u32 = 8u;
+
+const FLAG_TEMPORAL: u32 = 16u;
+
+const HIZ_SLACK: f32 = 0x1.000000p-14f; // 6.1035156e-5
+
+const HIZ_DEPTH_MARGIN: f32 = 0x1.000000p-16f; // 1.5258789e-5
+
+const HIZ_FOOTPRINT_MARGIN_PX: f32 = 0x1.0624dep-10f; // 1e-3
+
+const HIZ_RECT_MARGIN_PX: f32 = 0x1.000000p-6f; // 1.5625e-2
+
+const HIZ_COVER_FACTOR: f32 = 0x1.666666p-1f; // 7e-1
+
+const HIZ_NONE: f32 = 0x1.fffffep+127f; // 3.4028235e38
+
+const HIZ_MAX_LEVELS: u32 = 16u;
+
+const HIZ_WORKGROUP: u32 = 8u;
+
 // Rust size 256 bytes.
 struct SplitCamera {
     view_from_world: array<vec4<f32>, 4>, // offset 0
@@ -65,4 +89,15 @@ struct SplitParams {
     point_thresholds: vec4<f32>, // offset 32
     mesh_thresholds: vec4<f32>, // offset 48
     draw: vec4<u32>, // offset 64
+}
+
+// Rust size 352 bytes.
+struct HizParams {
+    ray_origin: vec4<f32>, // offset 0
+    ray_dx: vec4<f32>, // offset 16
+    ray_dy: vec4<f32>, // offset 32
+    row_x: vec4<f32>, // offset 48
+    row_y: vec4<f32>, // offset 64
+    size: vec4<u32>, // offset 80
+    levels: array<vec4<u32>, 16>, // offset 96
 }

@@ -60,6 +60,11 @@ struct SplitSplat {
 
 // Rust: reference::splat. The grain's square in the occluder map.
 fn split_splat(grain: vec4<f32>) -> SplitSplat {
+    return split_splat_with(grain, params.radii.z);
+}
+
+// Rust: reference::splat with the splat factor `factor` (temporal::cover_square).
+fn split_splat_with(grain: vec4<f32>, factor: f32) -> SplitSplat {
     var out: SplitSplat;
     out.valid = false;
     let radius = params.radii.x * grain.w;
@@ -79,7 +84,7 @@ fn split_splat(grain: vec4<f32>) -> SplitSplat {
     if camera.projection.y != 0.0 {
         radius_pixels = radius * focal / depth;
     }
-    let half = min(params.radii.z * radius_pixels, params.radii.w);
+    let half = min(factor * radius_pixels, params.radii.w);
     let size = camera.viewport.xy;
     let lo = clamp(floor(projected.pixel - half), vec2<f32>(-1.0), size);
     let hi = clamp(floor(projected.pixel + half), vec2<f32>(-1.0), size);

@@ -1,7 +1,8 @@
 // The splitter (§7, Fig. 7, with §8's culling): per grain a model (a list or a culling
 // reason) and a tier kept for the hysteresis; per list a count, an offset, the element list
 // and the indirect arguments of its draws — all on the GPU, no counter read back. Composed
-// after occlusion_cone's WGSL twin and projection.wgsl. Passes, in order:
+// after occlusion_cone's WGSL twin and projection.wgsl, before hiz_common.wgsl and
+// hiz_test.wgsl (the Hi-Z test). Passes, in order:
 //   split_count     per grain: decide, store the state word, count per block and in total;
 //   split_scan      (stable order only) exclusive prefix sums of the block counts;
 //   split_offsets   one invocation: list offsets and indirect arguments;
@@ -22,7 +23,7 @@
 @group(0) @binding(8) var<storage, read_write> indirect: array<u32>;
 
 var<workgroup> block_lists: array<atomic<u32>, 4>;
-var<workgroup> block_culled: array<atomic<u32>, 2>;
+var<workgroup> block_culled: array<atomic<u32>, CULL_REASONS>;
 var<workgroup> scan: array<vec4<u32>, 256>;
 
 const NO_GRAIN: u32 = 0xffffffffu;
@@ -64,6 +65,9 @@ fn split_decide(index: u32) -> u32 {
             return code | (CULLED_CONE << STATE_MODEL_SHIFT);
         }
     }
+    if (flags & FLAG_HIZ) != 0u && hiz_hides(projected.view, centre, radius) {
+        return code | (CULLED_HIZ << STATE_MODEL_SHIFT);
+    }
     var model = LIST_POINT;
     if tier == 2u {
         model = LIST_MESH;
@@ -100,12 +104,12 @@ fn split_count(
         if count != 0u {
             atomicAdd(&counters[COUNTER_COUNT + local], count);
         }
-    } else if local < LIST_COUNT + 2u {
+    } else if local < LIST_COUNT + CULL_REASONS {
         let culled = atomicLoad(&block_culled[local - LIST_COUNT]);
         if culled != 0u {
             atomicAdd(&counters[COUNTER_CULLED + local - LIST_COUNT], culled);
         }
-    } else if local == LIST_COUNT + 2u {
+    } else if local == LIST_COUNT + CULL_REASONS {
         block_counts[block] = vec4<u32>(
             atomicLoad(&block_lists[0]),
             atomicLoad(&block_lists[1]),

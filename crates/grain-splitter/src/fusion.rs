@@ -47,7 +47,7 @@
 //! all `+∞` and [`DepthPyramid::hides`] false. So is it for perspective matrices whose `x`/`y`
 //! rows translate (the pixel rays would miss the eye).
 
-use glam::{DMat4, DVec3, DVec4, Vec4};
+use glam::{DMat4, DVec3, DVec4, Vec3, Vec4};
 
 use crate::camera::SplitCamera;
 use crate::lists::{CULLED_CONE, CULLED_FRUSTUM};
@@ -65,17 +65,17 @@ pub const DEPTH_MARGIN: f64 = 1e-9;
 /// The camera in `f64`: view transform and the `x`, `y` rows of `clip_from_view`, whose
 /// last row is `(0, 0, −1, 0)`, so that `ndc = (a·v, b·v) / (−v_z)`.
 #[derive(Clone, Copy, Debug)]
-struct Rays {
+pub(crate) struct Rays {
     view_from_world: DMat4,
-    a: DVec3,
-    b: DVec3,
+    pub(crate) a: DVec3,
+    pub(crate) b: DVec3,
     width: f64,
     height: f64,
 }
 
 impl Rays {
     /// `None` for orthographic cameras and any matrix this model does not cover.
-    fn new(camera: &SplitCamera) -> Option<Self> {
+    pub(crate) fn new(camera: &SplitCamera) -> Option<Self> {
         if !camera.is_perspective() {
             return None;
         }
@@ -107,12 +107,12 @@ impl Rays {
         (rays.a.x * rays.b.y - rays.a.y * rays.b.x).is_normal().then_some(rays)
     }
 
-    fn view(&self, world: DVec3) -> DVec3 {
+    pub(crate) fn view(&self, world: DVec3) -> DVec3 {
         self.view_from_world.transform_point3(world)
     }
 
     /// The unit direction of the ray through the point `(px, py)` of the screen (pixels).
-    fn direction(&self, px: f64, py: f64) -> DVec3 {
+    pub(crate) fn direction(&self, px: f64, py: f64) -> DVec3 {
         let (nx, ny) = (2.0 * px / self.width - 1.0, 1.0 - 2.0 * py / self.height);
         // v = (vx, vy, −1): a·v = nx, b·v = ny.
         let (ex, ey) = (nx + self.a.z, ny + self.b.z);
@@ -120,6 +120,21 @@ impl Rays {
         let vx = (ex * self.b.y - self.a.y * ey) / det;
         let vy = (self.a.x * ey - ex * self.b.x) / det;
         DVec3::new(vx, vy, -1.0).normalize()
+    }
+
+    /// `(o, dx, dy)`: the (not normalised) direction of the ray through `(px, py)` is
+    /// `o + px·dx + py·dy`, the affine form of [`Rays::direction`]'s solve.
+    pub(crate) fn affine(&self) -> (DVec3, DVec3, DVec3) {
+        let (a, b) = (self.a, self.b);
+        let det = a.x * b.y - a.y * b.x;
+        let origin = DVec3::new(
+            ((a.z - 1.0) * b.y - a.y * (1.0 + b.z)) / det,
+            (a.x * (1.0 + b.z) - (a.z - 1.0) * b.x) / det,
+            -1.0,
+        );
+        let dx = DVec3::new(2.0 * b.y / (self.width * det), -2.0 * b.x / (self.width * det), 0.0);
+        let dy = DVec3::new(2.0 * a.y / (self.height * det), -2.0 * a.x / (self.height * det), 0.0);
+        (origin, dx, dy)
     }
 
     /// The screen point (pixels) of a view-space point in front of the eye.
@@ -132,7 +147,7 @@ impl Rays {
     }
 
     /// `D(p)` for pixel `(x, y)` and occluder ball `B(g0, r0)` (module docs).
-    fn pixel_bound(&self, (x, y): (u32, u32), g0: DVec3, r0: f64) -> f64 {
+    pub(crate) fn pixel_bound(&self, (x, y): (u32, u32), g0: DVec3, r0: f64) -> f64 {
         let g2 = g0.length_squared();
         if !(r0 > 0.0 && g0.is_finite() && r0.is_finite() && g2 > r0 * r0) {
             return f64::INFINITY;
@@ -161,8 +176,9 @@ impl Rays {
             let (big_a, big_n) = (a.dot(g), depth);
             let q2 = big_n * big_n - r2;
             let q1 = big_a * big_n - r2 * a.dot(n);
-            let q0 = big_a * big_a - r2 * a.length_squared();
-            let root = (q1 * q1 - q2 * q0).max(0.0).sqrt();
+            // q1² − q2·q0 (q0 = A² − R²|a|²) without cancellation: R²(|N a − A n|² − R²|a × n|²).
+            let u = big_n * a - big_a * n;
+            let root = radius * (u.length_squared() - r2 * a.cross(n).length_squared()).max(0.0).sqrt();
             ((q1 - root) / q2, (q1 + root) / q2)
         };
         let ((sx0, sx1), (sy0, sy1)) = (range(self.a), range(self.b));
@@ -199,6 +215,32 @@ pub fn projected_bounds(camera: &SplitCamera, centre_view: DVec3, radius: f64) -
     Rays::new(camera)?.bounds(centre_view, radius)
 }
 
+/// `D(p)` of pixel `(x, y)` for an occluder ball of centre `centre` (world space) and
+/// radius `radius`: every ray through the pixel's footprint (widened by
+/// [`FOOTPRINT_MARGIN_PX`]) meets the ball within this distance of the eye; `+∞` when a
+/// corner ray misses it, the eye is inside it or the camera is orthographic (module docs).
+pub fn occluder_bound(camera: &SplitCamera, (x, y): (u32, u32), centre: Vec3, radius: f64) -> f64 {
+    Rays::new(camera).map_or(f64::INFINITY, |rays| rays.pixel_bound((x, y), rays.view(centre.as_dvec3()), radius))
+}
+
+/// Level 0 of the map's pyramid: `D(p)` of each pixel's occluder (`+∞` where there is none,
+/// or where fusion does not apply).
+fn map_bounds(camera: &SplitCamera, settings: &SplitSettings, grains: &[Vec4], map: &OccluderMap) -> Vec<f64> {
+    let (width, height) = camera.size();
+    let mut base = vec![f64::INFINITY; width as usize * height as usize];
+    let radius = f64::from(settings.occluder_radius);
+    if let Some(rays) = Rays::new(camera).filter(|_| (map.width, map.height) == (width, height) && radius > 0.0) {
+        for y in 0..height {
+            for x in 0..width {
+                let Some(&grain) = map.get((x, y)).and_then(|id| grains.get(id as usize)) else { continue };
+                let g0 = rays.view(grain.truncate().as_dvec3());
+                base[(y * width + x) as usize] = rays.pixel_bound((x, y), g0, radius * f64::from(grain.w));
+            }
+        }
+    }
+    base
+}
+
 /// The per-pixel bounds `D(p)` (level 0) and their max pyramid.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DepthPyramid {
@@ -211,17 +253,30 @@ impl DepthPyramid {
     /// camera's; texels whose id is not a grain are empty.
     pub fn build(camera: &SplitCamera, settings: &SplitSettings, grains: &[Vec4], map: &OccluderMap) -> Self {
         let (width, height) = camera.size();
-        let mut base = vec![f64::INFINITY; width as usize * height as usize];
-        let radius = f64::from(settings.occluder_radius);
-        if let Some(rays) = Rays::new(camera).filter(|_| (map.width, map.height) == (width, height) && radius > 0.0) {
-            for y in 0..height {
-                for x in 0..width {
-                    let Some(&grain) = map.get((x, y)).and_then(|id| grains.get(id as usize)) else { continue };
-                    let g0 = rays.view(grain.truncate().as_dvec3());
-                    base[(y * width + x) as usize] = rays.pixel_bound((x, y), g0, radius * f64::from(grain.w));
-                }
-            }
+        Self::from_base(width, height, map_bounds(camera, settings, grains, map))
+    }
+
+    /// The pyramid of two-phase culling ([`crate::temporal`]): per pixel the smaller of the
+    /// map's bound and the bounds of the grains visible in the previous frame
+    /// (`previous_state`, one word per grain; empty: every grain), each splatted over its
+    /// inscribed square ([`crate::temporal::cover_square`]).
+    pub fn build_two_phase(
+        camera: &SplitCamera,
+        settings: &SplitSettings,
+        grains: &[Vec4],
+        map: &OccluderMap,
+        previous_state: &[u32],
+    ) -> Self {
+        let (width, height) = camera.size();
+        let mut base = map_bounds(camera, settings, grains, map);
+        let cover = crate::temporal::cover_bounds(camera, settings, grains, previous_state);
+        for (b, c) in base.iter_mut().zip(cover) {
+            *b = b.min(c);
         }
+        Self::from_base(width, height, base)
+    }
+
+    fn from_base(width: u32, height: u32, base: Vec<f64>) -> Self {
         let mut levels = vec![(width, height, base)];
         while let Some((w, h, texels)) = levels.last().filter(|(w, h, _)| *w > 1 || *h > 1) {
             let (nw, nh) = (w.div_ceil(2), h.div_ceil(2));
@@ -281,6 +336,14 @@ impl DepthPyramid {
         near > bound
     }
 
+    /// [`DepthPyramid::hides`] for a grain `(centre, scale)` in world space (view transform
+    /// in `f64`) whose outer radius at scale 1 is `outer_radius`.
+    pub fn hides_grain(&self, camera: &SplitCamera, grain: Vec4, outer_radius: f32) -> bool {
+        let Some(rays) = Rays::new(camera) else { return false };
+        let radius = f64::from(outer_radius) * f64::from(grain.w);
+        self.hides(camera, rays.view(grain.truncate().as_dvec3()), radius)
+    }
+
     /// As [`DepthPyramid::hides`], scanning every level-0 pixel of the rectangle (tighter,
     /// slower: for measurements).
     pub fn hides_exact_rect(&self, camera: &SplitCamera, centre_view: DVec3, outer_radius: f64) -> bool {
@@ -326,7 +389,6 @@ pub fn fused_split_counts(
     map: &OccluderMap,
 ) -> FusionCounts {
     let pyramid = DepthPyramid::build(camera, settings, grains, map);
-    let rays = Rays::new(camera);
     let mut counts = FusionCounts { grains: grains.len().min(u32::MAX as usize) as u32, ..Default::default() };
     for index in 0..counts.grains {
         let grain = grains[index as usize];
@@ -336,8 +398,7 @@ pub fn fused_split_counts(
             continue;
         }
         let cone = model == CULLED_CONE;
-        let radius = f64::from(settings.outer_radius) * f64::from(grain.w);
-        let fusion = rays.is_some_and(|r| pyramid.hides(camera, r.view(grain.truncate().as_dvec3()), radius));
+        let fusion = pyramid.hides_grain(camera, grain, settings.outer_radius);
         counts.cone += u32::from(cone);
         counts.both += u32::from(cone && fusion);
         counts.fusion_only += u32::from(fusion && !cone);
@@ -592,7 +653,10 @@ mod tests {
             [Vec4::new(-1.11, 0.0, -10.0, 2.47), Vec4::new(1.10, 0.0, -9.9, 2.47), Vec4::new(0.0, 0.0, -30.0, 3.59)];
         let map = occluder_map(&camera, &settings, &grains);
         let out = crate::reference::split(&camera, &settings, &grains, &map, &[]).unwrap();
-        assert_eq!(out.counters.culled, [0, 0, 0, 0], "the cone test culls nothing");
+        assert_eq!(out.counters.culled, [0, 0, 1, 0], "the cone test culls nothing, the Hi-Z test one");
+        let cone_only = SplitSettings { hiz_culling: false, ..settings };
+        let out = crate::reference::split(&camera, &cone_only, &grains, &map, &[]).unwrap();
+        assert_eq!(out.counters.culled, [0, 0, 0, 0]);
         // Neither occluder alone hides it, exactly.
         let grain = DVec3::new(0.0, 0.0, -30.0);
         for o in &grains[..2] {

@@ -10,8 +10,10 @@
 //!    of `(~depth << 32) | ~index` where the adapter has 64-bit atomics, two 32-bit passes
 //!    elsewhere (same result).
 //! 2. **Decision** per grain: frustum test of its outer sphere (scaled), the conservative
-//!    cone test of `occlusion-cone` against the occluder at its centre's pixel, and the tier
-//!    from its projected diameter with hysteresis ([`TierThresholds`]).
+//!    cone test of `occlusion-cone` against the occluder at its centre's pixel, beyond the
+//!    paper a Hi-Z test against a max pyramid of conservative per-pixel depth bounds of the
+//!    occluders ([`hiz`], occluder fusion), and the tier from its projected diameter with
+//!    hysteresis ([`TierThresholds`]).
 //! 3. **Lists**: counts, offsets, the element lists (meshes, occluder-candidate impostors,
 //!    other impostors, points: see [`lists`]) and the indirect arguments of their
 //!    draws and dispatches ([`ListIndirect`]) — `GrainViewer` reads its counters back to issue
@@ -47,7 +49,8 @@
 //! # Conservative
 //!
 //! Nothing visible is culled: the cone test is exact and rounded conservatively
-//! (`occlusion-cone`, checked over 10⁷ configurations), and the frustum test keeps a rounding
+//! (`occlusion-cone`, checked over 10⁷ configurations), the Hi-Z test's bounds are proven in
+//! [`fusion`] and rounded conservatively in [`hiz`], and the frustum test keeps a rounding
 //! margin ([`FRUSTUM_MARGIN`]). The GPU tests render a scene with every grain as a mesh, with
 //! and without culling, and compare the pixels.
 //!
@@ -67,6 +70,8 @@
 //! - [`lists`]: list and culling codes, [`SplitCounters`], [`ListIndirect`], the state word.
 //! - [`reference`](mod@reference): the CPU reference.
 //! - [`fusion`]: occluder fusion, a conservative depth bound per pixel and its max pyramid (CPU, `f64`).
+//! - [`hiz`]: the same on the GPU in `f32` (the pyramid passes and the splitter's Hi-Z test).
+//! - [`temporal`]: two-phase culling, last frame's visible grains as this frame's occluders.
 //! - [`shaders`]: the generated declarations and the composed shaders.
 //! - [`splitter`]: [`GrainSplitter`], the GPU passes.
 //! - [`sweep`]: the culling experiments of Fig. 15 (ratio `r/R`, splat factor) on the CPU
@@ -77,20 +82,22 @@ pub mod bench;
 pub mod camera;
 pub mod error;
 pub mod fusion;
+pub mod hiz;
 pub mod lists;
 pub mod reference;
 pub mod settings;
 pub mod shaders;
 pub mod splitter;
 pub mod sweep;
+pub mod temporal;
 pub mod tiers;
 
 pub use camera::{Projected, SplitCamera};
 pub use error::SplitError;
-pub use fusion::{DepthPyramid, FusionCheck, FusionCounts, check_fusion, fused_split_counts};
+pub use fusion::{DepthPyramid, FusionCheck, FusionCounts, check_fusion, fused_split_counts, occluder_bound};
 pub use lists::{
-    CULLED_CONE, CULLED_FRUSTUM, LIST_COUNT, LIST_IMPOSTOR_OCCLUDER, LIST_IMPOSTOR_REST, LIST_MESH, LIST_POINT,
-    ListIndirect, SplitCounters,
+    CULLED_CONE, CULLED_FRUSTUM, CULLED_HIZ, LIST_COUNT, LIST_IMPOSTOR_OCCLUDER, LIST_IMPOSTOR_REST, LIST_MESH,
+    LIST_POINT, ListIndirect, SplitCounters,
 };
 pub use reference::{OccluderMap, SplitOutput};
 pub use settings::{DEFAULT_SPLAT_FACTOR, FRUSTUM_MARGIN, SplitParams, SplitSettings};

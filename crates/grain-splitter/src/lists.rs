@@ -12,8 +12,9 @@
 //! # Culled grains
 //!
 //! A grain in no list was culled, for one reason, counted in [`SplitCounters::culled`]:
-//! outside the frustum ([`CULLED_FRUSTUM`]) or hidden by its occluder's inner sphere
-//! ([`CULLED_CONE`], `occlusion-cone`).
+//! outside the frustum ([`CULLED_FRUSTUM`]), hidden by its occluder's inner sphere
+//! ([`CULLED_CONE`], `occlusion-cone`), or hidden by the fused occluders of the pixels it
+//! covers ([`CULLED_HIZ`], [`crate::hiz`]); the tests run in that order.
 //!
 //! # State word (one `u32` per grain, kept across frames)
 //!
@@ -38,8 +39,10 @@ pub const LIST_COUNT: u32 = 4;
 pub const CULLED_FRUSTUM: u32 = 4;
 /// Model code of a grain hidden by its occluder (Listing 2).
 pub const CULLED_CONE: u32 = 5;
+/// Model code of a grain hidden by the fused occluders (the Hi-Z test, [`crate::hiz`]).
+pub const CULLED_HIZ: u32 = 6;
 /// How many culling reasons [`SplitCounters::culled`] counts (the last slot is unused).
-pub const CULL_REASONS: u32 = 2;
+pub const CULL_REASONS: u32 = 3;
 
 /// Mask of the tier code in a state word.
 pub const STATE_TIER_MASK: u32 = 0xff;
@@ -87,7 +90,7 @@ pub struct SplitCounters {
     /// Write cursors of the atomic write pass (equal to `count` after a frame); zero for
     /// the stable order.
     pub cursor: [u32; 4],
-    /// Culled grains by reason: frustum, cone (the other slots are unused).
+    /// Culled grains by reason: frustum, cone, Hi-Z (the last slot is unused).
     pub culled: [u32; 4],
 }
 
@@ -141,6 +144,8 @@ pub const LIST_CONSTANTS: &[GpuConst] = &[
     gpu_const!(LIST_COUNT: u32),
     gpu_const!(CULLED_FRUSTUM: u32),
     gpu_const!(CULLED_CONE: u32),
+    gpu_const!(CULLED_HIZ: u32),
+    gpu_const!(CULL_REASONS: u32),
     gpu_const!(STATE_TIER_MASK: u32),
     gpu_const!(STATE_MODEL_SHIFT: u32),
     gpu_const!(SPLIT_WORKGROUP: u32),

@@ -10,9 +10,10 @@ use occlusion_cone::{Sphere, is_occluded_by};
 
 use crate::camera::{SplitCamera, transform};
 use crate::error::SplitError;
+use crate::fusion::DepthPyramid;
 use crate::lists::{
-    CULLED_CONE, CULLED_FRUSTUM, LIST_COUNT, LIST_IMPOSTOR_OCCLUDER, LIST_IMPOSTOR_REST, LIST_MESH, LIST_POINT,
-    ListIndirect, STATE_MODEL_SHIFT, SplitCounters, state_tier,
+    CULLED_CONE, CULLED_FRUSTUM, CULLED_HIZ, LIST_COUNT, LIST_IMPOSTOR_OCCLUDER, LIST_IMPOSTOR_REST, LIST_MESH,
+    LIST_POINT, ListIndirect, STATE_MODEL_SHIFT, SplitCounters, state_tier,
 };
 use crate::settings::{FRUSTUM_MARGIN, MAX_SPLAT_HALF, SplitSettings};
 use crate::tiers::Tier;
@@ -212,7 +213,10 @@ impl SplitOutput {
 }
 
 /// One frame of the splitter over `grains`, given the previous frame's state words (empty:
-/// no history). An error when `previous_state` is neither empty nor one word per grain.
+/// no history). The Hi-Z test (when [`SplitSettings::hiz_applies`]) uses the `f64` pyramid
+/// of [`DepthPyramid`] (two-phase with `previous_state` when
+/// [`SplitSettings::temporal_occluders`]), of which the GPU's is a conservative rounding: the GPU culls a
+/// subset of what this culls by Hi-Z. An error when `previous_state` is neither empty nor one word per grain.
 pub fn split(
     camera: &SplitCamera,
     settings: &SplitSettings,
@@ -238,13 +242,27 @@ pub fn split(
     let mut lists: [Vec<u32>; LIST_COUNT as usize] = Default::default();
     let mut counters = SplitCounters::default();
     let mut state = Vec::with_capacity(grains.len());
+    let pyramid = settings.hiz_applies(camera).then(|| {
+        if settings.temporal_occluders {
+            DepthPyramid::build_two_phase(camera, settings, grains, map, previous_state)
+        } else {
+            DepthPyramid::build(camera, settings, grains, map)
+        }
+    });
     for index in 0..grains.len() as u32 {
         let previous = previous_state.get(index as usize).copied().unwrap_or(0);
-        let decision = decide(camera, settings, grains, map, index, previous);
+        let mut decision = decide(camera, settings, grains, map, index, previous);
+        if let Some(pyramid) = &pyramid
+            && decision.model < LIST_COUNT
+            && pyramid.hides_grain(camera, grains[index as usize], settings.outer_radius)
+        {
+            decision.model = CULLED_HIZ;
+        }
         state.push(decision.state());
         match decision.model {
             CULLED_FRUSTUM => counters.culled[0] += 1,
             CULLED_CONE => counters.culled[1] += 1,
+            CULLED_HIZ => counters.culled[2] += 1,
             list => lists[list as usize].push(index),
         }
     }
@@ -286,7 +304,7 @@ mod tests {
         let front = decide(&camera, &settings, &grains, &map, 0, 0);
         assert_eq!((front.tier, front.model), (Tier::Impostor, LIST_IMPOSTOR_OCCLUDER));
         // Without occlusion culling nothing is hidden.
-        let off = SplitSettings { cone_culling: false, ..settings };
+        let off = SplitSettings { cone_culling: false, hiz_culling: false, ..settings };
         assert_eq!(split(&camera, &off, &grains, &map, &[]).unwrap().counters.culled, [0, 0, 0, 0]);
     }
 

@@ -29,6 +29,11 @@ pub const FLAG_FRUSTUM: u32 = 1;
 pub const FLAG_CONE: u32 = 2;
 /// Flag bit: hysteresis on (off: every frame uses the plain thresholds).
 pub const FLAG_HYSTERESIS: u32 = 4;
+/// Flag bit: the Hi-Z test of the fused occluders on ([`crate::hiz`]).
+pub const FLAG_HIZ: u32 = 8;
+/// Flag bit: two-phase culling on (last frame's visible grains cover their discs,
+/// [`crate::temporal`]); only with [`FLAG_HIZ`].
+pub const FLAG_TEMPORAL: u32 = 16;
 
 /// What the splitter does with each grain.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,6 +53,12 @@ pub struct SplitSettings {
     pub frustum_culling: bool,
     /// Cull grains hidden by their occluder (Listing 2, `occlusion-cone`).
     pub cone_culling: bool,
+    /// Cull grains hidden by the fused occluders of the pixels they cover (beyond the paper:
+    /// a max pyramid of per-pixel depth bounds, [`crate::hiz`]; perspective cameras only).
+    pub hiz_culling: bool,
+    /// With `hiz_culling`: the grains the previous frame kept splat their inscribed squares
+    /// into the pyramid's first level (temporal two-phase culling, [`crate::temporal`]).
+    pub temporal_occluders: bool,
     /// Index count of the mesh tier's mesh (the indexed indirect draws' first argument).
     pub mesh_index_count: u32,
     /// Vertex count of one impostor or point sprite (the non-indexed draws').
@@ -55,7 +66,7 @@ pub struct SplitSettings {
 }
 
 impl SplitSettings {
-    /// Settings with the paper's splat factor, both cullings on, and no draw sizes.
+    /// Settings with the paper's splat factor, every culling on, and no draw sizes.
     pub fn new(occluder_radius: f32, outer_radius: f32, thresholds: TierThresholds) -> Self {
         Self {
             occluder_radius,
@@ -64,6 +75,8 @@ impl SplitSettings {
             thresholds,
             frustum_culling: true,
             cone_culling: true,
+            hiz_culling: true,
+            temporal_occluders: true,
             mesh_index_count: 0,
             sprite_vertex_count: 6,
         }
@@ -84,11 +97,19 @@ impl SplitSettings {
         Ok(())
     }
 
+    /// Whether the Hi-Z test runs for `camera` (on, a solid core, a camera fusion covers).
+    pub fn hiz_applies(&self, camera: &crate::SplitCamera) -> bool {
+        self.hiz_culling && self.occluder_radius > 0.0 && crate::hiz::HizParams::new(camera).is_some()
+    }
+
     /// The uniform block for `grain_count` grains and an occluder map whose ids are
-    /// `id_stride` words apart (2: the 64-bit map, 1: the 32-bit one).
-    pub(crate) fn params(&self, grain_count: u32, id_stride: u32, blocks: u32) -> SplitParams {
+    /// `id_stride` words apart (2: the 64-bit map, 1: the 32-bit one); `hiz`: whether the
+    /// Hi-Z test runs this frame ([`SplitSettings::hiz_applies`]).
+    pub(crate) fn params(&self, grain_count: u32, id_stride: u32, blocks: u32, hiz: bool) -> SplitParams {
         let flags = if self.frustum_culling { FLAG_FRUSTUM } else { 0 }
             | if self.cone_culling && self.occluder_radius > 0.0 { FLAG_CONE } else { 0 }
+            | if hiz { FLAG_HIZ } else { 0 }
+            | if hiz && self.temporal_occluders { FLAG_TEMPORAL } else { 0 }
             | if self.thresholds.band() > 1.0 { FLAG_HYSTERESIS } else { 0 };
         let [pu, pd, pp] = self.thresholds.point_boundary();
         let [mu, md, mp] = self.thresholds.mesh_boundary();
@@ -124,6 +145,8 @@ pub const SETTINGS_CONSTANTS: &[GpuConst] = &[
     gpu_const!(FLAG_FRUSTUM: u32),
     gpu_const!(FLAG_CONE: u32),
     gpu_const!(FLAG_HYSTERESIS: u32),
+    gpu_const!(FLAG_HIZ: u32),
+    gpu_const!(FLAG_TEMPORAL: u32),
 ];
 
 #[cfg(test)]
@@ -146,9 +169,9 @@ mod tests {
 
     #[test]
     fn flags_follow_the_settings() {
-        let p = settings().params(10, 2, 1);
+        let p = settings().params(10, 2, 1, false);
         assert_eq!(p.counts.z, FLAG_FRUSTUM | FLAG_CONE | FLAG_HYSTERESIS);
-        let no_occluder = SplitSettings { occluder_radius: 0.0, ..settings() }.params(10, 2, 1);
+        let no_occluder = SplitSettings { occluder_radius: 0.0, ..settings() }.params(10, 2, 1, false);
         assert_eq!(no_occluder.counts.z & FLAG_CONE, 0, "a grain with no solid core cannot occlude");
     }
 }

@@ -1,11 +1,12 @@
 //! The crate's WGSL: generated declarations (from [`crate::SplitCamera`],
-//! [`crate::SplitParams`] and the constants of `lists` and `settings`), and the three composed
-//! shaders of the passes.
+//! [`crate::SplitParams`], [`crate::hiz::HizParams`] and the constants of `lists`, `settings`
+//! and `hiz`), and the composed shaders of the passes.
 
 use gpu_layout::GpuConst;
 use wgsl_gen::{ComposedShader, GenerateError, StructDecl, generate_declarations};
 
 use crate::camera::SplitCamera;
+use crate::hiz::{HIZ_CONSTANTS, HizParams};
 use crate::lists::LIST_CONSTANTS;
 use crate::settings::{SETTINGS_CONSTANTS, SplitParams};
 
@@ -20,17 +21,23 @@ const MAP_64_PATH: &str = "crates/grain-splitter/shaders/occluder_map_64.wgsl";
 const MAP_64: &str = include_str!("../shaders/occluder_map_64.wgsl");
 const MAP_32_PATH: &str = "crates/grain-splitter/shaders/occluder_map_32.wgsl";
 const MAP_32: &str = include_str!("../shaders/occluder_map_32.wgsl");
+const HIZ_COMMON_PATH: &str = "crates/grain-splitter/shaders/hiz_common.wgsl";
+const HIZ_COMMON: &str = include_str!("../shaders/hiz_common.wgsl");
+const HIZ_PATH: &str = "crates/grain-splitter/shaders/hiz.wgsl";
+const HIZ: &str = include_str!("../shaders/hiz.wgsl");
+const HIZ_TEST_PATH: &str = "crates/grain-splitter/shaders/hiz_test.wgsl";
+const HIZ_TEST: &str = include_str!("../shaders/hiz_test.wgsl");
 const SPLIT_PATH: &str = "crates/grain-splitter/shaders/split.wgsl";
 const SPLIT: &str = include_str!("../shaders/split.wgsl");
 
 /// The structs of the crate, for WGSL generation.
 pub fn struct_declarations() -> Vec<StructDecl> {
-    vec![StructDecl::of::<SplitCamera>(), StructDecl::of::<SplitParams>()]
+    vec![StructDecl::of::<SplitCamera>(), StructDecl::of::<SplitParams>(), StructDecl::of::<HizParams>()]
 }
 
 /// The constants of the crate, for WGSL generation.
 pub fn constants() -> Vec<GpuConst> {
-    [LIST_CONSTANTS, SETTINGS_CONSTANTS].concat()
+    [LIST_CONSTANTS, SETTINGS_CONSTANTS, HIZ_CONSTANTS].concat()
 }
 
 /// The declarations as the Rust source says they should be now (`cargo xtask codegen`
@@ -53,12 +60,19 @@ pub fn occluder_map_32_shader() -> ComposedShader {
     with_projection("grain_splitter_occluder_map_32").with_part(MAP_32_PATH, MAP_32)
 }
 
-/// The splitter's passes, after `occlusion-cone`'s WGSL twin.
+/// The pyramid of occluder fusion (per-pixel bounds, then one reduction per level).
+pub fn hiz_shader() -> ComposedShader {
+    with_projection("grain_splitter_hiz").with_part(HIZ_COMMON_PATH, HIZ_COMMON).with_part(HIZ_PATH, HIZ)
+}
+
+/// The splitter's passes, after `occlusion-cone`'s WGSL twin, with the Hi-Z test.
 pub fn split_shader() -> ComposedShader {
     ComposedShader::of_module(&occlusion_cone::WGSL)
         .with_part(GENERATED_WGSL_PATH, GENERATED_WGSL)
         .with_part(PROJECTION_PATH, PROJECTION)
         .with_part(SPLIT_PATH, SPLIT)
+        .with_part(HIZ_COMMON_PATH, HIZ_COMMON)
+        .with_part(HIZ_TEST_PATH, HIZ_TEST)
 }
 
 /// The naga capabilities the 64-bit map needs.
@@ -82,6 +96,7 @@ mod tests {
     #[test]
     fn every_shader_validates_with_naga() {
         occluder_map_32_shader().validate().unwrap_or_else(|e| panic!("{e}"));
+        hiz_shader().validate().unwrap_or_else(|e| panic!("{e}"));
         occluder_map_64_shader().validate_with(int64_capabilities()).unwrap_or_else(|e| panic!("{e}"));
         // Without the capabilities the 64-bit map is rejected, so the fallback is needed.
         assert!(occluder_map_64_shader().validate().is_err());

@@ -2,9 +2,10 @@
 
 use crate::camera::SplitCamera;
 use crate::error::SplitError;
+use crate::hiz::{HIZ_WORKGROUP, HizParams, PyramidLevel, pyramid_levels, pyramid_texels};
 use crate::lists::{COUNTER_WORDS, INDIRECT_WORDS, LIST_COUNT, MAX_GROUPS_PER_DIMENSION, SPLIT_WORKGROUP};
 use crate::settings::{SplitParams, SplitSettings};
-use crate::shaders::{int64_capabilities, occluder_map_32_shader, occluder_map_64_shader, split_shader};
+use crate::shaders::{hiz_shader, int64_capabilities, occluder_map_32_shader, occluder_map_64_shader, split_shader};
 
 /// How the occluder map is built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,6 +62,23 @@ struct MapResources {
     layout: wgpu::BindGroupLayout,
 }
 
+/// Occluder fusion's pyramid (sized for the viewport when the Hi-Z test is on, 16 bytes
+/// otherwise) and its passes.
+struct HizResources {
+    pyramid: wgpu::Buffer,
+    /// Two-phase culling's per-pixel cover (16 bytes when off).
+    cover: wgpu::Buffer,
+    params: wgpu::Buffer,
+    /// `(k, 0, 0, 0)` for every level `k`, `stride` bytes apart (dynamic offsets).
+    level_indices: wgpu::Buffer,
+    stride: u32,
+    levels: Vec<PyramidLevel>,
+    layout: wgpu::BindGroupLayout,
+    cover_pass: wgpu::ComputePipeline,
+    bound: wgpu::ComputePipeline,
+    reduce: wgpu::ComputePipeline,
+}
+
 /// The occluder map and the splitter of one grain type, for up to `capacity` grains seen at
 /// one viewport size. Build it once; [`GrainSplitter::encode`] records a frame.
 pub struct GrainSplitter {
@@ -69,6 +87,7 @@ pub struct GrainSplitter {
     camera: wgpu::Buffer,
     params: wgpu::Buffer,
     map: MapResources,
+    hiz: HizResources,
     state: wgpu::Buffer,
     counters: wgpu::Buffer,
     block_counts: wgpu::Buffer,
@@ -85,6 +104,7 @@ pub struct GrainSplitter {
 /// [`GrainSplitter::bind`]).
 pub struct SplitBindings {
     map: wgpu::BindGroup,
+    hiz: wgpu::BindGroup,
     split: wgpu::BindGroup,
 }
 
@@ -231,6 +251,61 @@ impl GrainSplitter {
             }
         };
 
+        let hiz = {
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("occluder fusion"),
+                entries: &[
+                    shared[0],
+                    shared[1],
+                    shared[2],
+                    entry(3, READ),
+                    entry(4, WRITE),
+                    entry(5, UNIFORM),
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 6,
+                        visibility: wgpu::ShaderStages::COMPUTE,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: UNIFORM,
+                            has_dynamic_offset: true,
+                            min_binding_size: wgpu::BufferSize::new(16),
+                        },
+                        count: None,
+                    },
+                    entry(7, WRITE),
+                    entry(8, READ),
+                ],
+            });
+            let module = module(hiz_shader(), naga::valid::Capabilities::default())?;
+            let mut passes = pipelines(&module, &layout, &["hiz_cover", "hiz_bound", "hiz_reduce"]).into_iter();
+            let mut next = || passes.next().expect("three entry points were requested");
+            let (cover_pass, bound, reduce) = (next(), next(), next());
+            let cover_pixels = if settings.hiz_culling && settings.temporal_occluders { pixels } else { 4 };
+            let levels = pyramid_levels(options.size);
+            let texels = if settings.hiz_culling { pyramid_texels(options.size) } else { 4 };
+            let stride = limits.min_uniform_buffer_offset_alignment.max(16);
+            let mut indices = vec![0u8; levels.len() * stride as usize];
+            for k in 0..levels.len() {
+                indices[k * stride as usize..][..4].copy_from_slice(&(k as u32).to_le_bytes());
+            }
+            use wgpu::util::DeviceExt;
+            HizResources {
+                pyramid: buffer("occluder fusion pyramid", sized("pyramid bytes", texels * 4)?, usage),
+                cover: buffer("two-phase cover", sized("cover bytes", cover_pixels * 4)?, usage),
+                params: buffer("occluder fusion params", size_of::<HizParams>() as u64, uniform_usage),
+                level_indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("occluder fusion level indices"),
+                    contents: &indices,
+                    usage: wgpu::BufferUsages::UNIFORM,
+                }),
+                stride,
+                levels,
+                layout,
+                cover_pass,
+                bound,
+                reduce,
+            }
+        };
+
         let split_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grain splitter"),
             entries: &[
@@ -243,6 +318,8 @@ impl GrainSplitter {
                 entry(6, WRITE),
                 entry(7, WRITE),
                 entry(8, WRITE),
+                entry(9, READ),
+                entry(10, UNIFORM),
             ],
         });
         let split_module = module(split_shader(), naga::valid::Capabilities::default())?;
@@ -261,6 +338,7 @@ impl GrainSplitter {
             camera: buffer("splitter camera", size_of::<SplitCamera>() as u64, uniform_usage),
             params: buffer("splitter params", size_of::<SplitParams>() as u64, uniform_usage),
             map,
+            hiz,
             state: buffer("grain states", word_bytes, usage),
             counters: buffer("split counters", u64::from(COUNTER_WORDS) * 4, usage),
             block_counts: buffer("split block counts", block_bytes, usage),
@@ -337,6 +415,28 @@ impl GrainSplitter {
                 ],
             }),
         };
+        let hiz = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("occluder fusion"),
+            layout: &self.hiz.layout,
+            entries: &[
+                shared[0].clone(),
+                shared[1].clone(),
+                shared[2].clone(),
+                whole(3, self.occluder_words().0),
+                whole(4, &self.hiz.pyramid),
+                whole(5, &self.hiz.params),
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.hiz.level_indices,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(16),
+                    }),
+                },
+                whole(7, &self.hiz.cover),
+                whole(8, &self.state),
+            ],
+        });
         let split = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("grain splitter"),
             layout: &self.split_layout,
@@ -350,9 +450,11 @@ impl GrainSplitter {
                 whole(6, &self.block_counts),
                 whole(7, &self.elements),
                 whole(8, &self.indirect),
+                whole(9, &self.hiz.pyramid),
+                whole(10, &self.hiz.params),
             ],
         });
-        Ok(SplitBindings { map, split })
+        Ok(SplitBindings { map, hiz, split })
     }
 
     /// Records one frame: [`GrainSplitter::encode_occluder_map`], then
@@ -377,8 +479,9 @@ impl GrainSplitter {
         )
     }
 
-    /// Writes the camera and settings through `queue` and records the occluder map (one
-    /// compute pass; timestamps, when given, at slots `first` and `first + 1`).
+    /// Writes the camera and settings through `queue` and records the occluder map and,
+    /// when the Hi-Z test applies ([`SplitSettings::hiz_applies`]), occluder fusion's
+    /// pyramid (one compute pass; timestamps, when given, at slots `first` and `first + 1`).
     pub fn encode_occluder_map(
         &self,
         queue: &wgpu::Queue,
@@ -397,10 +500,19 @@ impl GrainSplitter {
         let (x, y, blocks) = self.grid(grain_count)?;
         let stride = if self.map.kind == OccluderMapKind::Atomic64 { 2 } else { 1 };
         queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(camera));
-        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&self.settings.params(grain_count, stride, blocks)));
+        let hiz = HizParams::new(camera).filter(|_| self.settings.hiz_applies(camera));
+        let params = self.settings.params(grain_count, stride, blocks, hiz.is_some());
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        if let Some(hiz) = &hiz {
+            queue.write_buffer(&self.hiz.params, 0, bytemuck::bytes_of(hiz));
+        }
         encoder.clear_buffer(&self.map.words, 0, None);
         if let Some((ids, _)) = &self.map.ids_and_splats {
             encoder.clear_buffer(ids, 0, None);
+        }
+        let temporal = hiz.is_some() && self.settings.temporal_occluders;
+        if temporal {
+            encoder.clear_buffer(&self.hiz.cover, 0, None);
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("occluder map"),
@@ -410,6 +522,24 @@ impl GrainSplitter {
         for pipeline in &self.map.pipelines {
             pass.set_pipeline(pipeline);
             pass.dispatch_workgroups(x, y, 1);
+        }
+        if hiz.is_some() {
+            let groups =
+                |level: &PyramidLevel| (level.width.div_ceil(HIZ_WORKGROUP), level.height.div_ceil(HIZ_WORKGROUP));
+            pass.set_bind_group(0, &bindings.hiz, &[0]);
+            if temporal {
+                pass.set_pipeline(&self.hiz.cover_pass);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+            pass.set_pipeline(&self.hiz.bound);
+            let (gx, gy) = groups(&self.hiz.levels[0]);
+            pass.dispatch_workgroups(gx, gy, 1);
+            pass.set_pipeline(&self.hiz.reduce);
+            for (k, level) in self.hiz.levels.iter().enumerate().skip(1) {
+                pass.set_bind_group(0, &bindings.hiz, &[k as u32 * self.hiz.stride]);
+                let (gx, gy) = groups(level);
+                pass.dispatch_workgroups(gx, gy, 1);
+            }
         }
         Ok(())
     }
@@ -493,6 +623,17 @@ impl GrainSplitter {
         u64::from(list * INDIRECT_WORDS) * 4
     }
 
+    /// Occluder fusion's pyramid (`f32` texels, every level one after another: see
+    /// [`GrainSplitter::pyramid_levels`]); meaningful after a frame the Hi-Z test applied to.
+    pub fn pyramid(&self) -> &wgpu::Buffer {
+        &self.hiz.pyramid
+    }
+
+    /// The pyramid's levels.
+    pub fn pyramid_levels(&self) -> &[PyramidLevel] {
+        &self.hiz.levels
+    }
+
     /// The per-grain state words (tier code, model).
     pub fn state(&self) -> &wgpu::Buffer {
         &self.state
@@ -519,6 +660,10 @@ impl GrainSplitter {
             ("block counts", &self.block_counts),
             ("elements", &self.elements),
             ("indirect", &self.indirect),
+            ("fusion pyramid", &self.hiz.pyramid),
+            ("two-phase cover", &self.hiz.cover),
+            ("fusion params", &self.hiz.params),
+            ("fusion level indices", &self.hiz.level_indices),
         ];
         if let Some((ids, splats)) = &self.map.ids_and_splats {
             buffers.push(("occluder ids", ids));

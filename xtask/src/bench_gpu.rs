@@ -1,9 +1,12 @@
 //! `cargo xtask bench-gpu culling [OUT_DIR] [--sizes LIST] [--frames N]`: GPU time of the
-//! occluder map and the splitter (`grain_splitter::bench`) on piles of coffee beans from
-//! `grain-scenes` at 1920×1080, in two shots (the whole pile; close, most grains outside the
-//! frustum and the nearest as meshes), for each occluder map the adapter has (64-bit, 32-bit) and
-//! each list order (atomic, stable), with grains per tier and the culled fractions; writes
-//! `culling.csv` into `OUT_DIR` (default `target/bench-gpu/culling`).
+//! occluder map and the splitter (`grain_splitter::bench`) on piles of coffee beans and of
+//! balls from `grain-scenes` at 1920×1080, in two shots (the whole pile; close, most grains outside the
+//! frustum and the nearest as meshes), for each occluder map the adapter has (64-bit, 32-bit),
+//! each culling (the paper's cone; + the Hi-Z test of occluder fusion; + two-phase, last
+//! frame's visible grains as occluders) and list order (atomic, stable; both only for the cone
+//! and two-phase), with grains per tier and the culled fractions by frustum, cone and Hi-Z;
+//! writes `culling.csv` into `OUT_DIR` (default `target/bench-gpu/culling`). The Hi-Z
+//! passes (cover, bounds, reduction) are timed with the occluder map.
 //!
 //! Sizes default to 20k and 200k on a software adapter and add 1.6M and 20M on a GPU;
 //! a size whose buffers exceed the adapter's limits is an error naming the limit.
@@ -21,6 +24,14 @@ use crate::cli::{Args, positive};
 
 const SIZE: (u32, u32) = (1920, 1080);
 const WARM_UP: u32 = 5;
+/// The cullings and list orders measured: both orders where the order is the question.
+const CULLINGS: [(&str, ListOrder); 5] = [
+    ("cone", ListOrder::Atomic),
+    ("cone", ListOrder::Stable),
+    ("hiz", ListOrder::Atomic),
+    ("two-phase", ListOrder::Atomic),
+    ("two-phase", ListOrder::Stable),
+];
 /// Timed frames by default (the issue asks for the median of at least 50).
 const DEFAULT_FRAMES: u32 = 60;
 
@@ -35,6 +46,12 @@ fn sizes(text: &str) -> Result<Vec<usize>, String> {
                 .map_err(|_| format!("`{word}` is neither a paper size (20k, 200k, 1.6M, 20M) nor a positive integer"))
         })
         .collect()
+}
+
+/// A pile of balls (`r = R = 1`): the pile of `cargo xtask culling-chart`, where the cone and
+/// the Hi-Z test cull (they cull nothing on the beans, whose measured `r/R` is 0.22).
+fn ball_pile(count: usize) -> Result<Stacking, String> {
+    crate::culling_chart::pile(count)
 }
 
 /// A pile of coffee beans (the measured `r` and `R` of `grain_mesh::CoffeeBean`), denser
@@ -81,30 +98,36 @@ fn measure_table(
     timed: u32,
 ) -> Result<String, String> {
     let mut csv = String::from(
-        "adapter,timing,grains,shot,width,height,occluder_map,order,frames,map_ms,split_ms,total_ms,\
-         mesh,impostor_occluder,impostor_rest,point,culled_frustum,culled_cone,frustum_fraction,cone_fraction\n",
+        "adapter,timing,scene,grains,shot,width,height,occluder_map,order,frames,map_ms,split_ms,total_ms,\
+         culling,mesh,impostor_occluder,impostor_rest,point,culled_frustum,culled_cone,culled_hiz,\
+         frustum_fraction,cone_fraction,hiz_fraction\n",
     );
     let rows = grain_impostor::choice::measured_accuracy()?;
-    for &count in counts {
+    for (&count, scene) in counts.iter().flat_map(|c| [(c, "beans"), (c, "balls")]) {
         let started = Instant::now();
-        let (stacking, r, outer) = bean_pile(count)?;
+        let (stacking, r, outer) = if scene == "beans" { bean_pile(count)? } else { (ball_pile(count)?, 1.0, 1.0) };
         let thresholds =
             TierThresholds::from_impostor_table(&rows, "bean", 0.05, 2.0, 1.1).map_err(|e| e.to_string())?;
-        let settings = SplitSettings::new(r, outer, thresholds);
+        let base = SplitSettings::new(r, outer, thresholds);
         let bounds = stacking.bounds();
         let [wide, _, foreground] = Shot::fig15(bounds.min, bounds.max);
         let grains = u32::try_from(count).map_err(|_| format!("{count} grains do not fit a u32 index"))?;
         let buffer = GrainSplitter::upload_grains(&gpu.device, stacking.centre_scale())
             .map_err(|e| format!("{count} grains: {e}"))?;
         println!(
-            "  {count} beans (r/R = {:.2}): generated and uploaded in {:.1} s",
+            "  {count} {scene} (r/R = {:.2}): generated and uploaded in {:.1} s",
             r / outer,
             started.elapsed().as_secs_f64()
         );
         for shot in [wide, foreground] {
             let camera = shot.camera(SIZE).map_err(|e| e.to_string())?;
             for &kind in kinds {
-                for order in [ListOrder::Atomic, ListOrder::Stable] {
+                for (culling, order) in CULLINGS {
+                    let settings = SplitSettings {
+                        hiz_culling: culling != "cone",
+                        temporal_occluders: culling == "two-phase",
+                        ..base
+                    };
                     let options = SplitterOptions { capacity: grains, size: SIZE, occluder_map: kind, order };
                     let splitter = GrainSplitter::new(&gpu.device, settings, options).map_err(|e| e.to_string())?;
                     let bindings = splitter.bind(&gpu.device, &buffer).map_err(|e| e.to_string())?;
@@ -117,13 +140,20 @@ fn measure_table(
                         gpu_harness::TimingSource::WallClock => "wall clock",
                     };
                     println!(
-                        "    {} {kind:?} {order:?}: map {:.3} ms, split {:.3} ms, total {:.3} ms ({timing}); lists {:?}, culled frustum {} cone {}",
-                        shot.name, result.map_ms, result.split_ms, result.total_ms, c.count, c.culled[0], c.culled[1]
+                        "    {} {kind:?} {culling} {order:?}: map {:.3} ms, split {:.3} ms, total {:.3} ms ({timing}); lists {:?}, culled frustum {} cone {} Hi-Z {}",
+                        shot.name,
+                        result.map_ms,
+                        result.split_ms,
+                        result.total_ms,
+                        c.count,
+                        c.culled[0],
+                        c.culled[1],
+                        c.culled[2]
                     );
                     let fraction = |n: u32| f64::from(n) / count as f64;
                     writeln!(
                     csv,
-                    "{adapter},{timing},{count},{},{},{},{kind:?},{order:?},{},{:.4},{:.4},{:.4},{},{},{},{},{},{},{:.5},{:.5}",
+                    "{adapter},{timing},{scene},{count},{},{},{},{kind:?},{order:?},{},{:.4},{:.4},{:.4},{culling},{},{},{},{},{},{},{},{:.5},{:.5},{:.5}",
                     shot.name,
                     SIZE.0,
                     SIZE.1,
@@ -137,8 +167,10 @@ fn measure_table(
                     c.count[3],
                     c.culled[0],
                     c.culled[1],
+                    c.culled[2],
                     fraction(c.culled[0]),
                     fraction(c.culled[1]),
+                    fraction(c.culled[2]),
                 )
                 .map_err(|e| e.to_string())?;
                 }

@@ -1,7 +1,8 @@
 //! `cargo xtask culling-chart [DIR] [--grains N] [--quick]`: the paper's Fig. 15 on a pile of
 //! balls from `grain-scenes` — the proportion of grains still rendered after occlusion
 //! culling against the ratio `r/R` assumed (1 → 0), for three shots (wide, narrow field of
-//! view, foreground) — and §8's splat factor against the same measure. Computed by the
+//! view, foreground), with occluder fusion and two-phase culling beside the paper's cone —
+//! and §8's splat factor against the same measure. Computed by the
 //! splitter's CPU reference (`grain_splitter::sweep`); writes CSV and PNG charts into `DIR`.
 
 use std::path::Path;
@@ -36,11 +37,12 @@ pub fn pile(grains: usize) -> Result<Stacking, String> {
 fn write_csv(path: &Path, rows: &[(&str, f32, CullingPoint)]) -> Result<(), String> {
     let mut csv = String::from(
         "shot,fov_y_degrees,ratio,splat_factor,grains,in_frustum,cone_culled,rendered_fraction,map_filled_fraction,\
-         fusion_extra,rendered_fraction_with_fusion,fusion_rays_checked,fusion_violations\n",
+         fusion_extra,rendered_fraction_with_fusion,fusion_rays_checked,fusion_violations,\
+         two_phase_extra,rendered_fraction_two_phase,two_phase_rays_checked,two_phase_violations\n",
     );
     for (shot, fov, p) in rows {
         csv += &format!(
-            "{shot},{:.1},{:.3},{:.3},{},{},{},{:.6},{:.6},{},{:.6},{},{}\n",
+            "{shot},{:.1},{:.3},{:.3},{},{},{},{:.6},{:.6},{},{:.6},{},{},{},{:.6},{},{}\n",
             fov.to_degrees(),
             p.ratio,
             p.splat_factor,
@@ -52,14 +54,18 @@ fn write_csv(path: &Path, rows: &[(&str, f32, CullingPoint)]) -> Result<(), Stri
             p.fusion_extra,
             p.rendered_fraction_with_fusion(),
             p.fusion_rays,
-            p.fusion_violations
+            p.fusion_violations,
+            p.two_phase_extra,
+            p.rendered_fraction_two_phase(),
+            p.two_phase_rays,
+            p.two_phase_violations
         );
     }
     std::fs::write(path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
-/// Label, colour, dashed, points.
-type Series = (String, RGBColor, bool, Vec<(f64, f64)>);
+/// Label, colour, line width, points.
+type Series = (String, RGBColor, u32, Vec<(f64, f64)>);
 
 fn draw(path: &Path, caption: &str, x_desc: &str, x_range: (f64, f64), series: &[Series]) -> Result<(), String> {
     render_png(path, (1200, 800), |root| {
@@ -79,8 +85,8 @@ fn draw(path: &Path, caption: &str, x_desc: &str, x_range: (f64, f64), series: &
             .label_style(("sans-serif", 18))
             .draw()
             .map_err(e)?;
-        for (label, colour, dashed, points) in series {
-            let width = if *dashed { 1 } else { 3 };
+        for (label, colour, width, points) in series {
+            let width = *width;
             chart
                 .draw_series(LineSeries::new(points.clone(), colour.stroke_width(width)))
                 .map_err(e)?
@@ -117,17 +123,22 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         println!("  {label}: {} of {grains} grains in the frustum", points[0].in_frustum);
         for p in &points {
             println!(
-                "    r/R = {:.2}: {:.1} % rendered with the cone, {:.1} % with fusion too ({} rays checked, {} reach a culled grain)",
+                "    r/R = {:.2}: {:.1} % rendered with the cone, {:.1} % with fusion too, {:.1} % two-phase ({} + {} rays checked, {} reach a culled grain)",
                 p.ratio,
                 100.0 * p.rendered_fraction(),
                 100.0 * p.rendered_fraction_with_fusion(),
+                100.0 * p.rendered_fraction_two_phase(),
                 p.fusion_rays,
-                p.fusion_violations
+                p.two_phase_rays,
+                p.fusion_violations + p.two_phase_violations
             );
         }
-        let violations: u64 = points.iter().chain(&splats).map(|p| p.fusion_violations).sum();
+        let violations: u64 = points.iter().chain(&splats).map(|p| p.fusion_violations + p.two_phase_violations).sum();
         if violations > 0 {
-            return Err(format!("{}: {violations} rays reach a grain that fusion culled: not conservative", shot.name));
+            return Err(format!(
+                "{}: {violations} rays reach a grain that fusion or two-phase culling culled: not conservative",
+                shot.name
+            ));
         }
         let curve = |points: &[CullingPoint], x: fn(&CullingPoint) -> f32, y: fn(&CullingPoint) -> f64| {
             points.iter().map(|p| (f64::from(x(p)), y(p))).collect::<Vec<_>>()
@@ -135,10 +146,17 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         let ratio: fn(&CullingPoint) -> f32 = |p| p.ratio;
         let splat: fn(&CullingPoint) -> f32 = |p| p.splat_factor;
         let (cone, fused) = (CullingPoint::rendered_fraction, CullingPoint::rendered_fraction_with_fusion);
-        ratio_series.push((label.clone(), colour, false, curve(&points, ratio, cone)));
-        ratio_series.push((format!("{label}, + occluder fusion"), colour, true, curve(&points, ratio, fused)));
-        splat_series.push((label.clone(), colour, false, curve(&splats, splat, cone)));
-        splat_series.push((format!("{label}, + occluder fusion"), colour, true, curve(&splats, splat, fused)));
+        let two_phase = CullingPoint::rendered_fraction_two_phase;
+        for (series, points, x) in [(&mut ratio_series, &points, ratio), (&mut splat_series, &splats, splat)] {
+            series.push((label.clone(), colour, 3, curve(points, x, cone)));
+            series.push((format!("{label}, + occluder fusion"), colour, 1, curve(points, x, fused)));
+            series.push((
+                format!("{label}, + two-phase (last frame's visible grains)"),
+                colour,
+                2,
+                curve(points, x, two_phase),
+            ));
+        }
         ratio_rows.extend(points.into_iter().map(|p| (shot.name, shot.fov_y, p)));
         splat_rows.extend(splats.into_iter().map(|p| (shot.name, shot.fov_y, p)));
     }

@@ -47,166 +47,15 @@
 //! all `+∞` and [`DepthPyramid::hides`] false. So is it for perspective matrices whose `x`/`y`
 //! rows translate (the pixel rays would miss the eye).
 
-use glam::{DMat4, DVec3, DVec4, Vec3, Vec4};
+use glam::{DVec3, Vec3, Vec4};
 
 use crate::camera::SplitCamera;
+use crate::decision::{NO_OCCLUDER, OccluderMap, decide};
 use crate::lists::{CULLED_CONE, CULLED_FRUSTUM};
-use crate::reference::{OccluderMap, decide};
+use crate::rays::{Rays, entry};
 use crate::settings::SplitSettings;
 
-/// How far (in pixels) each pixel's footprint is widened when bounding its depth, and a
-/// grain's rectangle when choosing its texels: covers the `f32` camera's and rasteriser's
-/// rounding (about `10⁻⁵` pixel) with room.
-pub const FOOTPRINT_MARGIN_PX: f64 = 1e-3;
-
-/// Relative margin added to every per-pixel bound `D(p)` (`f64` rounding is `~10⁻¹⁵`).
-pub const DEPTH_MARGIN: f64 = 1e-9;
-
-/// The camera in `f64`: view transform and the `x`, `y` rows of `clip_from_view`, whose
-/// last row is `(0, 0, −1, 0)`, so that `ndc = (a·v, b·v) / (−v_z)`.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Rays {
-    view_from_world: DMat4,
-    pub(crate) a: DVec3,
-    pub(crate) b: DVec3,
-    width: f64,
-    height: f64,
-}
-
-impl Rays {
-    /// `None` for orthographic cameras and any matrix this model does not cover.
-    pub(crate) fn new(camera: &SplitCamera) -> Option<Self> {
-        if !camera.is_perspective() {
-            return None;
-        }
-        let columns =
-            |c: &[Vec4; 4]| DMat4::from_cols(c[0].as_dvec4(), c[1].as_dvec4(), c[2].as_dvec4(), c[3].as_dvec4());
-        let view = columns(&camera.view_from_world);
-        let clip = columns(&camera.clip_from_world);
-        let determinant = view.determinant();
-        if !(view.is_finite() && clip.is_finite() && determinant.abs() > 1e-300) {
-            return None;
-        }
-        // `clip_from_world` was rounded in f32: the recomputed projection is (0, 0, −1, 0) in
-        // its last row and free of x/y translation only to within that rounding.
-        let p = clip * view.inverse();
-        let scale = 1.0 + view.to_cols_array().iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let tolerance = 1e-5 * scale * scale * (1.0 + p.x_axis.x.abs() + p.y_axis.y.abs());
-        let last = p.row(3) - DVec4::new(0.0, 0.0, -1.0, 0.0);
-        if last.abs().max_element() > tolerance || p.row(0).w.abs() > tolerance || p.row(1).w.abs() > tolerance {
-            return None;
-        }
-        let (width, height) = camera.size();
-        let rays = Self {
-            view_from_world: view,
-            a: p.row(0).truncate(),
-            b: p.row(1).truncate(),
-            width: f64::from(width),
-            height: f64::from(height),
-        };
-        (rays.a.x * rays.b.y - rays.a.y * rays.b.x).is_normal().then_some(rays)
-    }
-
-    pub(crate) fn view(&self, world: DVec3) -> DVec3 {
-        self.view_from_world.transform_point3(world)
-    }
-
-    /// The unit direction of the ray through the point `(px, py)` of the screen (pixels).
-    pub(crate) fn direction(&self, px: f64, py: f64) -> DVec3 {
-        let (nx, ny) = (2.0 * px / self.width - 1.0, 1.0 - 2.0 * py / self.height);
-        // v = (vx, vy, −1): a·v = nx, b·v = ny.
-        let (ex, ey) = (nx + self.a.z, ny + self.b.z);
-        let det = self.a.x * self.b.y - self.a.y * self.b.x;
-        let vx = (ex * self.b.y - self.a.y * ey) / det;
-        let vy = (self.a.x * ey - ex * self.b.x) / det;
-        DVec3::new(vx, vy, -1.0).normalize()
-    }
-
-    /// `(o, dx, dy)`: the (not normalised) direction of the ray through `(px, py)` is
-    /// `o + px·dx + py·dy`, the affine form of [`Rays::direction`]'s solve.
-    pub(crate) fn affine(&self) -> (DVec3, DVec3, DVec3) {
-        let (a, b) = (self.a, self.b);
-        let det = a.x * b.y - a.y * b.x;
-        let origin = DVec3::new(
-            ((a.z - 1.0) * b.y - a.y * (1.0 + b.z)) / det,
-            (a.x * (1.0 + b.z) - (a.z - 1.0) * b.x) / det,
-            -1.0,
-        );
-        let dx = DVec3::new(2.0 * b.y / (self.width * det), -2.0 * b.x / (self.width * det), 0.0);
-        let dy = DVec3::new(2.0 * a.y / (self.height * det), -2.0 * a.x / (self.height * det), 0.0);
-        (origin, dx, dy)
-    }
-
-    /// The screen point (pixels) of a view-space point in front of the eye.
-    fn pixel(&self, v: DVec3) -> Option<(f64, f64)> {
-        let w = -v.z;
-        (w > 0.0).then(|| {
-            let (nx, ny) = (self.a.dot(v) / w, self.b.dot(v) / w);
-            ((nx + 1.0) * 0.5 * self.width, (1.0 - ny) * 0.5 * self.height)
-        })
-    }
-
-    /// `D(p)` for pixel `(x, y)` and occluder ball `B(g0, r0)` (module docs).
-    pub(crate) fn pixel_bound(&self, (x, y): (u32, u32), g0: DVec3, r0: f64) -> f64 {
-        let g2 = g0.length_squared();
-        if !(r0 > 0.0 && g0.is_finite() && r0.is_finite() && g2 > r0 * r0) {
-            return f64::INFINITY;
-        }
-        let m = FOOTPRINT_MARGIN_PX;
-        let (x0, x1, y0, y1) = (f64::from(x) - m, f64::from(x) + 1.0 + m, f64::from(y) - m, f64::from(y) + 1.0 + m);
-        let mut bound = 0.0f64;
-        for (px, py) in [(x0, y0), (x1, y0), (x0, y1), (x1, y1)] {
-            match entry(self.direction(px, py), g0, r0) {
-                Some(t) => bound = bound.max(t),
-                None => return f64::INFINITY,
-            }
-        }
-        bound * (1.0 + DEPTH_MARGIN)
-    }
-
-    /// `[x_min, x_max, y_min, y_max]` in pixels of the ball's projection (module docs).
-    fn bounds(&self, g: DVec3, radius: f64) -> Option<[f64; 4]> {
-        let depth = -g.z;
-        if !(g.is_finite() && radius.is_finite() && radius >= 0.0 && depth - radius > 0.0 && g.length() > radius) {
-            return None;
-        }
-        let n = DVec3::NEG_Z;
-        let r2 = radius * radius;
-        let range = |a: DVec3| {
-            let (big_a, big_n) = (a.dot(g), depth);
-            let q2 = big_n * big_n - r2;
-            let q1 = big_a * big_n - r2 * a.dot(n);
-            // q1² − q2·q0 (q0 = A² − R²|a|²) without cancellation: R²(|N a − A n|² − R²|a × n|²).
-            let u = big_n * a - big_a * n;
-            let root = radius * (u.length_squared() - r2 * a.cross(n).length_squared()).max(0.0).sqrt();
-            ((q1 - root) / q2, (q1 + root) / q2)
-        };
-        let ((sx0, sx1), (sy0, sy1)) = (range(self.a), range(self.b));
-        let bounds = [
-            (sx0 + 1.0) * 0.5 * self.width,
-            (sx1 + 1.0) * 0.5 * self.width,
-            (1.0 - sy1) * 0.5 * self.height,
-            (1.0 - sy0) * 0.5 * self.height,
-        ];
-        bounds.iter().all(|b| b.is_finite()).then_some(bounds)
-    }
-
-    /// The rectangle's inclusive pixel range, clamped to the screen; `None` when empty.
-    fn rect(&self, g: DVec3, radius: f64) -> Option<[u32; 4]> {
-        let [x0, x1, y0, y1] = self.bounds(g, radius)?;
-        let m = FOOTPRINT_MARGIN_PX;
-        let (lx, hx) = ((x0 - m).floor().max(0.0), (x1 + m).floor().min(self.width - 1.0));
-        let (ly, hy) = ((y0 - m).floor().max(0.0), (y1 + m).floor().min(self.height - 1.0));
-        (lx <= hx && ly <= hy).then_some([lx as u32, hx as u32, ly as u32, hy as u32])
-    }
-}
-
-/// Where the unit ray `d` from the eye enters the ball `B(g, r)` (eye outside it), if it meets it.
-fn entry(d: DVec3, g: DVec3, r: f64) -> Option<f64> {
-    let c = d.dot(g);
-    let discriminant = r * r - d.cross(g).length_squared();
-    (c > 0.0 && discriminant >= 0.0).then(|| (g.length_squared() - r * r) / (c + discriminant.sqrt()))
-}
+pub use crate::rays::{DEPTH_MARGIN, FOOTPRINT_MARGIN_PX};
 
 /// The conservative rectangle, in pixels `[x_min, x_max, y_min, y_max]` (unclamped, `y` down),
 /// of the projection of the ball `B(centre_view, radius)` (view space); `None` for an
@@ -223,18 +72,45 @@ pub fn occluder_bound(camera: &SplitCamera, (x, y): (u32, u32), centre: Vec3, ra
     Rays::new(camera).map_or(f64::INFINITY, |rays| rays.pixel_bound((x, y), rays.view(centre.as_dvec3()), radius))
 }
 
+/// A pyramid's first level being built: per pixel the smallest bound offered and the grain
+/// whose inner ball it bounds (for the ray check).
+pub(crate) struct BaseBounds {
+    pub(crate) bound: Vec<f64>,
+    pub(crate) owner: Vec<u32>,
+}
+
+impl BaseBounds {
+    pub(crate) fn empty(pixels: usize) -> Self {
+        Self { bound: vec![f64::INFINITY; pixels], owner: vec![NO_OCCLUDER; pixels] }
+    }
+
+    /// Keeps `bound` (of grain `owner`) at pixel `i` if it is smaller.
+    pub(crate) fn offer(&mut self, i: usize, bound: f64, owner: u32) {
+        if bound < self.bound[i] {
+            self.bound[i] = bound;
+            self.owner[i] = owner;
+        }
+    }
+}
+
 /// Level 0 of the map's pyramid: `D(p)` of each pixel's occluder (`+∞` where there is none,
 /// or where fusion does not apply).
-fn map_bounds(camera: &SplitCamera, settings: &SplitSettings, grains: &[Vec4], map: &OccluderMap) -> Vec<f64> {
+pub(crate) fn map_bounds(
+    camera: &SplitCamera,
+    settings: &SplitSettings,
+    grains: &[Vec4],
+    map: &OccluderMap,
+) -> BaseBounds {
     let (width, height) = camera.size();
-    let mut base = vec![f64::INFINITY; width as usize * height as usize];
+    let mut base = BaseBounds::empty(width as usize * height as usize);
     let radius = f64::from(settings.occluder_radius);
     if let Some(rays) = Rays::new(camera).filter(|_| (map.width, map.height) == (width, height) && radius > 0.0) {
         for y in 0..height {
             for x in 0..width {
-                let Some(&grain) = map.get((x, y)).and_then(|id| grains.get(id as usize)) else { continue };
+                let Some(id) = map.get((x, y)) else { continue };
+                let Some(&grain) = grains.get(id as usize) else { continue };
                 let g0 = rays.view(grain.truncate().as_dvec3());
-                base[(y * width + x) as usize] = rays.pixel_bound((x, y), g0, radius * f64::from(grain.w));
+                base.offer((y * width + x) as usize, rays.pixel_bound((x, y), g0, radius * f64::from(grain.w)), id);
             }
         }
     }
@@ -245,6 +121,8 @@ fn map_bounds(camera: &SplitCamera, settings: &SplitSettings, grains: &[Vec4], m
 #[derive(Clone, Debug, PartialEq)]
 pub struct DepthPyramid {
     levels: Vec<(u32, u32, Vec<f64>)>,
+    /// Per level-0 pixel, the grain its bound comes from ([`NO_OCCLUDER`]: none).
+    owners: Vec<u32>,
 }
 
 impl DepthPyramid {
@@ -256,27 +134,7 @@ impl DepthPyramid {
         Self::from_base(width, height, map_bounds(camera, settings, grains, map))
     }
 
-    /// The pyramid of two-phase culling ([`crate::temporal`]): per pixel the smaller of the
-    /// map's bound and the bounds of the grains visible in the previous frame
-    /// (`previous_state`, one word per grain; empty: every grain), each splatted over its
-    /// inscribed square ([`crate::temporal::cover_square`]).
-    pub fn build_two_phase(
-        camera: &SplitCamera,
-        settings: &SplitSettings,
-        grains: &[Vec4],
-        map: &OccluderMap,
-        previous_state: &[u32],
-    ) -> Self {
-        let (width, height) = camera.size();
-        let mut base = map_bounds(camera, settings, grains, map);
-        let cover = crate::temporal::cover_bounds(camera, settings, grains, previous_state);
-        for (b, c) in base.iter_mut().zip(cover) {
-            *b = b.min(c);
-        }
-        Self::from_base(width, height, base)
-    }
-
-    fn from_base(width: u32, height: u32, base: Vec<f64>) -> Self {
+    pub(crate) fn from_base(width: u32, height: u32, BaseBounds { bound: base, owner: owners }: BaseBounds) -> Self {
         let mut levels = vec![(width, height, base)];
         while let Some((w, h, texels)) = levels.last().filter(|(w, h, _)| *w > 1 || *h > 1) {
             let (nw, nh) = (w.div_ceil(2), h.div_ceil(2));
@@ -289,7 +147,7 @@ impl DepthPyramid {
             }
             levels.push((nw, nh, next));
         }
-        Self { levels }
+        Self { levels, owners }
     }
 
     /// The number of levels (level 0 is the screen, the last is 1 × 1).
@@ -300,6 +158,15 @@ impl DepthPyramid {
     /// Level `k`: `(width, height, texels)` row-major; `None` past the last level.
     pub fn level(&self, k: usize) -> Option<(u32, u32, &[f64])> {
         self.levels.get(k).map(|(w, h, t)| (*w, *h, t.as_slice()))
+    }
+
+    /// The grain whose inner ball bounds pixel `(x, y)` of level 0.
+    pub fn owner(&self, (x, y): (u32, u32)) -> Option<u32> {
+        let (w, h, _) = self.level(0)?;
+        if x >= w || y >= h {
+            return None;
+        }
+        self.owners.get((y * w + x) as usize).copied().filter(|&id| id != NO_OCCLUDER)
     }
 
     /// How many pixels have a finite bound.
@@ -447,22 +314,22 @@ impl SplitMix64 {
     }
 }
 
-/// Checks the pyramid by brute force: for every grain it culls, casts `rays_per_grain` rays
-/// from the eye through uniform random points of its outer ball that land on screen, finds
-/// the pixel each crosses, and verifies in `f64` that the ray enters that pixel's occluder
-/// inner ball before its first point in the grain's outer ball. Nothing is checked for an
+/// Checks `pyramid` (of `grains` for `camera`) by brute force: for every grain it culls,
+/// casts `rays_per_grain` rays from the eye through uniform random points of its outer ball
+/// that land on screen, finds the pixel each crosses, and verifies in `f64` that the ray
+/// enters the inner ball of the grain that bounds that pixel ([`DepthPyramid::owner`])
+/// before its first point in the culled grain's outer ball. Nothing is checked for an
 /// orthographic camera (nothing is culled).
 pub fn check_fusion(
     camera: &SplitCamera,
     settings: &SplitSettings,
     grains: &[Vec4],
-    map: &OccluderMap,
+    pyramid: &DepthPyramid,
     rays_per_grain: u32,
     seed: u64,
 ) -> FusionCheck {
     let mut check = FusionCheck::default();
     let Some(rays) = Rays::new(camera) else { return check };
-    let pyramid = DepthPyramid::build(camera, settings, grains, map);
     let mut random = SplitMix64(seed);
     let inner = f64::from(settings.occluder_radius);
     for grain in grains {
@@ -485,7 +352,7 @@ pub fn check_fusion(
             cast += 1;
             let d = y.normalize();
             let grain_entry = entry(d, g1, radius).unwrap_or(0.0);
-            let occluder = map.get((px as u32, py as u32)).and_then(|id| grains.get(id as usize));
+            let occluder = pyramid.owner((px as u32, py as u32)).and_then(|id| grains.get(id as usize));
             let hidden = occluder.and_then(|o| entry(d, rays.view(o.truncate().as_dvec3()), inner * f64::from(o.w)));
             if !hidden.is_some_and(|t| t < grain_entry) {
                 check.violations += 1;
@@ -545,7 +412,8 @@ mod tests {
                         let settings = SplitSettings { splat_factor, ..settings(ratio) };
                         let map = occluder_map(&camera, &settings, &grains);
                         let counts = fused_split_counts(&camera, &settings, &grains, &map);
-                        let check = check_fusion(&camera, &settings, &grains, &map, 16, 11);
+                        let pyramid = DepthPyramid::build(&camera, &settings, &grains, &map);
+                        let check = check_fusion(&camera, &settings, &grains, &pyramid, 16, 11);
                         let pyramid = DepthPyramid::build(&camera, &settings, &grains, &map);
                         let rays = Rays::new(&camera).unwrap();
                         let exact = grains
@@ -669,7 +537,7 @@ mod tests {
         assert!(!pyramid.hides(&camera, DVec3::new(0.0, 0.0, -12.0), 3.59), "not when it reaches their depth");
         let counts = fused_split_counts(&camera, &settings, &grains, &map);
         assert_eq!((counts.cone, counts.fusion_only, counts.visible_after_fusion), (0, 1, 2));
-        let check = check_fusion(&camera, &settings, &grains, &map, 2000, 5);
+        let check = check_fusion(&camera, &settings, &grains, &pyramid, 2000, 5);
         assert_eq!((check.culled_checked, check.violations), (1, 0));
         assert!(check.rays == 2000, "{}", check.rays);
     }

@@ -34,7 +34,8 @@ use glam::{DVec3, UVec4, Vec4};
 use gpu_layout::{GpuConst, gpu_const, gpu_struct};
 
 use crate::camera::SplitCamera;
-use crate::fusion::Rays;
+use crate::rays::Rays;
+use crate::settings::SplitSettings;
 
 /// Relative slack per ball (module docs): `2⁻¹⁴` of `|view centre| + |world centre|`.
 pub const HIZ_SLACK: f32 = 1.0 / 16_384.0;
@@ -134,6 +135,13 @@ impl HizParams {
             size: UVec4::new(size.0, size.1, levels.len() as u32, 0),
             levels: table,
         })
+    }
+}
+
+impl SplitSettings {
+    /// Whether the Hi-Z test runs for `camera` (on, a solid core, a camera fusion covers).
+    pub fn hiz_applies(&self, camera: &SplitCamera) -> bool {
+        self.hiz_culling && self.occluder_radius > 0.0 && HizParams::new(camera).is_some()
     }
 }
 

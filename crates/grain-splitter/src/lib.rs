@@ -68,7 +68,8 @@
 //! - [`tiers`]: [`Tier`], [`TierThresholds`] (measured mesh threshold, hysteresis).
 //! - [`settings`]: [`SplitSettings`] and the shaders' uniform block.
 //! - [`lists`]: list and culling codes, [`SplitCounters`], [`ListIndirect`], the state word.
-//! - [`reference`](mod@reference): the CPU reference.
+//! - [`decision`]: the paper's per-grain decisions and the occluder map (`f32`, twins of the shaders).
+//! - [`reference`](mod@reference): the CPU reference of a whole frame.
 //! - [`fusion`]: occluder fusion, a conservative depth bound per pixel and its max pyramid (CPU, `f64`).
 //! - [`hiz`]: the same on the GPU in `f32` (the pyramid passes and the splitter's Hi-Z test).
 //! - [`temporal`]: two-phase culling, last frame's visible grains as this frame's occluders.
@@ -80,10 +81,12 @@
 
 pub mod bench;
 pub mod camera;
+pub mod decision;
 pub mod error;
 pub mod fusion;
 pub mod hiz;
 pub mod lists;
+mod rays;
 pub mod reference;
 pub mod settings;
 pub mod shaders;

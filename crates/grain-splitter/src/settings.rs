@@ -97,14 +97,9 @@ impl SplitSettings {
         Ok(())
     }
 
-    /// Whether the Hi-Z test runs for `camera` (on, a solid core, a camera fusion covers).
-    pub fn hiz_applies(&self, camera: &crate::SplitCamera) -> bool {
-        self.hiz_culling && self.occluder_radius > 0.0 && crate::hiz::HizParams::new(camera).is_some()
-    }
-
     /// The uniform block for `grain_count` grains and an occluder map whose ids are
     /// `id_stride` words apart (2: the 64-bit map, 1: the 32-bit one); `hiz`: whether the
-    /// Hi-Z test runs this frame ([`SplitSettings::hiz_applies`]).
+    /// Hi-Z test runs this frame ([`SplitSettings::hiz_applies`], in [`crate::hiz`]).
     pub(crate) fn params(&self, grain_count: u32, id_stride: u32, blocks: u32, hiz: bool) -> SplitParams {
         let flags = if self.frustum_culling { FLAG_FRUSTUM } else { 0 }
             | if self.cone_culling && self.occluder_radius > 0.0 { FLAG_CONE } else { 0 }

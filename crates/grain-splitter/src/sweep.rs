@@ -11,8 +11,8 @@ use glam::{Vec3, Vec4};
 
 use crate::camera::SplitCamera;
 use crate::error::SplitError;
-use crate::fusion::{check_fusion, fused_split_counts};
-use crate::reference::occluder_map;
+use crate::fusion::{DepthPyramid, check_fusion, fused_split_counts};
+use crate::reference::{occluder_map, split};
 use crate::settings::SplitSettings;
 
 /// The culling of one frame.
@@ -34,6 +34,14 @@ pub struct CullingPoint {
     pub fusion_rays: u64,
     /// Of those, rays that reach a culled grain before its pixel's occluder: must be 0.
     pub fusion_violations: u64,
+    /// Grains that two-phase culling ([`crate::temporal`]: the Hi-Z test with the grains
+    /// visible in the previous frame as occluders) culls besides the cone, in the second of
+    /// two frames from the same camera (the first has no history: every grain covers).
+    pub two_phase_extra: u32,
+    /// Rays cast by the check of the second frame's pyramid.
+    pub two_phase_rays: u64,
+    /// Of those, rays that reach a culled grain first: must be 0.
+    pub two_phase_violations: u64,
     /// Pixels of the occluder map holding an occluder.
     pub map_filled: u32,
     /// Pixels of the occluder map.
@@ -51,15 +59,24 @@ impl CullingPoint {
 
     /// The same with occluder fusion as well as the cone.
     pub fn rendered_fraction_with_fusion(&self) -> f64 {
+        self.rendered_with(self.fusion_extra)
+    }
+
+    /// The same with two-phase culling as well as the cone.
+    pub fn rendered_fraction_two_phase(&self) -> f64 {
+        self.rendered_with(self.two_phase_extra)
+    }
+
+    fn rendered_with(&self, extra: u32) -> f64 {
         if self.in_frustum == 0 {
             return 1.0;
         }
-        f64::from(self.in_frustum - self.cone_culled - self.fusion_extra) / f64::from(self.in_frustum)
+        f64::from(self.in_frustum - self.cone_culled - extra) / f64::from(self.in_frustum)
     }
 }
 
-/// One frame of the CPU reference with `settings`, counted, with occluder fusion and its
-/// ray check.
+/// One frame of the CPU reference with `settings`, counted, with occluder fusion and
+/// two-phase culling (two frames), each with its ray check.
 pub fn culling_point(
     camera: &SplitCamera,
     settings: &SplitSettings,
@@ -68,7 +85,12 @@ pub fn culling_point(
     settings.validate()?;
     let map = occluder_map(camera, settings, grains);
     let fused = fused_split_counts(camera, settings, grains, &map);
-    let check = check_fusion(camera, settings, grains, &map, 4, 0x5eed);
+    let check = check_fusion(camera, settings, grains, &DepthPyramid::build(camera, settings, grains, &map), 4, 0x5eed);
+    let two_phase = SplitSettings { hiz_culling: true, temporal_occluders: true, ..*settings };
+    let first = split(camera, &two_phase, grains, &map, &[])?;
+    let second = split(camera, &two_phase, grains, &map, &first.state)?;
+    let pyramid = DepthPyramid::build_two_phase(camera, &two_phase, grains, &map, &first.state);
+    let two_phase_check = check_fusion(camera, &two_phase, grains, &pyramid, 4, 0x5eed);
     Ok(CullingPoint {
         ratio: settings.occluder_radius / settings.outer_radius,
         splat_factor: settings.splat_factor,
@@ -78,6 +100,9 @@ pub fn culling_point(
         fusion_extra: fused.fusion_only,
         fusion_rays: check.rays,
         fusion_violations: check.violations,
+        two_phase_extra: second.counters.culled[2],
+        two_phase_rays: two_phase_check.rays,
+        two_phase_violations: two_phase_check.violations,
         map_filled: map.filled() as u32,
         map_pixels: map.ids.len() as u32,
     })

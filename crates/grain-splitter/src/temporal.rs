@@ -26,10 +26,11 @@
 use glam::Vec4;
 
 use crate::camera::SplitCamera;
-use crate::fusion::Rays;
+use crate::decision::{OccluderMap, Splat, splat};
+use crate::fusion::{BaseBounds, DepthPyramid, map_bounds};
 use crate::hiz::HIZ_COVER_FACTOR;
 use crate::lists::{LIST_COUNT, state_model};
-use crate::reference::{Splat, splat};
+use crate::rays::Rays;
 use crate::settings::SplitSettings;
 
 /// Whether a grain's state word says the previous frame kept it (its model is a list).
@@ -43,18 +44,18 @@ pub fn cover_square(camera: &SplitCamera, settings: &SplitSettings, grain: Vec4)
     splat(camera, &SplitSettings { splat_factor: HIZ_COVER_FACTOR, ..*settings }, grain)
 }
 
-/// Per pixel (row-major), the smallest `D(p)` of the grains visible in the previous frame
-/// whose [`cover_square`] holds the pixel; `+∞` elsewhere. `previous_state`: one word per
-/// grain, or empty (no history: every grain covers). All `+∞` where fusion does not apply.
-pub fn cover_bounds(
+/// Offers to `base` (level 0, row-major) the bound `D(p)` of every grain visible in the
+/// previous frame at each pixel of its [`cover_square`]. `previous_state`: one word per
+/// grain, or empty (no history: every grain covers). Nothing where fusion does not apply.
+pub(crate) fn cover_into(
     camera: &SplitCamera,
     settings: &SplitSettings,
     grains: &[Vec4],
     previous_state: &[u32],
-) -> Vec<f64> {
-    let (width, height) = camera.size();
-    let mut bounds = vec![f64::INFINITY; width as usize * height as usize];
-    let Some(rays) = Rays::new(camera).filter(|_| settings.occluder_radius > 0.0) else { return bounds };
+    base: &mut BaseBounds,
+) {
+    let width = camera.size().0;
+    let Some(rays) = Rays::new(camera).filter(|_| settings.occluder_radius > 0.0) else { return };
     for (index, &grain) in grains.iter().enumerate() {
         if !previous_state.get(index).is_none_or(|&s| was_visible(s)) {
             continue;
@@ -64,12 +65,29 @@ pub fn cover_bounds(
         let radius = f64::from(settings.occluder_radius) * f64::from(grain.w);
         for y in square.min.1..=square.max.1 {
             for x in square.min.0..=square.max.0 {
-                let slot = &mut bounds[(y * width + x) as usize];
-                *slot = slot.min(rays.pixel_bound((x, y), g, radius));
+                base.offer((y * width + x) as usize, rays.pixel_bound((x, y), g, radius), index as u32);
             }
         }
     }
-    bounds
+}
+
+impl DepthPyramid {
+    /// The pyramid of two-phase culling (this module): per pixel the smaller of the
+    /// map's bound and the bounds of the grains visible in the previous frame
+    /// (`previous_state`, one word per grain; empty: every grain), each splatted over its
+    /// inscribed square ([`cover_square`]).
+    pub fn build_two_phase(
+        camera: &SplitCamera,
+        settings: &SplitSettings,
+        grains: &[Vec4],
+        map: &OccluderMap,
+        previous_state: &[u32],
+    ) -> Self {
+        let (width, height) = camera.size();
+        let mut base = map_bounds(camera, settings, grains, map);
+        cover_into(camera, settings, grains, previous_state, &mut base);
+        Self::from_base(width, height, base)
+    }
 }
 
 #[cfg(test)]
@@ -96,11 +114,13 @@ mod tests {
         assert!(a.iter().zip(b).all(|(a, b)| b <= a), "the minimum never loosens a bound");
         // A grain culled last frame does not cover; a visible one does.
         let culled = CULLED_CONE << STATE_MODEL_SHIFT;
-        let none = cover_bounds(&camera, &settings, &grains, &[culled, culled]);
-        assert!(none.iter().all(|d| d.is_infinite()));
-        let one = cover_bounds(&camera, &settings, &grains, &[culled, 0]);
-        let all = cover_bounds(&camera, &settings, &grains, &[]);
-        let finite = |v: &[f64]| v.iter().filter(|d| d.is_finite()).count();
-        assert!(finite(&one) > 0 && finite(&one) < finite(&all));
+        let covered = |state: &[u32]| {
+            let mut base = BaseBounds::empty(64 * 64);
+            cover_into(&camera, &settings, &grains, state, &mut base);
+            base.bound.iter().filter(|d| d.is_finite()).count()
+        };
+        let (none, one, all) = (covered(&[culled, culled]), covered(&[culled, 0]), covered(&[]));
+        assert_eq!(none, 0);
+        assert!(one > 0 && one < all);
     }
 }

@@ -70,7 +70,8 @@ fn bean_pile(count: usize) -> Result<(Stacking, f32, f32), String> {
 
 pub fn run(args: &Args<'_>) -> Result<(), String> {
     let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
-    let adapter = gpu.adapter_info().name.clone();
+    // Quoted for CSV: adapter names hold commas ("llvmpipe (LLVM 15.0.6, 256 bits)").
+    let adapter = format!("\"{}\"", gpu.adapter_info().name.replace('"', "\"\""));
     let default_sizes =
         if gpu.is_software() { vec![20_000, 200_000] } else { vec![20_000, 200_000, 1_600_000, 20_000_000] };
     let counts = args.parse_value("sizes", sizes)?.unwrap_or(default_sizes);

@@ -3,10 +3,11 @@
 
 const CLOUD_NONE: u32 = 4294967295u;
 
-// Rust size 16 bytes.
+// Rust size 20 bytes.
 struct CloudUniforms {
     grain_count: u32, // offset 0
     texels: u32, // offset 4
     layers: u32, // offset 8
     coverage_threshold: f32, // offset 12
+    owner_pass: u32, // offset 16
 }

@@ -19,7 +19,9 @@
 //!    `qᵢ = ViewFrame::point_at(uvᵢ, depthᵢ)`), moved onto the camera ray. `atomicMin`
 //!    of the depth's bits keeps the nearest.
 //! 3. `splat_owner`: the same walk; the grain whose depth bits equal the minimum writes
-//!    its index (`atomicMin`: ties go to the smallest index).
+//!    its index (`atomicMin`: ties go to the smallest index). Both splats are one entry
+//!    point (`splat_cloud`) run twice, [`CloudUniforms::owner_pass`] selecting the atomic,
+//!    so that the depth compared is computed by the same compiled code as the one stored.
 //! 4. `resolve_cloud`: per pixel, the owner's four views are read in every atlas layer
 //!    (trilinear, LOD = log2 of texels per pixel), blended with the bilinear weights,
 //!    un-premultiplied, the grain-local normal rotated to world space; writes
@@ -58,6 +60,8 @@ gpu_struct! {
         pub layers: u32,
         /// Blended α at or above which a pixel is covered by a grain.
         pub coverage_threshold: f32,
+        /// 0: the depth pass of `splat_cloud`; 1: its owner pass.
+        pub owner_pass: u32,
     }
 }
 
@@ -89,6 +93,11 @@ pub const CLOUD_GENERATED_WGSL: &str = include_str!("../shaders/cloud_generated.
 pub const CLOUD_WGSL_PATH: &str = "crates/grain-impostor/shaders/cloud.wgsl";
 /// The hand-written cloud shader.
 pub const CLOUD_WGSL: &str = include_str!("../shaders/cloud.wgsl");
+/// Path of the sampling functions shared with other impostor passes.
+pub const CLOUD_SAMPLING_WGSL_PATH: &str = "crates/grain-impostor/shaders/cloud_sampling.wgsl";
+/// The sampling functions (`cloud_hit`, `cloud_surface`, `cloud_grain_rectangle`, …): they
+/// read `camera`, `sampling`, `cloud` and the atlas textures the including shader declares.
+pub const CLOUD_SAMPLING_WGSL: &str = include_str!("../shaders/cloud_sampling.wgsl");
 
 /// The structs of this module, for WGSL generation.
 pub fn cloud_struct_declarations() -> Vec<StructDecl> {
@@ -101,13 +110,21 @@ pub fn cloud_generated_wgsl() -> Result<String, GenerateError> {
     generate_declarations("grain_impostor_cloud", &cloud_struct_declarations(), CLOUD_CONSTANTS)
 }
 
-/// The composed cloud shader: `octahedral-map`'s WGSL twin ([`octahedral_map::WGSL`]),
-/// this crate's scene declarations, the cloud declarations and `cloud.wgsl`.
-pub fn cloud_shader() -> ComposedShader {
-    ComposedShader::of_module(&octahedral_map::WGSL)
+/// `octahedral-map`'s WGSL twin ([`octahedral_map::WGSL`]), this crate's scene
+/// declarations, the cloud declarations and the sampling functions
+/// ([`CLOUD_SAMPLING_WGSL`]), named `name`: the start of every shader that samples impostor
+/// atlases per pixel (it declares the bindings and entry points after).
+pub fn cloud_sampling_shader(name: &str) -> ComposedShader {
+    ComposedShader::new(name)
+        .with_module(&octahedral_map::WGSL)
         .with_part(crate::scene::GENERATED_WGSL_PATH, crate::scene::GENERATED_WGSL)
         .with_part(CLOUD_GENERATED_WGSL_PATH, CLOUD_GENERATED_WGSL)
-        .with_part(CLOUD_WGSL_PATH, CLOUD_WGSL)
+        .with_part(CLOUD_SAMPLING_WGSL_PATH, CLOUD_SAMPLING_WGSL)
+}
+
+/// The composed cloud shader: [`cloud_sampling_shader`] and `cloud.wgsl`.
+pub fn cloud_shader() -> ComposedShader {
+    cloud_sampling_shader("octahedral_map.composed").with_part(CLOUD_WGSL_PATH, CLOUD_WGSL)
 }
 
 /// Why the cloud pass could not be built or encoded.
@@ -189,8 +206,7 @@ pub struct GBufferBinding<'a> {
 pub struct ImpostorCloudPass {
     layout: wgpu::BindGroupLayout,
     clear: wgpu::ComputePipeline,
-    splat_depth: wgpu::ComputePipeline,
-    splat_owner: wgpu::ComputePipeline,
+    splat: wgpu::ComputePipeline,
     resolve: wgpu::ComputePipeline,
 }
 
@@ -287,8 +303,7 @@ impl ImpostorCloudPass {
         };
         Ok(Self {
             clear: pipeline("clear_cloud"),
-            splat_depth: pipeline("splat_depth"),
-            splat_owner: pipeline("splat_owner"),
+            splat: pipeline("splat_cloud"),
             resolve: pipeline("resolve_cloud"),
             layout,
         })
@@ -321,11 +336,12 @@ impl ImpostorCloudPass {
         if u64::from(frame.grain_count) > max_groups * max_groups {
             return Err(CloudError::TooManyGrains { grains: frame.grain_count, limit: max_groups * max_groups });
         }
-        let cloud = CloudUniforms {
+        let cloud = |owner_pass| CloudUniforms {
             grain_count: frame.grain_count,
             texels: atlas.texels.max(1),
             layers: atlas.layers,
             coverage_threshold: frame.settings.coverage_threshold,
+            owner_pass,
         };
         let uniform = |label: &str, bytes: &[u8]| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -336,7 +352,7 @@ impl ImpostorCloudPass {
         };
         let camera_buffer = uniform("cloud camera", bytemuck::bytes_of(frame.camera));
         let sampling_buffer = uniform("cloud sampling", bytemuck::bytes_of(&frame.sampling));
-        let cloud_buffer = uniform("cloud settings", bytemuck::bytes_of(&cloud));
+        let cloud_buffers = [0, 1].map(|pass| uniform("cloud settings", bytemuck::bytes_of(&cloud(pass))));
         let scratch = |label: &str| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -347,28 +363,34 @@ impl ImpostorCloudPass {
         };
         let nearest = scratch("cloud nearest depth");
         let owner = scratch("cloud owner");
-        let entries = [
-            wgpu::BindGroupEntry { binding: 0, resource: camera_buffer.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: sampling_buffer.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 2, resource: cloud_buffer.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 3, resource: frame.instances.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 4, resource: nearest.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 5, resource: owner.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(atlas.normal_alpha) },
-            wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::TextureView(atlas.albedo_alpha) },
-            wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(atlas.material_alpha) },
-            wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(atlas.depth_alpha) },
-            wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::Sampler(atlas.sampler) },
-            wgpu::BindGroupEntry { binding: 11, resource: wgpu::BindingResource::TextureView(gbuffer.normal_coverage) },
-            wgpu::BindGroupEntry { binding: 12, resource: wgpu::BindingResource::TextureView(gbuffer.albedo) },
-            wgpu::BindGroupEntry { binding: 13, resource: wgpu::BindingResource::TextureView(gbuffer.material) },
-            wgpu::BindGroupEntry { binding: 14, resource: wgpu::BindingResource::TextureView(gbuffer.depth) },
-        ];
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("impostor cloud"),
-            layout: &self.layout,
-            entries: &entries,
-        });
+        let bind_group = |cloud_buffer: &wgpu::Buffer| {
+            let entries = [
+                wgpu::BindGroupEntry { binding: 0, resource: camera_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: sampling_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: cloud_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: frame.instances.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 4, resource: nearest.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 5, resource: owner.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(atlas.normal_alpha) },
+                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::TextureView(atlas.albedo_alpha) },
+                wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(atlas.material_alpha) },
+                wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(atlas.depth_alpha) },
+                wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::Sampler(atlas.sampler) },
+                wgpu::BindGroupEntry {
+                    binding: 11,
+                    resource: wgpu::BindingResource::TextureView(gbuffer.normal_coverage),
+                },
+                wgpu::BindGroupEntry { binding: 12, resource: wgpu::BindingResource::TextureView(gbuffer.albedo) },
+                wgpu::BindGroupEntry { binding: 13, resource: wgpu::BindingResource::TextureView(gbuffer.material) },
+                wgpu::BindGroupEntry { binding: 14, resource: wgpu::BindingResource::TextureView(gbuffer.depth) },
+            ];
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("impostor cloud"),
+                layout: &self.layout,
+                entries: &entries,
+            })
+        };
+        let [depth_group, owner_group] = [bind_group(&cloud_buffers[0]), bind_group(&cloud_buffers[1])];
         let pixel_groups = (width.div_ceil(PIXEL_TILE), height.div_ceil(PIXEL_TILE));
         let grains = u64::from(frame.grain_count);
         let grain_groups = if grains <= max_groups {
@@ -377,12 +399,12 @@ impl ImpostorCloudPass {
             (max_groups as u32, grains.div_ceil(max_groups) as u32)
         };
         let passes = [
-            (&self.clear, pixel_groups, "clear_cloud"),
-            (&self.splat_depth, grain_groups, "splat_depth"),
-            (&self.splat_owner, grain_groups, "splat_owner"),
-            (&self.resolve, pixel_groups, "resolve_cloud"),
+            (&self.clear, pixel_groups, "clear_cloud", &depth_group),
+            (&self.splat, grain_groups, "splat_depth", &depth_group),
+            (&self.splat, grain_groups, "splat_owner", &owner_group),
+            (&self.resolve, pixel_groups, "resolve_cloud", &depth_group),
         ];
-        for (k, (pipeline, (x, y), label)) in passes.into_iter().enumerate() {
+        for (k, (pipeline, (x, y), label, bind_group)) in passes.into_iter().enumerate() {
             let writes = timestamps.map(|query_set| wgpu::ComputePassTimestampWrites {
                 query_set,
                 beginning_of_pass_write_index: Some(2 * k as u32),
@@ -391,7 +413,7 @@ impl ImpostorCloudPass {
             let mut pass = encoder
                 .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: writes });
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
+            pass.set_bind_group(0, bind_group, &[]);
             if x > 0 && y > 0 {
                 pass.dispatch_workgroups(x, y, 1);
             }

@@ -53,6 +53,7 @@ fn codegen() -> Result<(), String> {
         (grain_impostor::scene::GENERATED_WGSL_PATH, grain_impostor::scene::generated_wgsl()),
         (grain_impostor::cloud::CLOUD_GENERATED_WGSL_PATH, grain_impostor::cloud::cloud_generated_wgsl()),
         (grain_splitter::shaders::GENERATED_WGSL_PATH, grain_splitter::shaders::generated_wgsl()),
+        (grain_renderer::shaders::GENERATED_WGSL_PATH, grain_renderer::shaders::generated_wgsl()),
     ];
     for (relative, text) in pipelines {
         write_if_changed(relative, &text.map_err(|e| format!("{relative}: {e}"))?)?;

@@ -1,0 +1,198 @@
+// The impostor tier of the multiscale renderer (crates/grain-renderer/src/impostor_tier.rs):
+// the splitter's impostor lists splatted into a visibility buffer in compute, then resolved
+// into the screen G-buffer. Composed after grain-impostor's cloud sampling functions
+// (cloud_sampling_shader: octahedral_map, scene and cloud declarations, cloud_sampling.wgsl),
+// the generated declarations of this crate, and one of tier_visibility_64.wgsl /
+// tier_visibility_32.wgsl (tier_clear, tier_offer, tier_stored_depth, tier_winner).
+//
+// Entry points, per frame:
+//   tier_arguments   one invocation: one-workgroup-per-element dispatch arguments of each list;
+//   tier_clear       per pixel: the visibility buffer ← the mesh tier's depth (composite) or none;
+//   tier_splat_small per element of a list, one invocation per grain whose screen rectangle has
+//                    at most TIER_SMALL_PIXELS pixels (Schütz-style point rasterisation);
+//   tier_splat_large per element, one 8 × 8 workgroup per grain with a larger rectangle;
+//   tier_resolve     per pixel: the winning impostor's atlas sample → G-buffer.
+// The splats run once per list (occluder candidates, then the rest: the double draw of §9) and,
+// on the 32-bit path, twice (depth, then owner) with the same pipeline, so that the depth the
+// owner pass compares is computed by the same compiled code as the one it stored.
+
+@group(0) @binding(0) var<uniform> camera: CameraUniforms;
+@group(0) @binding(1) var<uniform> sampling: ImpostorSamplingUniforms;
+@group(0) @binding(2) var<uniform> cloud: CloudUniforms;
+@group(0) @binding(3) var<uniform> tier: TierUniforms;
+// Per dispatch (a dynamic offset): which list, and how.
+@group(0) @binding(4) var<uniform> tier_pass: TierPass;
+@group(0) @binding(5) var<storage, read> instances: array<GrainInstance>;
+@group(0) @binding(6) var<storage, read> elements: array<u32>;
+// The splitter's counters: count of list l at COUNTER_COUNT + l, first element at COUNTER_OFFSET + l.
+@group(0) @binding(7) var<storage, read> lists: array<u32>;
+// [0..TIER_STATS): evaluated pixels of list pass 0 and 1, early-Z skips of pass 0 and 1,
+// resolved pixels.
+@group(0) @binding(10) var<storage, read_write> stats: array<atomic<u32>, TIER_STATS>;
+@group(0) @binding(11) var atlas_normal_alpha: texture_2d_array<f32>;
+@group(0) @binding(12) var atlas_albedo_alpha: texture_2d_array<f32>;
+@group(0) @binding(13) var atlas_material_alpha: texture_2d_array<f32>;
+@group(0) @binding(14) var atlas_depth_alpha: texture_2d_array<f32>;
+@group(0) @binding(15) var atlas_sampler: sampler;
+
+// The mesh tier's depth (tier_clear only).
+@group(1) @binding(0) var mesh_depth: texture_2d<f32>;
+// The G-buffer (tier_resolve only).
+@group(1) @binding(1) var out_normal_coverage: texture_storage_2d<rgba16float, write>;
+@group(1) @binding(2) var out_albedo: texture_storage_2d<rgba8unorm, write>;
+@group(1) @binding(3) var out_material: texture_storage_2d<rgba8unorm, write>;
+@group(1) @binding(4) var out_depth: texture_storage_2d<r32float, write>;
+// One-workgroup-per-element dispatch arguments: (x, y, 1) per list of TierUniforms.lists
+// (tier_arguments only: the splats read them as INDIRECT, which excludes a storage binding).
+@group(1) @binding(5) var<storage, read_write> arguments: array<u32>;
+
+fn tier_size() -> vec2<u32> {
+    return vec2<u32>(camera.viewport.xy);
+}
+
+// The grain of element `e` of this pass's list, or TIER_NONE past its end.
+fn tier_element_grain(e: u32) -> u32 {
+    let list = tier_pass.list;
+    if e >= lists[COUNTER_COUNT + list] {
+        return TIER_NONE;
+    }
+    let g = elements[lists[COUNTER_OFFSET + list] + e];
+    return select(TIER_NONE, g, g < tier.counts.x);
+}
+
+// A lower bound of the view depth of every point a grain's pixels can take (cloud_hit moves
+// the blended surface point q, |q − c| ≤ R·s, onto the pixel ray: within √2·R·s of the centre),
+// rounded down.
+fn tier_nearest_depth(grain: GrainInstance) -> f32 {
+    let centre = dot(grain.centre_scale.xyz - cloud_depth_origin(), cloud_forward());
+    let reach = TIER_REACH * sampling.outer_radius * grain.centre_scale.w;
+    return (centre - reach) - TIER_DEPTH_SLACK * (abs(centre) + reach + length(grain.centre_scale.xyz));
+}
+
+// One pixel of one grain: the early-Z test, then the atlas, then the visibility buffer.
+// Returns (evaluated, skipped).
+fn tier_splat_pixel(x: u32, y: u32, g: u32, grain: GrainInstance, nearest: f32) -> vec2<u32> {
+    let i = y * tier_size().x + x;
+    if tier_pass.early_z != 0u && tier_stored_depth(i) < nearest {
+        return vec2<u32>(0u, 1u);
+    }
+    let hit = cloud_hit(vec2<f32>(f32(x) + 0.5, f32(y) + 0.5), grain);
+    if hit.covered {
+        tier_offer(i, hit.depth, g);
+    }
+    return vec2<u32>(1u, 0u);
+}
+
+fn tier_count(counted: vec2<u32>) {
+    if counted.x != 0u {
+        atomicAdd(&stats[tier_pass.slot], counted.x);
+    }
+    if counted.y != 0u {
+        atomicAdd(&stats[2u + tier_pass.slot], counted.y);
+    }
+}
+
+fn tier_rectangle_pixels(rect: vec4<u32>) -> u32 {
+    return (rect.z - rect.x) * (rect.w - rect.y);
+}
+
+@compute @workgroup_size(1)
+fn tier_arguments() {
+    for (var k = 0u; k < 2u; k++) {
+        let count = lists[COUNTER_COUNT + tier.lists[k]];
+        let x = min(count, MAX_GROUPS_PER_DIMENSION);
+        arguments[3u * k] = x;
+        arguments[3u * k + 1u] = select(1u, (count + x - 1u) / max(x, 1u), count != 0u);
+        arguments[3u * k + 2u] = 1u;
+    }
+}
+
+@compute @workgroup_size(8, 8)
+fn tier_clear(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = tier_size();
+    if id.x >= size.x || id.y >= size.y {
+        return;
+    }
+    var depth = bitcast<f32>(POSITIVE_INFINITY_BITS);
+    if (tier.counts.y & TIER_COMPOSITE) != 0u {
+        depth = textureLoad(mesh_depth, vec2<i32>(id.xy), 0).r;
+    }
+    tier_clear_pixel(id.y * size.x + id.x, depth);
+}
+
+// Element index of a dispatch of ELEMENT_WORKGROUP invocations per workgroup (the splitter's
+// dispatch arguments: element (y · x_count + x) · ELEMENT_WORKGROUP + local).
+@compute @workgroup_size(64)
+fn tier_splat_small(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) workgroups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let g = tier_element_grain((workgroup.y * workgroups.x + workgroup.x) * ELEMENT_WORKGROUP + local);
+    if g == TIER_NONE {
+        return;
+    }
+    let grain = instances[g];
+    let rect = cloud_grain_rectangle(grain);
+    if tier_rectangle_pixels(rect) > TIER_SMALL_PIXELS {
+        return;
+    }
+    let nearest = tier_nearest_depth(grain);
+    var counted = vec2<u32>(0u);
+    for (var y = rect.y; y < rect.w; y++) {
+        for (var x = rect.x; x < rect.z; x++) {
+            counted += tier_splat_pixel(x, y, g, grain, nearest);
+        }
+    }
+    tier_count(counted);
+}
+
+@compute @workgroup_size(8, 8)
+fn tier_splat_large(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) workgroups: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
+) {
+    let g = tier_element_grain(workgroup.y * workgroups.x + workgroup.x);
+    if g == TIER_NONE {
+        return;
+    }
+    let grain = instances[g];
+    let rect = cloud_grain_rectangle(grain);
+    if tier_rectangle_pixels(rect) <= TIER_SMALL_PIXELS {
+        return;
+    }
+    let nearest = tier_nearest_depth(grain);
+    var counted = vec2<u32>(0u);
+    for (var y = rect.y + local.y; y < rect.w; y += 8u) {
+        for (var x = rect.x + local.x; x < rect.z; x += 8u) {
+            counted += tier_splat_pixel(x, y, g, grain, nearest);
+        }
+    }
+    tier_count(counted);
+}
+
+@compute @workgroup_size(8, 8)
+fn tier_resolve(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = tier_size();
+    if id.x >= size.x || id.y >= size.y {
+        return;
+    }
+    let p = vec2<i32>(id.xy);
+    let g = tier_winner(id.y * size.x + id.x);
+    if g >= tier.counts.x {
+        if (tier.counts.y & TIER_COMPOSITE) == 0u {
+            textureStore(out_normal_coverage, p, vec4<f32>(0.0));
+            textureStore(out_albedo, p, vec4<f32>(0.0));
+            textureStore(out_material, p, vec4<f32>(0.0));
+            textureStore(out_depth, p, vec4<f32>(bitcast<f32>(POSITIVE_INFINITY_BITS), 0.0, 0.0, 0.0));
+        }
+        return;
+    }
+    let surface = cloud_surface(vec2<f32>(id.xy) + 0.5, instances[g]);
+    textureStore(out_normal_coverage, p, vec4<f32>(surface.normal, 1.0));
+    textureStore(out_albedo, p, vec4<f32>(surface.albedo, 1.0));
+    textureStore(out_material, p, vec4<f32>(surface.material, 0.0, 0.0));
+    textureStore(out_depth, p, vec4<f32>(surface.depth, 0.0, 0.0, 0.0));
+    atomicAdd(&stats[4u], 1u);
+}

@@ -1,0 +1,514 @@
+//! The impostor tier (Michel & Boubekeur 2020, §4–5 and §9) in compute: the splitter's two
+//! impostor lists splatted into a **visibility buffer**, then one resolve pass that samples
+//! the winning grain's atlas into the screen G-buffer.
+//!
+//! # Visibility
+//!
+//! A pixel is covered by a grain when the blended atlas coverage reaches the threshold, at
+//! the depth of the blended surface point (`grain_impostor::cloud`'s sampling, shared WGSL):
+//!
+//! - with `SHADER_INT64_ATOMIC_MIN_MAX` ([`VisibilityKind::Atomic64`]): one 64-bit
+//!   `atomicMin` of `(depth bits << 32) | grain` per covered pixel (nearest, then smallest
+//!   index);
+//! - otherwise ([`VisibilityKind::TwoPass32`]): every list splatted twice **by the same
+//!   pipeline** — nearest depth bits, then the grains whose depth bits equal it claim the
+//!   pixel. The owner pass of `grain_impostor::cloud` recomputes the depth in a second entry
+//!   point; a compiler free to contract `a·b + c` differently there could leave holes. Here a
+//!   uniform selects the atomic, so both passes run one compiled function. Same images as the
+//!   64-bit path (a test).
+//!
+//! With [`TierSettings::composite`] the buffer starts from the mesh tier's depth (`TIER_MESH`
+//! pixels): an impostor wins a pixel only where it is nearer than the mesh, and the resolve
+//! writes only the impostors' pixels.
+//!
+//! # Work by footprint
+//!
+//! Grains whose screen rectangle holds at most [`TIER_SMALL_PIXELS`] pixels (about 8 px across)
+//! are splatted by one invocation each, 64 per workgroup, through the splitter's own dispatch
+//! arguments; larger ones by one 8 × 8 workgroup each, through arguments this tier writes on the
+//! GPU (`tier_arguments`). One workgroup per grain, as the impostor cloud does, idles most lanes
+//! on the few-pixel grains dense stackings are made of.
+//!
+//! # Double draw and software early-Z (§9)
+//!
+//! The occluder candidates are splatted first, the other impostors second. With
+//! [`TierSettings::early_z`] a pixel is skipped **before any atlas read** when the depth already
+//! stored there is nearer than the grain's nearest possible depth (its centre's depth minus
+//! `√2·R·s`, rounded down: the resolved point lies on the pixel ray within `√2·R·s` of the
+//! centre). A skipped pixel could not have won, so the images are identical with and without
+//! it (a test); [`ImpostorTier::stats`] counts evaluated and skipped pixels per list.
+
+use glam::UVec4;
+use grain_impostor::cloud::{AtlasBinding, CloudUniforms, GBufferBinding};
+use grain_impostor::scene::{CameraUniforms, PIXEL_TILE};
+use grain_splitter::lists::{INDIRECT_DISPATCH, INDIRECT_WORDS, LIST_IMPOSTOR_OCCLUDER, LIST_IMPOSTOR_REST};
+use octahedral_map::ImpostorSamplingUniforms;
+
+use crate::error::RenderError;
+use crate::shaders::{impostor_tier_32_shader, impostor_tier_64_shader, int64_capabilities};
+pub use crate::tier_layout::{
+    TIER_COMPOSITE, TIER_DEPTH_SLACK, TIER_MESH, TIER_NONE, TIER_REACH, TIER_SMALL_PIXELS, TIER_STATS, TierPass,
+    TierUniforms,
+};
+
+/// How the visibility buffer is built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VisibilityKind {
+    /// 64-bit where the device has `SHADER_INT64_ATOMIC_MIN_MAX`, else 32-bit.
+    Auto,
+    /// One 64-bit `atomicMin` of `(depth << 32) | grain` per covered pixel.
+    Atomic64,
+    /// Depth, then owner, with 32-bit atomics (each list splatted twice).
+    TwoPass32,
+}
+
+/// Per-frame settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TierSettings {
+    /// Blended atlas α at or above which a pixel is covered.
+    pub coverage_threshold: f32,
+    /// Skip pixels the grain cannot win before reading the atlas (§9's double draw in compute).
+    pub early_z: bool,
+    /// Start from the G-buffer's depth (the mesh tier's) and write only the impostors' pixels;
+    /// otherwise every pixel is written (background where no impostor covers it).
+    pub composite: bool,
+}
+
+impl Default for TierSettings {
+    fn default() -> Self {
+        Self { coverage_threshold: 0.5, early_z: true, composite: true }
+    }
+}
+
+/// One frame's inputs.
+#[derive(Clone, Copy, Debug)]
+pub struct TierFrame<'a> {
+    /// The camera (viewport = the tier's size).
+    pub camera: &'a CameraUniforms,
+    /// The atlas' sampling configuration (`octahedral_map::ImpostorSampler::uniforms`).
+    pub sampling: ImpostorSamplingUniforms,
+    /// Grains in the instance buffer (indices at or above are ignored).
+    pub instance_count: u32,
+    /// Settings.
+    pub settings: TierSettings,
+}
+
+/// The buffers a tier reads, bound once.
+#[derive(Clone, Copy, Debug)]
+pub struct TierInputs<'a> {
+    /// `GrainInstance`s (centre and scale, rotation), `STORAGE`.
+    pub instances: &'a wgpu::Buffer,
+    /// The splitter's element lists (`GrainSplitter::elements`).
+    pub elements: &'a wgpu::Buffer,
+    /// The splitter's counters (`GrainSplitter::counters`).
+    pub counters: &'a wgpu::Buffer,
+    /// The splitter's indirect arguments (`GrainSplitter::indirect`).
+    pub indirect: &'a wgpu::Buffer,
+}
+
+/// The bind groups of one set of inputs, atlas and G-buffer.
+pub struct TierBindings {
+    splat: wgpu::BindGroup,
+    clear: wgpu::BindGroup,
+    resolve: wgpu::BindGroup,
+    arguments: wgpu::BindGroup,
+    indirect: wgpu::Buffer,
+}
+
+struct Pipelines {
+    arguments: wgpu::ComputePipeline,
+    clear: wgpu::ComputePipeline,
+    small: wgpu::ComputePipeline,
+    large: wgpu::ComputePipeline,
+    resolve: wgpu::ComputePipeline,
+}
+
+/// The impostor tier for one viewport size, built once; [`ImpostorTier::encode`] records a
+/// frame.
+pub struct ImpostorTier {
+    size: (u32, u32),
+    kind: VisibilityKind,
+    layout: wgpu::BindGroupLayout,
+    clear_layout: wgpu::BindGroupLayout,
+    resolve_layout: wgpu::BindGroupLayout,
+    arguments_layout: wgpu::BindGroupLayout,
+    pipelines: Pipelines,
+    camera: wgpu::Buffer,
+    sampling: wgpu::Buffer,
+    cloud: wgpu::Buffer,
+    tier: wgpu::Buffer,
+    passes: wgpu::Buffer,
+    pass_stride: u32,
+    visibility: wgpu::Buffer,
+    owner: wgpu::Buffer,
+    stats: wgpu::Buffer,
+    arguments: wgpu::Buffer,
+}
+
+fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: dynamic,
+            min_binding_size: if dynamic { wgpu::BufferSize::new(16) } else { None },
+        },
+        count: None,
+    }
+}
+
+fn texture_entry(
+    binding: u32,
+    sample_type: wgpu::TextureSampleType,
+    dimension: wgpu::TextureViewDimension,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Texture { sample_type, view_dimension: dimension, multisampled: false },
+        count: None,
+    }
+}
+
+fn storage_texture(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        },
+        count: None,
+    }
+}
+
+const UNIFORM: wgpu::BufferBindingType = wgpu::BufferBindingType::Uniform;
+const READ: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: true };
+const WRITE: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: false };
+
+/// The number of [`TierPass`] entries: two lists × two passes.
+const PASS_ENTRIES: u32 = 4;
+
+impl ImpostorTier {
+    /// Whether `device` can build the 64-bit visibility buffer.
+    pub fn supports_atomic64(device: &wgpu::Device) -> bool {
+        device.features().contains(wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX)
+    }
+
+    /// Validates the shader with naga, builds the pipelines and the buffers for a
+    /// `size` viewport.
+    pub fn new(device: &wgpu::Device, size: (u32, u32), visibility: VisibilityKind) -> Result<Self, RenderError> {
+        let (width, height) = size;
+        if width == 0 || height == 0 {
+            return Err(RenderError::InvalidSetting { field: "size", reason: format!("{size:?}: must not be empty") });
+        }
+        let has_64 = Self::supports_atomic64(device);
+        let kind = match visibility {
+            VisibilityKind::Auto if has_64 => VisibilityKind::Atomic64,
+            VisibilityKind::Auto => VisibilityKind::TwoPass32,
+            VisibilityKind::Atomic64 if !has_64 => {
+                return Err(RenderError::MissingFeature("SHADER_INT64_ATOMIC_MIN_MAX (the 64-bit visibility buffer)"));
+            }
+            other => other,
+        };
+        let limits = device.limits();
+        let storage_limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        let pixels = u64::from(width) * u64::from(height);
+        let word = if kind == VisibilityKind::Atomic64 { 8 } else { 4 };
+        if pixels * word > storage_limit {
+            return Err(RenderError::TooLarge {
+                what: "visibility buffer bytes",
+                requested: pixels * word,
+                limit: storage_limit,
+            });
+        }
+        let shader =
+            if kind == VisibilityKind::Atomic64 { impostor_tier_64_shader() } else { impostor_tier_32_shader() };
+        let capabilities =
+            if kind == VisibilityKind::Atomic64 { int64_capabilities() } else { naga::valid::Capabilities::default() };
+        shader.validate_with(capabilities).map_err(|e| RenderError::InvalidShader(e.to_string()))?;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(shader.name()),
+            source: wgpu::ShaderSource::Wgsl(shader.source().to_owned().into()),
+        });
+        let float = wgpu::TextureSampleType::Float { filterable: true };
+        let array = wgpu::TextureViewDimension::D2Array;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("impostor tier"),
+            entries: &[
+                buffer_entry(0, UNIFORM, false),
+                buffer_entry(1, UNIFORM, false),
+                buffer_entry(2, UNIFORM, false),
+                buffer_entry(3, UNIFORM, false),
+                buffer_entry(4, UNIFORM, true),
+                buffer_entry(5, READ, false),
+                buffer_entry(6, READ, false),
+                buffer_entry(7, READ, false),
+                buffer_entry(8, WRITE, false),
+                buffer_entry(9, WRITE, false),
+                buffer_entry(10, WRITE, false),
+                texture_entry(11, float, array),
+                texture_entry(12, float, array),
+                texture_entry(13, float, array),
+                texture_entry(14, float, array),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 15,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let arguments_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("impostor tier: arguments"),
+            entries: &[buffer_entry(5, WRITE, false)],
+        });
+        let clear_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("impostor tier: mesh depth"),
+            entries: &[texture_entry(
+                0,
+                wgpu::TextureSampleType::Float { filterable: false },
+                wgpu::TextureViewDimension::D2,
+            )],
+        });
+        let formats = grain_impostor::mesh_gbuffer::GBUFFER_FORMATS;
+        let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("impostor tier: G-buffer"),
+            entries: &[
+                storage_texture(1, formats[0]),
+                storage_texture(2, formats[1]),
+                storage_texture(3, formats[2]),
+                storage_texture(4, formats[3]),
+            ],
+        });
+        let pipeline = |groups: &[&wgpu::BindGroupLayout], entry: &str| {
+            let groups: Vec<Option<&wgpu::BindGroupLayout>> = groups.iter().map(|g| Some(*g)).collect();
+            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(entry),
+                bind_group_layouts: &groups,
+                immediate_size: 0,
+            });
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let pipelines = Pipelines {
+            arguments: pipeline(&[&layout, &arguments_layout], "tier_arguments"),
+            clear: pipeline(&[&layout, &clear_layout], "tier_clear"),
+            small: pipeline(&[&layout], "tier_splat_small"),
+            large: pipeline(&[&layout], "tier_splat_large"),
+            resolve: pipeline(&[&layout, &resolve_layout], "tier_resolve"),
+        };
+        let buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
+            device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage, mapped_at_creation: false })
+        };
+        let uniform = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
+        let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
+        let pass_stride = limits.min_uniform_buffer_offset_alignment.max(16);
+        let owner_bytes = if kind == VisibilityKind::TwoPass32 { pixels * 4 } else { 16 };
+        Ok(Self {
+            size,
+            kind,
+            layout,
+            clear_layout,
+            resolve_layout,
+            arguments_layout,
+            pipelines,
+            camera: buffer("tier camera", size_of::<CameraUniforms>() as u64, uniform),
+            sampling: buffer("tier sampling", size_of::<ImpostorSamplingUniforms>() as u64, uniform),
+            cloud: buffer("tier cloud settings", size_of::<CloudUniforms>() as u64, uniform),
+            tier: buffer("tier settings", size_of::<TierUniforms>() as u64, uniform),
+            passes: buffer("tier passes", u64::from(PASS_ENTRIES * pass_stride), uniform),
+            pass_stride,
+            visibility: buffer("tier visibility", pixels * word, storage),
+            owner: buffer("tier owners", owner_bytes, storage),
+            stats: buffer("tier stats", u64::from(TIER_STATS) * 4, storage),
+            arguments: buffer("tier arguments", 24, storage | wgpu::BufferUsages::INDIRECT),
+        })
+    }
+
+    /// The visibility buffer kind (never `Auto`).
+    pub fn kind(&self) -> VisibilityKind {
+        self.kind
+    }
+
+    /// The counters of the last frame ([`TIER_STATS`] `u32`s, see there).
+    pub fn stats(&self) -> &wgpu::Buffer {
+        &self.stats
+    }
+
+    /// The bind groups of `inputs`, `atlas` and `gbuffer` (whose textures need
+    /// `STORAGE_BINDING` and, for the depth, `TEXTURE_BINDING`).
+    pub fn bind(
+        &self,
+        device: &wgpu::Device,
+        inputs: &TierInputs<'_>,
+        atlas: &AtlasBinding<'_>,
+        gbuffer: &GBufferBinding<'_>,
+    ) -> Result<TierBindings, RenderError> {
+        if !inputs.indirect.usage().contains(wgpu::BufferUsages::INDIRECT) {
+            return Err(RenderError::InvalidInput("the splitter's indirect buffer needs INDIRECT usage".into()));
+        }
+        fn whole(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
+        }
+        fn view(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(view) }
+        }
+        let splat = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("impostor tier"),
+            layout: &self.layout,
+            entries: &[
+                whole(0, &self.camera),
+                whole(1, &self.sampling),
+                whole(2, &self.cloud),
+                whole(3, &self.tier),
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.passes,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(16),
+                    }),
+                },
+                whole(5, inputs.instances),
+                whole(6, inputs.elements),
+                whole(7, inputs.counters),
+                whole(8, &self.visibility),
+                whole(9, &self.owner),
+                whole(10, &self.stats),
+                view(11, atlas.normal_alpha),
+                view(12, atlas.albedo_alpha),
+                view(13, atlas.material_alpha),
+                view(14, atlas.depth_alpha),
+                wgpu::BindGroupEntry { binding: 15, resource: wgpu::BindingResource::Sampler(atlas.sampler) },
+            ],
+        });
+        let arguments = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("impostor tier: arguments"),
+            layout: &self.arguments_layout,
+            entries: &[whole(5, &self.arguments)],
+        });
+        let clear = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("impostor tier: mesh depth"),
+            layout: &self.clear_layout,
+            entries: &[view(0, gbuffer.depth)],
+        });
+        let resolve = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("impostor tier: G-buffer"),
+            layout: &self.resolve_layout,
+            entries: &[
+                view(1, gbuffer.normal_coverage),
+                view(2, gbuffer.albedo),
+                view(3, gbuffer.material),
+                view(4, gbuffer.depth),
+            ],
+        });
+        Ok(TierBindings { splat, clear, resolve, arguments, indirect: inputs.indirect.clone() })
+    }
+
+    /// Writes the frame's uniforms through `queue` and records the tier (one compute
+    /// pass): arguments, clear, the splats of [`LIST_IMPOSTOR_OCCLUDER`] then
+    /// [`LIST_IMPOSTOR_REST`], and the resolve. Reads the splitter's lists of the same
+    /// submission; nothing is read back.
+    pub fn encode(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        bindings: &TierBindings,
+        frame: &TierFrame<'_>,
+        atlas: &AtlasBinding<'_>,
+    ) -> Result<(), RenderError> {
+        let viewport = (frame.camera.viewport.x, frame.camera.viewport.y);
+        if viewport != (self.size.0 as f32, self.size.1 as f32) {
+            return Err(RenderError::InvalidInput(format!(
+                "the camera's viewport {viewport:?} differs from the tier's size {:?}",
+                self.size
+            )));
+        }
+        let settings = frame.settings;
+        if !(settings.coverage_threshold > 0.0 && settings.coverage_threshold <= 1.0) {
+            return Err(RenderError::InvalidSetting {
+                field: "coverage_threshold",
+                reason: format!("{}: must be in (0, 1]", settings.coverage_threshold),
+            });
+        }
+        let lists = [LIST_IMPOSTOR_OCCLUDER, LIST_IMPOSTOR_REST];
+        queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(frame.camera));
+        queue.write_buffer(&self.sampling, 0, bytemuck::bytes_of(&frame.sampling));
+        let cloud = CloudUniforms {
+            grain_count: frame.instance_count,
+            texels: atlas.texels.max(1),
+            layers: atlas.layers,
+            coverage_threshold: settings.coverage_threshold,
+            owner_pass: 0,
+        };
+        queue.write_buffer(&self.cloud, 0, bytemuck::bytes_of(&cloud));
+        let flags = if settings.composite { TIER_COMPOSITE } else { 0 };
+        let tier = TierUniforms {
+            counts: UVec4::new(frame.instance_count, flags, 0, 0),
+            lists: UVec4::new(lists[0], lists[1], 0, 0),
+        };
+        queue.write_buffer(&self.tier, 0, bytemuck::bytes_of(&tier));
+        let mut passes = vec![0u8; (PASS_ENTRIES * self.pass_stride) as usize];
+        for (k, &list) in lists.iter().enumerate() {
+            for owner_pass in 0..2 {
+                let entry = TierPass { list, early_z: u32::from(settings.early_z), owner_pass, slot: k as u32 };
+                let at = ((2 * k as u32 + owner_pass) * self.pass_stride) as usize;
+                passes[at..at + 16].copy_from_slice(bytemuck::bytes_of(&entry));
+            }
+        }
+        queue.write_buffer(&self.passes, 0, &passes);
+        encoder.clear_buffer(&self.stats, 0, None);
+
+        let mut pass = encoder
+            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("impostor tier"), timestamp_writes: None });
+        pass.set_bind_group(0, &bindings.splat, &[0]);
+        pass.set_pipeline(&self.pipelines.arguments);
+        pass.set_bind_group(1, &bindings.arguments, &[]);
+        pass.dispatch_workgroups(1, 1, 1);
+        let pixel_groups = (self.size.0.div_ceil(PIXEL_TILE), self.size.1.div_ceil(PIXEL_TILE));
+        pass.set_pipeline(&self.pipelines.clear);
+        pass.set_bind_group(1, &bindings.clear, &[]);
+        pass.dispatch_workgroups(pixel_groups.0, pixel_groups.1, 1);
+        let owner_passes: &[u32] = if self.kind == VisibilityKind::TwoPass32 { &[0, 1] } else { &[0] };
+        for &owner_pass in owner_passes {
+            for (k, &list) in lists.iter().enumerate() {
+                let offset = (2 * k as u32 + owner_pass) * self.pass_stride;
+                pass.set_bind_group(0, &bindings.splat, &[offset]);
+                pass.set_pipeline(&self.pipelines.small);
+                let splitter_arguments = u64::from(list * INDIRECT_WORDS + INDIRECT_DISPATCH) * 4;
+                pass.dispatch_workgroups_indirect(&bindings.indirect, splitter_arguments);
+                pass.set_pipeline(&self.pipelines.large);
+                pass.dispatch_workgroups_indirect(&self.arguments, 12 * k as u64);
+            }
+        }
+        pass.set_bind_group(0, &bindings.splat, &[0]);
+        pass.set_pipeline(&self.pipelines.resolve);
+        pass.set_bind_group(1, &bindings.resolve, &[]);
+        pass.dispatch_workgroups(pixel_groups.0, pixel_groups.1, 1);
+        Ok(())
+    }
+
+    /// Every buffer the tier owns, named. None can be mapped.
+    pub fn buffers(&self) -> Vec<(&'static str, &wgpu::Buffer)> {
+        vec![
+            ("camera", &self.camera),
+            ("sampling", &self.sampling),
+            ("cloud settings", &self.cloud),
+            ("tier settings", &self.tier),
+            ("passes", &self.passes),
+            ("visibility", &self.visibility),
+            ("owners", &self.owner),
+            ("stats", &self.stats),
+            ("arguments", &self.arguments),
+        ]
+    }
+}

@@ -1,0 +1,27 @@
+//! The multiscale renderer of dense grain stackings, after Michel & Boubekeur, *Real Time
+//! Multiscale Rendering of Dense Dynamic Stackings* (CGF 2020), §3 (Fig. 2), §4–5 and §9:
+//! the tiers `grain-splitter` sorts grains into, drawn in one frame with no CPU round trip.
+//!
+//! What exists so far is the **impostor tier** ([`ImpostorTier`]): the splitter's impostor
+//! lists splatted in compute into a visibility buffer (one 64-bit `atomicMin` of
+//! `(depth << 32) | grain` per covered pixel where the adapter has 64-bit atomics, a robust
+//! two-pass 32-bit fallback elsewhere), occluder candidates first and the rest with a software
+//! early-Z (§9's double draw), work per grain by footprint, then one resolve into the screen
+//! G-buffer of `grain-impostor` — composited over the mesh tier's depth.
+//!
+//! # Modules
+//!
+//! - [`impostor_tier`]: [`ImpostorTier`], its settings, inputs and counters.
+//! - [`tier_layout`]: the tier's uniform blocks and constants (generated into WGSL).
+//! - [`shaders`]: the generated declarations and the composed shaders.
+//! - [`error`]: the error type, [`RenderError`].
+
+pub mod error;
+pub mod impostor_tier;
+pub mod shaders;
+pub mod tier_layout;
+
+pub use error::RenderError;
+pub use impostor_tier::{
+    ImpostorTier, TierBindings, TierFrame, TierInputs, TierPass, TierSettings, TierUniforms, VisibilityKind,
+};

@@ -1,0 +1,57 @@
+//! The impostor tier's uniform blocks and constants, declared here and generated into WGSL
+//! ([`crate::shaders`]).
+
+use glam::UVec4;
+use gpu_layout::{GpuConst, gpu_const, gpu_struct};
+
+/// A pixel no grain covers, or past a list's end.
+pub const TIER_NONE: u32 = u32::MAX;
+/// The owner of a pixel the mesh tier covers (composite mode).
+pub const TIER_MESH: u32 = u32::MAX - 1;
+/// The largest screen rectangle, in pixels, splatted by one invocation.
+pub const TIER_SMALL_PIXELS: u32 = 64;
+/// Counters in [`ImpostorTier::stats`](crate::ImpostorTier::stats): evaluated pixels of the first and second list,
+/// early-Z skips of the first and second list, resolved pixels.
+pub const TIER_STATS: u32 = 5;
+/// Flag bit of [`TierUniforms::counts`]: composite over the mesh tier's depth.
+pub const TIER_COMPOSITE: u32 = 1;
+/// The early-Z reach over `R·s`: `√2`, raised by one part in 10⁶ to round up.
+pub const TIER_REACH: f32 = std::f32::consts::SQRT_2 * 1.000_001;
+/// Relative slack of the early-Z bound (`2⁻¹²` of the magnitudes involved; `f32` rounding
+/// is `2⁻²⁴` of them).
+pub const TIER_DEPTH_SLACK: f32 = 1.0 / 4096.0;
+
+/// The constants the shaders share with this module.
+pub(crate) const TIER_CONSTANTS: &[GpuConst] = &[
+    gpu_const!(TIER_NONE: u32),
+    gpu_const!(TIER_MESH: u32),
+    gpu_const!(TIER_SMALL_PIXELS: u32),
+    gpu_const!(TIER_STATS: u32),
+    gpu_const!(TIER_COMPOSITE: u32),
+    gpu_const!(TIER_REACH: f32),
+    gpu_const!(TIER_DEPTH_SLACK: f32),
+];
+
+gpu_struct! {
+    /// Per-frame settings of the tier.
+    pub struct TierUniforms {
+        /// `(instance count, flags, 0, 0)`.
+        pub counts: UVec4,
+        /// `(first list, second list, 0, 0)`: the splitter's list indices drawn in order.
+        pub lists: UVec4,
+    }
+}
+
+gpu_struct! {
+    /// What one splat dispatch draws (one entry per list and pass, dynamic offsets).
+    pub struct TierPass {
+        /// The splitter's list index.
+        pub list: u32,
+        /// 1: skip pixels whose stored depth is nearer than the grain can be.
+        pub early_z: u32,
+        /// 32-bit path: 0 the depth pass, 1 the owner pass.
+        pub owner_pass: u32,
+        /// Which counters of [`ImpostorTier::stats`](crate::ImpostorTier::stats) this pass adds to (0 or 1).
+        pub slot: u32,
+    }
+}

@@ -1,0 +1,294 @@
+//! The impostor tier of `grain-renderer` (the splitter's impostor lists through a compute
+//! visibility buffer) against the impostor cloud of `grain-impostor`, which samples the same
+//! atlas with the same WGSL functions: the G-buffers must be equal pixel for pixel, with and
+//! without the software early-Z, with either visibility buffer, with culling on, and when
+//! composited over a mesh render.
+
+use glam::{Quat, Vec3, Vec4};
+use grain_impostor::atlas::ImpostorAtlas;
+use grain_impostor::atlas_gpu::AtlasTextures;
+use grain_impostor::bake::{BakeSettings, Baker, Progress};
+use grain_impostor::cloud::{AtlasBinding, CloudFrame, CloudSettings, GBufferBinding, ImpostorCloudPass};
+use grain_impostor::mesh_gbuffer::{GbufferImage, GpuMesh, MeshGbufferPass, ScreenGbuffer};
+use grain_impostor::scene::{CameraUniforms, GrainInstance};
+use grain_renderer::impostor_tier::{TIER_STATS, TierInputs};
+use grain_renderer::{ImpostorTier, TierFrame, TierSettings, VisibilityKind};
+use grain_splitter::{
+    GrainSplitter, ListOrder, OccluderMapKind, SplitCamera, SplitSettings, SplitterOptions, TierThresholds,
+};
+use integration_tests::gpu;
+use octahedral_map::{ImpostorSampler, SamplingMode, ViewSelection};
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+use wgpu::util::DeviceExt;
+
+const SIZE: (u32, u32) = (192, 144);
+
+struct Scene {
+    atlas: ImpostorAtlas,
+    textures: AtlasTextures,
+    mesh: grain_mesh::GrainMesh,
+    grains: Vec<GrainInstance>,
+    eye: Vec3,
+    target: Vec3,
+}
+
+/// A jittered pile of `n³` grains of `mesh` with random orientations and scales, outer balls
+/// overlapping (spacing 1.6 R), so that grains occlude each other.
+fn scene(n: u32, mesh: grain_mesh::GrainMesh) -> Scene {
+    let gpu = gpu();
+    let settings = BakeSettings { progress: Progress::Hidden, ..BakeSettings::new(4, 32) };
+    let atlas = Baker::new(&gpu.device).unwrap().bake(&gpu.device, &gpu.queue, &mesh, &settings).unwrap();
+    let textures = AtlasTextures::upload(&gpu.device, &gpu.queue, &atlas).unwrap();
+    let outer = atlas.outer_radius;
+    let mut rng = SmallRng::seed_from_u64(21);
+    let mut grains = Vec::new();
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n {
+                let site = Vec3::new(x as f32, y as f32, z as f32) * 1.6 * outer;
+                let jitter = Vec3::new(rng.random(), rng.random(), rng.random()) * 0.4 * outer;
+                let axis = Vec3::new(rng.random(), rng.random(), rng.random()) * 2.0 - Vec3::ONE;
+                let rotation =
+                    Quat::from_axis_angle(axis.normalize_or(Vec3::X), rng.random_range(0.0..std::f32::consts::TAU));
+                grains.push(GrainInstance::new(site + jitter, rng.random_range(0.85..1.15), rotation));
+            }
+        }
+    }
+    let centre = Vec3::splat((n - 1) as f32 * 0.8 * outer);
+    Scene {
+        atlas,
+        textures,
+        mesh,
+        grains,
+        eye: centre + Vec3::new(0.4, 0.7, 1.0).normalize() * 3.2 * n as f32 * outer,
+        target: centre,
+    }
+}
+
+impl Scene {
+    fn camera(&self) -> CameraUniforms {
+        CameraUniforms::perspective(self.eye, self.target, Vec3::Y, 0.7, SIZE, (0.05, 500.0)).unwrap()
+    }
+
+    fn split_camera(&self) -> SplitCamera {
+        SplitCamera::perspective(self.eye, self.target, Vec3::Y, 0.7, SIZE, (0.05, 500.0)).unwrap()
+    }
+
+    fn sampler(&self) -> ImpostorSampler {
+        let a = &self.atlas;
+        ImpostorSampler::new(
+            a.views,
+            a.outer_radius,
+            a.inner_radius,
+            SamplingMode::Mixed,
+            a.layout,
+            ViewSelection::PerGrainFromEye,
+        )
+        .unwrap()
+    }
+
+    fn binding(&self) -> AtlasBinding<'_> {
+        AtlasBinding {
+            normal_alpha: &self.textures.views[0],
+            albedo_alpha: &self.textures.views[1],
+            material_alpha: &self.textures.views[2],
+            depth_alpha: &self.textures.views[3],
+            sampler: &self.textures.sampler,
+            texels: self.atlas.texels,
+            layers: self.atlas.layer_count(),
+        }
+    }
+
+    fn instances(&self) -> wgpu::Buffer {
+        gpu().device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("grains"),
+            contents: bytemuck::cast_slice(&self.grains),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+    }
+}
+
+fn gbuffer_binding(target: &ScreenGbuffer) -> GBufferBinding<'_> {
+    GBufferBinding {
+        normal_coverage: &target.views[0],
+        albedo: &target.views[1],
+        material: &target.views[2],
+        depth: &target.views[3],
+    }
+}
+
+/// Every grain through the impostor cloud.
+fn cloud_render(scene: &Scene) -> GbufferImage {
+    let gpu = gpu();
+    let pass = ImpostorCloudPass::new(&gpu.device).unwrap();
+    let target = ScreenGbuffer::new(&gpu.device, SIZE).unwrap();
+    let instances = scene.instances();
+    let camera = scene.camera();
+    let frame = CloudFrame {
+        camera: &camera,
+        sampling: scene.sampler().uniforms(),
+        instances: &instances,
+        grain_count: scene.grains.len() as u32,
+        settings: CloudSettings::default(),
+    };
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    pass.encode(&gpu.device, &mut encoder, &frame, &scene.binding(), &gbuffer_binding(&target), None).unwrap();
+    gpu.queue.submit([encoder.finish()]);
+    target.read(&gpu.device, &gpu.queue).unwrap()
+}
+
+/// The splitter (every grain an impostor; culling as `culling`), then the tier, in one
+/// submission; the G-buffer `target` (read back) and the tier's counters.
+fn tier_render(
+    scene: &Scene,
+    kind: VisibilityKind,
+    settings: TierSettings,
+    culling: bool,
+    target: &ScreenGbuffer,
+) -> (GbufferImage, [u32; TIER_STATS as usize], [u32; 4]) {
+    let gpu = gpu();
+    let n = scene.grains.len() as u32;
+    let bounds = scene.mesh.bounds();
+    let thresholds = TierThresholds::new(1e-3, 1e6, 1.0).unwrap();
+    let split_settings = SplitSettings {
+        frustum_culling: culling,
+        cone_culling: culling,
+        hiz_culling: culling,
+        ..SplitSettings::new(bounds.occluder_radius(), scene.atlas.outer_radius, thresholds)
+    };
+    let options =
+        SplitterOptions { capacity: n, size: SIZE, occluder_map: OccluderMapKind::Auto, order: ListOrder::Atomic };
+    let splitter = GrainSplitter::new(&gpu.device, split_settings, options).unwrap();
+    let centres: Vec<Vec4> = scene.grains.iter().map(|g| g.centre_scale).collect();
+    let centre_buffer = GrainSplitter::upload_grains(&gpu.device, &centres).unwrap();
+    let split_bindings = splitter.bind(&gpu.device, &centre_buffer).unwrap();
+    let tier = ImpostorTier::new(&gpu.device, SIZE, kind).unwrap();
+    let instances = scene.instances();
+    let inputs = TierInputs {
+        instances: &instances,
+        elements: splitter.elements(),
+        counters: splitter.counters(),
+        indirect: splitter.indirect(),
+    };
+    let atlas = scene.binding();
+    let bindings = tier.bind(&gpu.device, &inputs, &atlas, &gbuffer_binding(target)).unwrap();
+    let camera = scene.camera();
+    let frame = TierFrame { camera: &camera, sampling: scene.sampler().uniforms(), instance_count: n, settings };
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    splitter.encode(&gpu.queue, &mut encoder, &split_bindings, &scene.split_camera(), n, None).unwrap();
+    tier.encode(&gpu.queue, &mut encoder, &bindings, &frame, &atlas).unwrap();
+    gpu.queue.submit([encoder.finish()]);
+    let stats: [u32; TIER_STATS as usize] =
+        bytemuck::pod_read_unaligned(&gpu.read_buffer(tier.stats(), u64::from(TIER_STATS) * 4).unwrap());
+    let counters: grain_splitter::SplitCounters =
+        bytemuck::pod_read_unaligned(&gpu.read_buffer(splitter.counters(), 64).unwrap());
+    (target.read(&gpu.device, &gpu.queue).unwrap(), stats, counters.culled)
+}
+
+fn kinds() -> Vec<VisibilityKind> {
+    let mut kinds = vec![VisibilityKind::TwoPass32];
+    if ImpostorTier::supports_atomic64(&gpu().device) {
+        kinds.push(VisibilityKind::Atomic64);
+    }
+    kinds
+}
+
+fn covered(image: &GbufferImage) -> usize {
+    image.normal_coverage.iter().filter(|n| n.w > 0.0).count()
+}
+
+#[test]
+fn the_tier_equals_the_impostor_cloud_with_and_without_early_z_and_culling() {
+    // Beans (r/R = 0.22: nothing is culled), then balls (r/R ≈ 1: the cone and Hi-Z cull).
+    let beans = scene(7, grain_mesh::CoffeeBean::default().mesh().unwrap());
+    let balls = scene(7, grain_mesh::Ball::default().mesh().unwrap());
+    let mut culled_balls = 0;
+    let mut compared = 0;
+    for (name, scene) in [("beans", &beans), ("balls", &balls)] {
+        let reference = cloud_render(scene);
+        let pixels = reference.depth.len();
+        println!("{} {name}, {} of {pixels} pixels covered by the cloud", scene.grains.len(), covered(&reference));
+        assert!(covered(&reference) * 4 > pixels, "the pile fills the view");
+        let kinds = kinds();
+        println!("visibility buffers compared: {kinds:?}");
+        for &kind in &kinds {
+            for (early_z, culling) in [(false, false), (true, false), (true, true)] {
+                let target = ScreenGbuffer::new(&gpu().device, SIZE).unwrap();
+                let settings = TierSettings { early_z, composite: false, ..TierSettings::default() };
+                let (image, stats, culled) = tier_render(scene, kind, settings, culling, &target);
+                let differing =
+                    (0..pixels).filter(|&i| image.depth[i].to_bits() != reference.depth[i].to_bits()).count();
+                println!(
+                    "{name}, {kind:?}, early-Z {early_z}, culling {culling}: {differing} depths differ; evaluated pixels {:?}, early-Z skips {:?}, resolved {}; culled (frustum, cone, Hi-Z) {:?}",
+                    &stats[..2],
+                    &stats[2..4],
+                    stats[4],
+                    &culled[..3]
+                );
+                assert!(
+                    image == reference,
+                    "{name}, {kind:?}, early-Z {early_z}, culling {culling}: the G-buffer differs"
+                );
+                assert_eq!(stats[4] as usize, covered(&reference));
+                if early_z {
+                    assert!(stats[3] > 0, "the second list skips pixels before reading the atlas");
+                } else {
+                    assert_eq!(stats[2] + stats[3], 0);
+                }
+                if name == "balls" {
+                    culled_balls += culled[1] + culled[2];
+                }
+                compared += 1;
+            }
+        }
+    }
+    assert_eq!(compared, 6 * kinds().len());
+    assert!(culled_balls > 0, "culling is exercised on the balls");
+}
+
+#[test]
+fn composited_over_a_mesh_render_each_pixel_keeps_the_nearer_surface() {
+    let gpu = gpu();
+    let scene = scene(5, grain_mesh::CoffeeBean::default().mesh().unwrap());
+    let camera = scene.camera();
+    // Meshes: every third grain, placed by its centre as the atlas is (the mesh's bounds
+    // centre moved onto the grain centre).
+    let centre = scene.mesh.bounds().centre;
+    let meshes: Vec<GrainInstance> = scene
+        .grains
+        .iter()
+        .step_by(3)
+        .map(|g| {
+            let rotation = Quat::from_vec4(g.rotation);
+            GrainInstance::new(
+                g.centre_scale.truncate() - rotation * (g.centre_scale.w * centre),
+                g.centre_scale.w,
+                rotation,
+            )
+        })
+        .collect();
+    let gpu_mesh = GpuMesh::upload(&gpu.device, &scene.mesh).unwrap();
+    let mesh_pass = MeshGbufferPass::new(&gpu.device).unwrap();
+    let mesh_only = ScreenGbuffer::new(&gpu.device, SIZE).unwrap();
+    mesh_pass.render(&gpu.device, &gpu.queue, &gpu_mesh, &camera, &meshes, 1, &mesh_only).unwrap();
+    let mesh_image = mesh_only.read(&gpu.device, &gpu.queue).unwrap();
+    let alone = ScreenGbuffer::new(&gpu.device, SIZE).unwrap();
+    let kind = VisibilityKind::Auto;
+    let separate = TierSettings { composite: false, ..TierSettings::default() };
+    let (impostors, _, _) = tier_render(&scene, kind, separate, false, &alone);
+    let (composite, _, _) = tier_render(&scene, kind, TierSettings::default(), false, &mesh_only);
+    let (mut from_mesh, mut from_impostor) = (0, 0);
+    for i in 0..composite.depth.len() {
+        let (m, t) = (mesh_image.depth[i], impostors.depth[i]);
+        let expected = if t <= m && impostors.normal_coverage[i].w > 0.0 { &impostors } else { &mesh_image };
+        assert_eq!(composite.depth[i].to_bits(), expected.depth[i].to_bits(), "pixel {i}: depth");
+        assert_eq!(composite.normal_coverage[i], expected.normal_coverage[i], "pixel {i}: normal");
+        assert_eq!(composite.albedo[i], expected.albedo[i], "pixel {i}: albedo");
+        if expected.normal_coverage[i].w > 0.0 {
+            if std::ptr::eq(expected, &mesh_image) { from_mesh += 1 } else { from_impostor += 1 }
+        }
+    }
+    println!("composite: {from_mesh} pixels from meshes, {from_impostor} from impostors");
+    assert!(from_mesh > 100 && from_impostor > 100, "both tiers show");
+}

@@ -292,3 +292,101 @@ fn composited_over_a_mesh_render_each_pixel_keeps_the_nearer_surface() {
     println!("composite: {from_mesh} pixels from meshes, {from_impostor} from impostors");
     assert!(from_mesh > 100 && from_impostor > 100, "both tiers show");
 }
+
+/// The renderer's frame: the mesh tier for the near grains, impostors for the rest, shaded.
+/// Culling (frustum, cone, Hi-Z, two-phase over two frames) and the software early-Z change
+/// no pixel of the G-buffer or of the shaded image; the mesh tier alone (every grain a mesh)
+/// covers the pixels `grain-impostor`'s mesh pass covers, with the same surface up to rounding.
+#[test]
+fn culling_and_early_z_change_no_pixel_of_a_frame_and_the_mesh_tier_is_the_mesh_pass() {
+    use grain_impostor::scene::ShadingUniforms;
+    use grain_renderer::{RendererOptions, StackingCamera, StackingRenderer};
+    let gpu = gpu();
+    let scene = scene(7, grain_mesh::Ball::default().mesh().unwrap());
+    let camera = StackingCamera::perspective(scene.eye, scene.target, 0.7, SIZE, (0.05, 500.0)).unwrap();
+    let lighting =
+        ShadingUniforms::new(Vec3::new(0.3, 1.0, 0.5), Vec3::splat(2.5), Vec3::splat(0.2), Vec3::new(0.1, 0.1, 0.15))
+            .unwrap();
+    // Diameters here span about 10 to 30 pixels: meshes above 18.
+    let render = |mesh_above: f32, culling: bool, early_z: bool| {
+        let options = RendererOptions {
+            size: SIZE,
+            capacity: scene.grains.len() as u32,
+            mesh_above,
+            band: 1.0,
+            occluder_map: OccluderMapKind::Auto,
+            visibility: VisibilityKind::Auto,
+            culling,
+        };
+        let renderer = StackingRenderer::new(&gpu.device, &gpu.queue, &scene.mesh, &scene.atlas, options).unwrap();
+        let bindings = renderer.upload(&gpu.device, &scene.grains).unwrap();
+        let settings = TierSettings { early_z, ..TierSettings::default() };
+        // Two frames: the second has the first's history (two-phase culling, hysteresis).
+        for _ in 0..2 {
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            renderer.encode(&gpu.queue, &mut encoder, &bindings, &camera, &lighting, settings).unwrap();
+            gpu.queue.submit([encoder.finish()]);
+        }
+        let counters: grain_splitter::SplitCounters =
+            bytemuck::pod_read_unaligned(&gpu.read_buffer(renderer.splitter().counters(), 64).unwrap());
+        let image = grain_impostor::shading::read_image(&gpu.device, &gpu.queue, renderer.image()).unwrap();
+        (renderer.gbuffer().read(&gpu.device, &gpu.queue).unwrap(), image, counters)
+    };
+    let (plain, plain_image, plain_counters) = render(18.0, false, false);
+    println!("no culling, no early-Z: lists {:?}", plain_counters.count);
+    assert!(plain_counters.count[0] > 0 && plain_counters.count[1] + plain_counters.count[2] > 0, "both tiers draw");
+    let (culled, culled_image, counters) = render(18.0, true, true);
+    println!(
+        "culling and early-Z: lists {:?}, culled (frustum, cone, Hi-Z) {:?}",
+        counters.count,
+        &counters.culled[..3]
+    );
+    assert!(counters.culled[1] + counters.culled[2] > 0, "grains are culled");
+    assert!(culled == plain, "culling or early-Z changed the G-buffer");
+    assert!(culled_image == plain_image, "culling or early-Z changed the shaded image");
+    // Every grain a mesh: the mesh tier against the mesh pass (one sample per pixel).
+    let (meshes, _, counters) = render(1e-3, false, false);
+    assert_eq!(counters.count[0] as usize, scene.grains.len());
+    let centre = scene.mesh.bounds().centre;
+    let placed: Vec<GrainInstance> = scene
+        .grains
+        .iter()
+        .map(|g| {
+            let rotation = Quat::from_vec4(g.rotation);
+            GrainInstance::new(
+                g.centre_scale.truncate() - rotation * (g.centre_scale.w * centre),
+                g.centre_scale.w,
+                rotation,
+            )
+        })
+        .collect();
+    let target = ScreenGbuffer::new(&gpu.device, SIZE).unwrap();
+    let pass = MeshGbufferPass::new(&gpu.device).unwrap();
+    let gpu_mesh = GpuMesh::upload(&gpu.device, &scene.mesh).unwrap();
+    pass.render(&gpu.device, &gpu.queue, &gpu_mesh, &scene.camera(), &placed, 1, &target).unwrap();
+    let reference = target.read(&gpu.device, &gpu.queue).unwrap();
+    let both = |i: usize| meshes.normal_coverage[i].w > 0.0 && reference.normal_coverage[i].w > 0.0;
+    let n = reference.depth.len();
+    let coverage_differs =
+        (0..n).filter(|&i| (meshes.normal_coverage[i].w > 0.0) != (reference.normal_coverage[i].w > 0.0)).count();
+    let depth_error = (0..n)
+        .filter(|&i| both(i))
+        .map(|i| (meshes.depth[i] - reference.depth[i]).abs() / reference.depth[i])
+        .fold(0.0f32, f32::max);
+    let normal_error = (0..n)
+        .filter(|&i| both(i))
+        .map(|i| (meshes.normal_coverage[i] - reference.normal_coverage[i]).truncate().length())
+        .fold(0.0f32, f32::max);
+    let differing = (0..n).filter(|&i| meshes.depth[i] != reference.depth[i]).count();
+    println!(
+        "mesh tier against the mesh pass: {differing} of {n} depths differ; coverage differs at {coverage_differs} pixels; max relative depth error {depth_error:.2e}, max normal error {normal_error:.2e}"
+    );
+    assert!(covered(&reference) * 4 > n);
+    // The tier moves the vertex by the mesh's centre before placing it, the mesh pass moves the
+    // instance: the same point with other roundings. Coverage agrees; depths differ by a few
+    // roundings of world positions no larger than the depths here (64 ulp of the depth bound them); normals
+    // by at most one step of the f16 G-buffer per component (√3 · 2⁻¹⁰).
+    assert_eq!(coverage_differs, 0);
+    assert!(depth_error <= 64.0 * f32::EPSILON, "depth error {depth_error}");
+    assert!(normal_error <= 3f32.sqrt() / 1024.0, "normal error {normal_error}");
+}

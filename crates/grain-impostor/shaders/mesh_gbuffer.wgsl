@@ -53,9 +53,8 @@ fn view_depth_of(world: vec3<f32>, clip: vec4<f32>) -> f32 {
     return dot(world - near.xyz / near.w, camera.eye.xyz);
 }
 
-@vertex
-fn mesh_vertex(input: MeshVertex, @builtin(instance_index) instance_index: u32) -> MeshFragment {
-    let instance = instances[instance_index];
+// The vertex placed by `instance` (also the mesh tier's, in grain-renderer).
+fn mesh_place(input: MeshVertex, instance: GrainInstance) -> MeshFragment {
     let world = instance.centre_scale.xyz + instance.centre_scale.w * rotate_by_quaternion(instance.rotation, input.position);
     let clip = camera_clip_from_world() * vec4<f32>(world, 1.0);
     var output: MeshFragment;
@@ -65,6 +64,11 @@ fn mesh_vertex(input: MeshVertex, @builtin(instance_index) instance_index: u32) 
     output.material = input.material;
     output.view_depth = view_depth_of(world, clip);
     return output;
+}
+
+@vertex
+fn mesh_vertex(input: MeshVertex, @builtin(instance_index) instance_index: u32) -> MeshFragment {
+    return mesh_place(input, instances[instance_index]);
 }
 
 @fragment

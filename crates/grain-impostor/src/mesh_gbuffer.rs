@@ -52,6 +52,8 @@ pub const GBUFFER_FORMATS: [wgpu::TextureFormat; 4] = [
 ];
 
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The depth-buffer format of mesh rasters into the G-buffer.
+pub const MESH_DEPTH_FORMAT: wgpu::TextureFormat = DEPTH_FORMAT;
 
 /// One vertex as the raster pass reads it.
 #[repr(C)]
@@ -66,6 +68,16 @@ struct MeshVertex {
 const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 4] =
     wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x2];
 
+/// The vertex buffer layout of [`GpuMesh::vertices`] (position, normal, albedo, roughness
+/// and metallic at locations 0–3, as `mesh_gbuffer.wgsl`'s `MeshVertex`).
+pub fn mesh_vertex_layout() -> wgpu::VertexBufferLayout<'static> {
+    wgpu::VertexBufferLayout {
+        array_stride: size_of::<MeshVertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &VERTEX_ATTRIBUTES,
+    }
+}
+
 /// A grain mesh in GPU buffers.
 #[derive(Debug)]
 pub struct GpuMesh {
@@ -75,6 +87,21 @@ pub struct GpuMesh {
 }
 
 impl GpuMesh {
+    /// The vertices ([`mesh_vertex_layout`]).
+    pub fn vertices(&self) -> &wgpu::Buffer {
+        &self.vertices
+    }
+
+    /// The triangle indices (`u32`).
+    pub fn indices(&self) -> &wgpu::Buffer {
+        &self.indices
+    }
+
+    /// How many indices (three per triangle).
+    pub fn index_count(&self) -> u32 {
+        self.index_count
+    }
+
     /// Uploads `mesh` (positions in its own frame; the [`GrainInstance`] of a draw places
     /// it), with its per-vertex materials or [`DEFAULT_MATERIAL`].
     pub fn upload(device: &wgpu::Device, mesh: &GrainMesh) -> Result<Self, GpuError> {
@@ -115,7 +142,8 @@ impl GpuMesh {
 }
 
 /// The screen G-buffer: one texture per entry of [`GBUFFER_LAYERS`] (formats
-/// [`GBUFFER_FORMATS`]), usable as storage (written by the passes), sampled texture (read
+/// [`GBUFFER_FORMATS`]), usable as storage (written by the passes), render attachment (the mesh tier of
+/// `grain-renderer` rasterises into it), sampled texture (read
 /// by shading) and copy source (readback).
 #[derive(Debug)]
 pub struct ScreenGbuffer {
@@ -144,6 +172,7 @@ impl ScreenGbuffer {
                     format,
                     usage: wgpu::TextureUsages::STORAGE_BINDING
                         | wgpu::TextureUsages::TEXTURE_BINDING
+                        | wgpu::TextureUsages::RENDER_ATTACHMENT
                         | wgpu::TextureUsages::COPY_SRC,
                     view_formats: &[],
                 })

@@ -170,6 +170,85 @@ impl ShadingPass {
     }
 }
 
+/// The bind group and uniform buffers of one G-buffer and target, for a frame loop
+/// ([`ShadingPass::bind`], [`ShadingPass::encode`]).
+#[derive(Debug)]
+pub struct ShadingBindings {
+    camera: wgpu::Buffer,
+    lighting: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    size: (u32, u32),
+}
+
+impl ShadingPass {
+    /// Binds `gbuffer` and `target` (as for [`shade`](Self::shade)) once, with uniform
+    /// buffers that [`encode`](Self::encode) rewrites each frame.
+    pub fn bind(
+        &self,
+        device: &wgpu::Device,
+        gbuffer: &ScreenGbuffer,
+        target: &wgpu::Texture,
+    ) -> Result<ShadingBindings, GpuError> {
+        if (target.width(), target.height()) != (gbuffer.width, gbuffer.height) {
+            return Err(GpuError::InvalidRequest(format!(
+                "shading target {}×{} differs from the G-buffer {}×{}",
+                target.width(),
+                target.height(),
+                gbuffer.width,
+                gbuffer.height
+            )));
+        }
+        scoped(device, || {
+            let uniform = |size: usize| {
+                device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("deferred shading uniforms"),
+                    size: size as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            };
+            let camera = uniform(size_of::<CameraUniforms>());
+            let lighting = uniform(size_of::<ShadingUniforms>());
+            let target_view = target.create_view(&Default::default());
+            let view = |view| wgpu::BindingResource::TextureView(view);
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("deferred shading"),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: camera.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: lighting.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 2, resource: view(&gbuffer.views[0]) },
+                    wgpu::BindGroupEntry { binding: 3, resource: view(&gbuffer.views[1]) },
+                    wgpu::BindGroupEntry { binding: 4, resource: view(&gbuffer.views[2]) },
+                    wgpu::BindGroupEntry { binding: 5, resource: view(&target_view) },
+                ],
+            });
+            ShadingBindings { camera, lighting, bind_group, size: (gbuffer.width, gbuffer.height) }
+        })
+    }
+
+    /// Writes `camera` and `lighting` through `queue` and records the shading of the bound
+    /// G-buffer into the bound target (one compute pass, no submission).
+    pub fn encode(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        bindings: &ShadingBindings,
+        camera: &CameraUniforms,
+        lighting: &ShadingUniforms,
+    ) {
+        queue.write_buffer(&bindings.camera, 0, bytemuck::bytes_of(camera));
+        queue.write_buffer(&bindings.lighting, 0, bytemuck::bytes_of(lighting));
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("deferred shading"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &bindings.bind_group, &[]);
+        pass.dispatch_workgroups(bindings.size.0.div_ceil(PIXEL_TILE), bindings.size.1.div_ceil(PIXEL_TILE), 1);
+    }
+}
+
 /// Reads a shaded image ([`SHADED_FORMAT`]) back as an `RgbaImage` (sRGB-encoded).
 pub fn read_image(
     device: &wgpu::Device,

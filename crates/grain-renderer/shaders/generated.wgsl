@@ -36,3 +36,9 @@ struct TierPass {
     owner_pass: u32, // offset 8
     slot: u32, // offset 12
 }
+
+// Rust size 32 bytes.
+struct MeshTierUniforms {
+    list: vec4<u32>, // offset 0
+    centre: vec4<f32>, // offset 16
+}

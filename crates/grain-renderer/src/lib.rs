@@ -2,7 +2,12 @@
 //! Multiscale Rendering of Dense Dynamic Stackings* (CGF 2020), §3 (Fig. 2), §4–5 and §9:
 //! the tiers `grain-splitter` sorts grains into, drawn in one frame with no CPU round trip.
 //!
-//! What exists so far is the **impostor tier** ([`ImpostorTier`]): the splitter's impostor
+//! [`StackingRenderer`] records a frame — split, mesh tier, impostor tier, deferred shading —
+//! into one command encoder; the point tier is not built yet (every grain below the mesh
+//! threshold is an impostor).
+//!
+//! The **mesh tier** ([`MeshTier`]) draws the splitter's mesh list with one
+//! `draw_indexed_indirect`. The **impostor tier** ([`ImpostorTier`]): the splitter's impostor
 //! lists splatted in compute into a visibility buffer (one 64-bit `atomicMin` of
 //! `(depth << 32) | grain` per covered pixel where the adapter has 64-bit atomics, a robust
 //! two-pass 32-bit fallback elsewhere), occluder candidates first and the rest with a software
@@ -11,6 +16,8 @@
 //!
 //! # Modules
 //!
+//! - [`renderer`]: [`StackingRenderer`], every pass of a frame built once.
+//! - [`mesh_tier`]: [`MeshTier`], the mesh list in one indirect draw.
 //! - [`impostor_tier`]: [`ImpostorTier`], its settings, inputs and counters.
 //! - [`tier_layout`]: the tier's uniform blocks and constants (generated into WGSL).
 //! - [`shaders`]: the generated declarations and the composed shaders.
@@ -18,6 +25,8 @@
 
 pub mod error;
 pub mod impostor_tier;
+pub mod mesh_tier;
+pub mod renderer;
 pub mod shaders;
 pub mod tier_layout;
 
@@ -25,3 +34,5 @@ pub use error::RenderError;
 pub use impostor_tier::{
     ImpostorTier, TierBindings, TierFrame, TierInputs, TierPass, TierSettings, TierUniforms, VisibilityKind,
 };
+pub use mesh_tier::{MeshTier, MeshTierBindings, MeshTierInputs};
+pub use renderer::{RendererOptions, SceneBindings, StackingCamera, StackingRenderer};

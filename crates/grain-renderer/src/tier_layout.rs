@@ -1,7 +1,7 @@
-//! The impostor tier's uniform blocks and constants, declared here and generated into WGSL
+//! The tiers' uniform blocks and constants, declared here and generated into WGSL
 //! ([`crate::shaders`]).
 
-use glam::UVec4;
+use glam::{UVec4, Vec4};
 use gpu_layout::{GpuConst, gpu_const, gpu_struct};
 
 /// A pixel no grain covers, or past a list's end.
@@ -53,5 +53,16 @@ gpu_struct! {
         pub owner_pass: u32,
         /// Which counters of [`ImpostorTier::stats`](crate::ImpostorTier::stats) this pass adds to (0 or 1).
         pub slot: u32,
+    }
+}
+
+gpu_struct! {
+    /// The mesh tier's settings.
+    pub struct MeshTierUniforms {
+        /// `(the splitter's mesh list, 0, 0, 0)`.
+        pub list: UVec4,
+        /// The point of the mesh's frame placed at each grain's centre (its bounds centre),
+        /// `w` unused.
+        pub centre: Vec4,
     }
 }

@@ -1,0 +1,236 @@
+//! The mesh tier (§3, Fig. 2 ②): the grains the splitter sends to the mesh list, drawn as
+//! instances of the grain's mesh with **one `draw_indexed_indirect`** whose instance count
+//! the splitter wrote on the GPU; each instance finds its grain as
+//! `elements[offset[mesh list] + instance_index]`. The raster is `grain-impostor`'s mesh
+//! G-buffer pass (same vertex placement and fragment outputs, `mesh_gbuffer.wgsl`), into the
+//! screen G-buffer directly: it clears the G-buffer, so it runs first in a frame.
+
+use glam::{UVec4, Vec3};
+use grain_impostor::mesh_gbuffer::{GBUFFER_FORMATS, GpuMesh, MESH_DEPTH_FORMAT, ScreenGbuffer, mesh_vertex_layout};
+use grain_impostor::scene::CameraUniforms;
+use grain_splitter::{GrainSplitter, LIST_MESH};
+
+use crate::error::RenderError;
+use crate::shaders::mesh_tier_shader;
+use crate::tier_layout::MeshTierUniforms;
+
+/// The buffers the mesh tier reads, bound once.
+#[derive(Clone, Copy, Debug)]
+pub struct MeshTierInputs<'a> {
+    /// `GrainInstance`s (centre and scale, rotation), `STORAGE`.
+    pub instances: &'a wgpu::Buffer,
+    /// The splitter's element lists (`GrainSplitter::elements`).
+    pub elements: &'a wgpu::Buffer,
+    /// The splitter's counters (`GrainSplitter::counters`).
+    pub counters: &'a wgpu::Buffer,
+    /// The splitter's indirect arguments (`GrainSplitter::indirect`), whose mesh list's
+    /// `draw_indexed` index count must be the mesh's (`SplitSettings::mesh_index_count`).
+    pub indirect: &'a wgpu::Buffer,
+}
+
+/// The bind group of one set of inputs.
+pub struct MeshTierBindings {
+    bind_group: wgpu::BindGroup,
+    indirect: wgpu::Buffer,
+}
+
+/// The mesh tier of one grain mesh at one viewport size, built once.
+pub struct MeshTier {
+    size: (u32, u32),
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    camera: wgpu::Buffer,
+    uniforms: wgpu::Buffer,
+    depth: wgpu::TextureView,
+    mesh: GpuMesh,
+    centre: Vec3,
+}
+
+fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType, stages: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: stages,
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    }
+}
+
+impl MeshTier {
+    /// Uploads `mesh` (modelled around `mesh.bounds().centre`, which each grain's centre
+    /// replaces), validates the shader with naga and builds the pipeline and depth buffer.
+    pub fn new(device: &wgpu::Device, size: (u32, u32), mesh: &grain_mesh::GrainMesh) -> Result<Self, RenderError> {
+        let (width, height) = size;
+        let limit = device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > limit || height > limit {
+            return Err(RenderError::InvalidSetting {
+                field: "size",
+                reason: format!("{size:?}: must be non-empty and at most {limit} per side"),
+            });
+        }
+        let shader = mesh_tier_shader();
+        shader.validate().map_err(|e| RenderError::InvalidShader(e.to_string()))?;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(shader.name()),
+            source: wgpu::ShaderSource::Wgsl(shader.source().to_owned().into()),
+        });
+        let read = wgpu::BufferBindingType::Storage { read_only: true };
+        let uniform = wgpu::BufferBindingType::Uniform;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("mesh tier"),
+            entries: &[
+                buffer_entry(0, uniform, wgpu::ShaderStages::VERTEX_FRAGMENT),
+                buffer_entry(1, read, wgpu::ShaderStages::VERTEX),
+                buffer_entry(2, read, wgpu::ShaderStages::VERTEX),
+                buffer_entry(3, read, wgpu::ShaderStages::VERTEX),
+                buffer_entry(4, uniform, wgpu::ShaderStages::VERTEX),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("mesh tier"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let targets = GBUFFER_FORMATS.map(|format| Some(wgpu::ColorTargetState::from(format)));
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("mesh tier"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("mesh_tier_vertex"),
+                compilation_options: Default::default(),
+                buffers: &[Some(mesh_vertex_layout())],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: MESH_DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("mesh_fragment"),
+                compilation_options: Default::default(),
+                targets: &targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let buffer = |label: &str, size: usize| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let depth = device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("mesh tier depth"),
+                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: MESH_DEPTH_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
+        let gpu_mesh = GpuMesh::upload(device, mesh).map_err(|e| RenderError::InvalidInput(e.to_string()))?;
+        Ok(Self {
+            size,
+            pipeline,
+            layout,
+            camera: buffer("mesh tier camera", size_of::<CameraUniforms>()),
+            uniforms: buffer("mesh tier settings", size_of::<MeshTierUniforms>()),
+            depth,
+            mesh: gpu_mesh,
+            centre: mesh.bounds().centre,
+        })
+    }
+
+    /// The mesh's index count: the splitter's `SplitSettings::mesh_index_count`.
+    pub fn index_count(&self) -> u32 {
+        self.mesh.index_count()
+    }
+
+    /// The bind group of `inputs`.
+    pub fn bind(&self, device: &wgpu::Device, inputs: &MeshTierInputs<'_>) -> Result<MeshTierBindings, RenderError> {
+        if !inputs.indirect.usage().contains(wgpu::BufferUsages::INDIRECT) {
+            return Err(RenderError::InvalidInput("the splitter's indirect buffer needs INDIRECT usage".into()));
+        }
+        fn whole(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
+        }
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("mesh tier"),
+            layout: &self.layout,
+            entries: &[
+                whole(0, &self.camera),
+                whole(1, inputs.instances),
+                whole(2, inputs.elements),
+                whole(3, inputs.counters),
+                whole(4, &self.uniforms),
+            ],
+        });
+        Ok(MeshTierBindings { bind_group, indirect: inputs.indirect.clone() })
+    }
+
+    /// Writes the camera through `queue` and records the mesh list's draw into `gbuffer`
+    /// (one render pass that first clears it to the background: coverage 0, depth `+∞`).
+    pub fn encode(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        bindings: &MeshTierBindings,
+        camera: &CameraUniforms,
+        gbuffer: &ScreenGbuffer,
+    ) -> Result<(), RenderError> {
+        if (gbuffer.width, gbuffer.height) != self.size {
+            return Err(RenderError::InvalidInput(format!(
+                "the G-buffer is {}×{}, the mesh tier {:?}",
+                gbuffer.width, gbuffer.height, self.size
+            )));
+        }
+        queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(camera));
+        let uniforms = MeshTierUniforms { list: UVec4::new(LIST_MESH, 0, 0, 0), centre: self.centre.extend(0.0) };
+        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
+        let clears = [
+            wgpu::Color::TRANSPARENT,
+            wgpu::Color::TRANSPARENT,
+            wgpu::Color::TRANSPARENT,
+            wgpu::Color { r: f64::INFINITY, g: 0.0, b: 0.0, a: 0.0 },
+        ];
+        let attachments: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = gbuffer
+            .views
+            .iter()
+            .zip(clears)
+            .map(|(view, clear)| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
+                })
+            })
+            .collect();
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("mesh tier"),
+            color_attachments: &attachments,
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                stencil_ops: None,
+            }),
+            ..Default::default()
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &bindings.bind_group, &[]);
+        pass.set_vertex_buffer(0, self.mesh.vertices().slice(..));
+        pass.set_index_buffer(self.mesh.indices().slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed_indirect(&bindings.indirect, GrainSplitter::indirect_offset(LIST_MESH));
+        Ok(())
+    }
+}

@@ -1,0 +1,308 @@
+//! [`StackingRenderer`]: the splitter, the mesh tier, the impostor tier and deferred shading
+//! of one grain type, built once and encoded per frame with no CPU readback (§3, Fig. 2:
+//! ① split, ② meshes, ③ impostors; the point tier ④ is not built yet, so every grain below
+//! the mesh threshold is an impostor).
+
+use glam::{Vec3, Vec4};
+use grain_impostor::atlas::ImpostorAtlas;
+use grain_impostor::atlas_gpu::AtlasTextures;
+use grain_impostor::cloud::{AtlasBinding, GBufferBinding};
+use grain_impostor::mesh_gbuffer::ScreenGbuffer;
+use grain_impostor::scene::{CameraUniforms, GrainInstance, ShadingUniforms};
+use grain_impostor::shading::{ShadingBindings, ShadingPass};
+use grain_splitter::{
+    GrainSplitter, ListOrder, OccluderMapKind, SplitBindings, SplitCamera, SplitSettings, SplitterOptions,
+    TierThresholds,
+};
+use octahedral_map::{ImpostorSampler, ImpostorSamplingUniforms, SamplingMode, ViewSelection};
+
+use crate::error::RenderError;
+use crate::impostor_tier::{ImpostorTier, TierBindings, TierFrame, TierInputs, TierSettings, VisibilityKind};
+use crate::mesh_tier::{MeshTier, MeshTierBindings, MeshTierInputs};
+
+/// The point-tier threshold the splitter is given while the point tier does not exist: a
+/// projected diameter no grain on screen is below, so that none goes to the point list.
+pub const NO_POINT_TIER: f32 = 1e-6;
+
+/// What a renderer is built for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RendererOptions {
+    /// Viewport in pixels.
+    pub size: (u32, u32),
+    /// The most grains a scene may hold.
+    pub capacity: u32,
+    /// Projected diameter (pixels) above which a grain is a mesh: the measured impostor
+    /// table's (`TierThresholds::from_impostor_table`), never a distance.
+    pub mesh_above: f32,
+    /// Hysteresis band (≥ 1) around it.
+    pub band: f32,
+    /// The occluder map's atomics.
+    pub occluder_map: OccluderMapKind,
+    /// The visibility buffer's atomics.
+    pub visibility: VisibilityKind,
+    /// Frustum, cone, Hi-Z and two-phase culling (all conservative: off only to compare).
+    pub culling: bool,
+}
+
+/// One frame's camera, as the splitter and the tiers see it (the same matrices).
+#[derive(Clone, Copy, Debug)]
+pub struct StackingCamera {
+    /// The splitter's form.
+    pub split: SplitCamera,
+    /// The raster and compute passes' form.
+    pub uniforms: CameraUniforms,
+}
+
+impl StackingCamera {
+    /// A perspective camera at `eye` looking at `target`, vertical field of view
+    /// `fov_y_radians`, `size` pixels, depth range `near_far`.
+    pub fn perspective(
+        eye: Vec3,
+        target: Vec3,
+        fov_y_radians: f32,
+        size: (u32, u32),
+        near_far: (f32, f32),
+    ) -> Result<Self, RenderError> {
+        let split = SplitCamera::perspective(eye, target, Vec3::Y, fov_y_radians, size, near_far)
+            .map_err(|e| RenderError::InvalidInput(e.to_string()))?;
+        let uniforms = CameraUniforms::perspective(eye, target, Vec3::Y, fov_y_radians, size, near_far)
+            .ok_or_else(|| RenderError::InvalidInput(format!("no camera at {eye} looking at {target}")))?;
+        Ok(Self { split, uniforms })
+    }
+}
+
+/// A scene's grains on the GPU and every bind group that reads them.
+pub struct SceneBindings {
+    centres: wgpu::Buffer,
+    instances: wgpu::Buffer,
+    count: u32,
+    split: SplitBindings,
+    mesh: MeshTierBindings,
+    impostor: TierBindings,
+}
+
+impl SceneBindings {
+    /// Grains in the scene.
+    pub fn count(&self) -> u32 {
+        self.count
+    }
+}
+
+/// The renderer of one grain type (mesh and atlas) at one viewport size.
+pub struct StackingRenderer {
+    options: RendererOptions,
+    splitter: GrainSplitter,
+    mesh_tier: MeshTier,
+    impostor_tier: ImpostorTier,
+    shading: ShadingPass,
+    shading_bindings: ShadingBindings,
+    gbuffer: ScreenGbuffer,
+    image: wgpu::Texture,
+    atlas: AtlasTextures,
+    atlas_texels: u32,
+    atlas_layers: u32,
+    sampling: ImpostorSamplingUniforms,
+}
+
+fn gpu_error(e: impl std::fmt::Display) -> RenderError {
+    RenderError::InvalidInput(e.to_string())
+}
+
+impl StackingRenderer {
+    /// Builds every pipeline and buffer: the splitter for `mesh`'s `r` and
+    /// `R`, the mesh tier, the impostor tier sampling `atlas` (mixed sampling, views chosen
+    /// per grain), the G-buffer and the shaded image.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        mesh: &grain_mesh::GrainMesh,
+        atlas: &ImpostorAtlas,
+        options: RendererOptions,
+    ) -> Result<Self, RenderError> {
+        let mesh_tier = MeshTier::new(device, options.size, mesh)?;
+        let thresholds = TierThresholds::new(NO_POINT_TIER, options.mesh_above, options.band).map_err(|e| match e {
+            grain_splitter::SplitError::InvalidSetting { field, reason } => {
+                RenderError::InvalidSetting { field: if field == "band" { "band" } else { "mesh_above" }, reason }
+            }
+            other => gpu_error(other),
+        })?;
+        let bounds = mesh.bounds();
+        let c = options.culling;
+        let settings = SplitSettings {
+            mesh_index_count: mesh_tier.index_count(),
+            frustum_culling: c,
+            cone_culling: c,
+            hiz_culling: c,
+            temporal_occluders: c,
+            ..SplitSettings::new(bounds.occluder_radius(), atlas.outer_radius, thresholds)
+        };
+        let splitter = GrainSplitter::new(
+            device,
+            settings,
+            SplitterOptions {
+                capacity: options.capacity,
+                size: options.size,
+                occluder_map: options.occluder_map,
+                order: ListOrder::Atomic,
+            },
+        )
+        .map_err(gpu_error)?;
+        let impostor_tier = ImpostorTier::new(device, options.size, options.visibility)?;
+        let shading = ShadingPass::new(device).map_err(gpu_error)?;
+        let gbuffer = ScreenGbuffer::new(device, options.size).map_err(gpu_error)?;
+        let image = shading.create_target(device, &gbuffer).map_err(gpu_error)?;
+        let shading_bindings = shading.bind(device, &gbuffer, &image).map_err(gpu_error)?;
+        let sampler = ImpostorSampler::new(
+            atlas.views,
+            atlas.outer_radius,
+            atlas.inner_radius,
+            SamplingMode::Mixed,
+            atlas.layout,
+            ViewSelection::PerGrainFromEye,
+        )
+        .ok_or_else(|| {
+            RenderError::InvalidInput(format!(
+                "atlas radii r = {}, R = {}: a sampler needs 0 < r ≤ R",
+                atlas.inner_radius, atlas.outer_radius
+            ))
+        })?;
+        Ok(Self {
+            options,
+            splitter,
+            mesh_tier,
+            impostor_tier,
+            shading,
+            shading_bindings,
+            gbuffer,
+            image,
+            atlas: AtlasTextures::upload(device, queue, atlas).map_err(gpu_error)?,
+            atlas_texels: atlas.texels,
+            atlas_layers: atlas.layer_count(),
+            sampling: sampler.uniforms(),
+        })
+    }
+
+    fn atlas_binding(&self) -> AtlasBinding<'_> {
+        AtlasBinding {
+            normal_alpha: &self.atlas.views[0],
+            albedo_alpha: &self.atlas.views[1],
+            material_alpha: &self.atlas.views[2],
+            depth_alpha: &self.atlas.views[3],
+            sampler: &self.atlas.sampler,
+            texels: self.atlas_texels,
+            layers: self.atlas_layers,
+        }
+    }
+
+    /// Uploads `grains` (at most the capacity) and binds them to every pass.
+    pub fn upload(&self, device: &wgpu::Device, grains: &[GrainInstance]) -> Result<SceneBindings, RenderError> {
+        let count =
+            u32::try_from(grains.len()).ok().filter(|&n| n > 0 && n <= self.options.capacity).ok_or_else(|| {
+                RenderError::InvalidInput(format!("{} grains: need 1 to {}", grains.len(), self.options.capacity))
+            })?;
+        use wgpu::util::DeviceExt;
+        let centres: Vec<Vec4> = grains.iter().map(|g| g.centre_scale).collect();
+        let centres = GrainSplitter::upload_grains(device, &centres).map_err(gpu_error)?;
+        let instances = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("grain instances"),
+            contents: bytemuck::cast_slice(grains),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        });
+        let split = self.splitter.bind(device, &centres).map_err(gpu_error)?;
+        let mesh = self.mesh_tier.bind(
+            device,
+            &MeshTierInputs {
+                instances: &instances,
+                elements: self.splitter.elements(),
+                counters: self.splitter.counters(),
+                indirect: self.splitter.indirect(),
+            },
+        )?;
+        let g = &self.gbuffer;
+        let gbuffer = GBufferBinding {
+            normal_coverage: &g.views[0],
+            albedo: &g.views[1],
+            material: &g.views[2],
+            depth: &g.views[3],
+        };
+        let impostor = self.impostor_tier.bind(
+            device,
+            &TierInputs {
+                instances: &instances,
+                elements: self.splitter.elements(),
+                counters: self.splitter.counters(),
+                indirect: self.splitter.indirect(),
+            },
+            &self.atlas_binding(),
+            &gbuffer,
+        )?;
+        Ok(SceneBindings { centres, instances, count, split, mesh, impostor })
+    }
+
+    /// Rewrites the grains of `scene` (dynamic scenes: positions and orientations change
+    /// every frame); as many as it holds.
+    pub fn update(
+        &self,
+        queue: &wgpu::Queue,
+        scene: &SceneBindings,
+        grains: &[GrainInstance],
+    ) -> Result<(), RenderError> {
+        if grains.len() != scene.count as usize {
+            return Err(RenderError::InvalidInput(format!("{} grains for a scene of {}", grains.len(), scene.count)));
+        }
+        let centres: Vec<Vec4> = grains.iter().map(|g| g.centre_scale).collect();
+        queue.write_buffer(&scene.centres, 0, bytemuck::cast_slice(&centres));
+        queue.write_buffer(&scene.instances, 0, bytemuck::cast_slice(grains));
+        Ok(())
+    }
+
+    /// Records one frame: split, mesh tier, impostor tier (composited), deferred shading into
+    /// [`StackingRenderer::image`]. Uniforms are written through `queue` (one frame per
+    /// submission); nothing is read back.
+    pub fn encode(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &SceneBindings,
+        camera: &StackingCamera,
+        lighting: &ShadingUniforms,
+        settings: TierSettings,
+    ) -> Result<(), RenderError> {
+        self.splitter.encode(queue, encoder, &scene.split, &camera.split, scene.count, None).map_err(gpu_error)?;
+        self.mesh_tier.encode(queue, encoder, &scene.mesh, &camera.uniforms, &self.gbuffer)?;
+        let frame = TierFrame {
+            camera: &camera.uniforms,
+            sampling: self.sampling,
+            instance_count: scene.count,
+            settings: TierSettings { composite: true, ..settings },
+        };
+        self.impostor_tier.encode(queue, encoder, &scene.impostor, &frame, &self.atlas_binding())?;
+        self.shading.encode(queue, encoder, &self.shading_bindings, &camera.uniforms, lighting);
+        Ok(())
+    }
+
+    /// The splitter (its counters, lists and settings).
+    pub fn splitter(&self) -> &GrainSplitter {
+        &self.splitter
+    }
+
+    /// The impostor tier (its counters).
+    pub fn impostor_tier(&self) -> &ImpostorTier {
+        &self.impostor_tier
+    }
+
+    /// The G-buffer of the last frame.
+    pub fn gbuffer(&self) -> &ScreenGbuffer {
+        &self.gbuffer
+    }
+
+    /// The shaded image of the last frame (`Rgba8Unorm`, sRGB-encoded values).
+    pub fn image(&self) -> &wgpu::Texture {
+        &self.image
+    }
+
+    /// The options.
+    pub fn options(&self) -> &RendererOptions {
+        &self.options
+    }
+}

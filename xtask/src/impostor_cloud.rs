@@ -106,14 +106,13 @@ impl Options {
     }
 }
 
-/// Runs the command.
-pub fn run(args: &Args<'_>) -> Result<(), String> {
-    let Options { out, obj, grain, n, p, mode, count } = Options::from_args(args)?;
-    let (name, mesh): (String, GrainMesh) = match &obj {
-        Some(path) => (
+/// The grain of `--obj PATH` (named by the file stem) or of the procedural `grain`.
+pub fn load_grain(obj: Option<&std::path::Path>, grain: &str) -> Result<(String, GrainMesh), String> {
+    match obj {
+        Some(path) => Ok((
             path.file_stem().map_or_else(|| "grain".into(), |s| s.to_string_lossy().into_owned()),
             load_obj(path).map_err(|e| e.to_string())?,
-        ),
+        )),
         None => {
             let mesh = match grain {
                 "ball" => Ball::default().mesh(),
@@ -122,9 +121,15 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
                 "nut" => HexNut::default().mesh(),
                 other => return Err(format!("unknown grain {other}: use ball, bean, rock, nut or --obj PATH")),
             };
-            (grain.to_owned(), mesh.map_err(|e| e.to_string())?)
+            Ok((grain.to_owned(), mesh.map_err(|e| e.to_string())?))
         }
-    };
+    }
+}
+
+/// Runs the command.
+pub fn run(args: &Args<'_>) -> Result<(), String> {
+    let Options { out, obj, grain, n, p, mode, count } = Options::from_args(args)?;
+    let (name, mesh) = load_grain(obj.as_deref(), grain)?;
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
     println!("impostor cloud of `{name}` on {}", gpu.describe());

@@ -22,6 +22,7 @@ mod impostor_accuracy;
 mod impostor_cloud;
 mod occlusion_check;
 mod showcase;
+mod stackings;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -188,6 +189,20 @@ pub const COMMANDS: &[Command] = &[
         positional: Positional::OutDir("target/culling"),
         run: culling_chart::run,
     },
+    Command {
+        name: "stackings",
+        flags: &[
+            value("grains", "COUNT"),
+            value("frames", "K"),
+            OBJ,
+            value("grain", "NAME"),
+            value("mesh-above", "PX"),
+            QUICK,
+        ],
+        exclusive: &[("obj", "grain")],
+        positional: Positional::OutDir("target/stackings"),
+        run: stackings::run,
+    },
 ];
 
 /// The usage of every command.
@@ -216,7 +231,8 @@ fn bench(args: &Args<'_>) -> Result<(), String> {
 
 /// Everything that can be shown so far, at quick settings: the octahedral layout, impostor
 /// accuracy (Fig. 12-13), the DDM tracer's tables and its renders on a plane and a torus,
-/// the A-buffer masks' coverage error, Fig. 15 (occlusion culling) and Fig. 9.
+/// the A-buffer masks' coverage error, Fig. 15 (occlusion culling), the multiscale renderer's
+/// dolly over a bean pile and Fig. 9.
 fn showcase(args: &Args<'_>) -> Result<(), String> {
     let out = args.out_dir();
     showcase::run(&out)?;
@@ -226,6 +242,7 @@ fn showcase(args: &Args<'_>) -> Result<(), String> {
     run_command("ddm-render", &[&out_text, "--quick"])?;
     abuffer_chart::run(&out)?;
     run_command("culling-chart", &[&out_text, "--quick"])?;
+    run_command("stackings", &[&out_text, "--quick"])?;
     run_command("fig9", &[&out_text, "--quick"])
 }
 

@@ -17,12 +17,14 @@
 //! # Modules
 //!
 //! - [`renderer`]: [`StackingRenderer`], every pass of a frame built once.
+//! - [`bench`](mod@bench): a frame timed stage by stage.
 //! - [`mesh_tier`]: [`MeshTier`], the mesh list in one indirect draw.
 //! - [`impostor_tier`]: [`ImpostorTier`], its settings, inputs and counters.
 //! - [`tier_layout`]: the tier's uniform blocks and constants (generated into WGSL).
 //! - [`shaders`]: the generated declarations and the composed shaders.
 //! - [`error`]: the error type, [`RenderError`].
 
+pub mod bench;
 pub mod error;
 pub mod impostor_tier;
 pub mod mesh_tier;
@@ -35,4 +37,4 @@ pub use impostor_tier::{
     ImpostorTier, TierBindings, TierFrame, TierInputs, TierPass, TierSettings, TierUniforms, VisibilityKind,
 };
 pub use mesh_tier::{MeshTier, MeshTierBindings, MeshTierInputs};
-pub use renderer::{RendererOptions, SceneBindings, StackingCamera, StackingRenderer};
+pub use renderer::{RendererOptions, SceneBindings, StackingCamera, StackingRenderer, Stage};

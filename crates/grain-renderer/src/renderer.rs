@@ -71,6 +71,34 @@ impl StackingCamera {
     }
 }
 
+/// The stages of a frame, in order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// Occluder map, culling, tiers, lists (`grain-splitter`).
+    Split,
+    /// The mesh tier (clears the G-buffer).
+    Meshes,
+    /// The impostor tier, composited over the meshes.
+    Impostors,
+    /// Deferred shading of the G-buffer.
+    Shading,
+}
+
+impl Stage {
+    /// Every stage, in the order a frame runs them.
+    pub const ALL: [Stage; 4] = [Stage::Split, Stage::Meshes, Stage::Impostors, Stage::Shading];
+
+    /// Its name in tables and CSV.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Split => "split",
+            Stage::Meshes => "meshes",
+            Stage::Impostors => "impostors",
+            Stage::Shading => "shading",
+        }
+    }
+}
+
 /// A scene's grains on the GPU and every bind group that reads them.
 pub struct SceneBindings {
     centres: wgpu::Buffer,
@@ -256,9 +284,9 @@ impl StackingRenderer {
         Ok(())
     }
 
-    /// Records one frame: split, mesh tier, impostor tier (composited), deferred shading into
-    /// [`StackingRenderer::image`]. Uniforms are written through `queue` (one frame per
-    /// submission); nothing is read back.
+    /// Records one frame: every [`Stage`] in order — split, mesh tier, impostor tier
+    /// (composited), deferred shading into [`StackingRenderer::image`]. Uniforms are written
+    /// through `queue` (one frame per submission); nothing is read back.
     pub fn encode(
         &self,
         queue: &wgpu::Queue,
@@ -268,17 +296,44 @@ impl StackingRenderer {
         lighting: &ShadingUniforms,
         settings: TierSettings,
     ) -> Result<(), RenderError> {
-        self.splitter.encode(queue, encoder, &scene.split, &camera.split, scene.count, None).map_err(gpu_error)?;
-        self.mesh_tier.encode(queue, encoder, &scene.mesh, &camera.uniforms, &self.gbuffer)?;
-        let frame = TierFrame {
-            camera: &camera.uniforms,
-            sampling: self.sampling,
-            instance_count: scene.count,
-            settings: TierSettings { composite: true, ..settings },
-        };
-        self.impostor_tier.encode(queue, encoder, &scene.impostor, &frame, &self.atlas_binding())?;
-        self.shading.encode(queue, encoder, &self.shading_bindings, &camera.uniforms, lighting);
+        for stage in Stage::ALL {
+            self.encode_stage(queue, encoder, scene, camera, lighting, settings, stage)?;
+        }
         Ok(())
+    }
+
+    /// Records one stage of a frame (for timing stages apart; [`StackingRenderer::encode`]
+    /// records them all, in [`Stage::ALL`]'s order, which each stage needs).
+    #[allow(clippy::too_many_arguments)]
+    pub fn encode_stage(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &SceneBindings,
+        camera: &StackingCamera,
+        lighting: &ShadingUniforms,
+        settings: TierSettings,
+        stage: Stage,
+    ) -> Result<(), RenderError> {
+        match stage {
+            Stage::Split => {
+                self.splitter.encode(queue, encoder, &scene.split, &camera.split, scene.count, None).map_err(gpu_error)
+            }
+            Stage::Meshes => self.mesh_tier.encode(queue, encoder, &scene.mesh, &camera.uniforms, &self.gbuffer),
+            Stage::Impostors => {
+                let frame = TierFrame {
+                    camera: &camera.uniforms,
+                    sampling: self.sampling,
+                    instance_count: scene.count,
+                    settings: TierSettings { composite: true, ..settings },
+                };
+                self.impostor_tier.encode(queue, encoder, &scene.impostor, &frame, &self.atlas_binding())
+            }
+            Stage::Shading => {
+                self.shading.encode(queue, encoder, &self.shading_bindings, &camera.uniforms, lighting);
+                Ok(())
+            }
+        }
     }
 
     /// The splitter (its counters, lists and settings).

@@ -1,0 +1,219 @@
+//! `cargo xtask stackings [OUT_DIR] [--grains COUNT] [--frames K] [--obj PATH | --grain NAME]
+//! [--mesh-above PX] [--quick]`: the multiscale renderer (`grain-renderer`) on a pile from
+//! `grain-scenes` — a backward dolly from a close view to the whole pile (paper Fig. 9) —
+//! written as PNG frames, with the per-stage breakdown printed and written to
+//! `stackings.csv` (GPU timestamps on a GPU, wall clock on a software adapter).
+//!
+//! The mesh threshold is the measured impostor table's (`TierThresholds::from_impostor_table`,
+//! SSIM loss ≤ 0.05) for the procedural grains; an OBJ grain has no measured table, so
+//! `--mesh-above` must say it (pixels of projected diameter).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use glam::{Quat, Vec3};
+use grain_impostor::bake::{BakeSettings, Baker, Progress};
+use grain_impostor::scene::{GrainInstance, ShadingUniforms};
+use grain_renderer::bench::time_frame;
+use grain_renderer::renderer::NO_POINT_TIER;
+use grain_renderer::{RendererOptions, StackingCamera, StackingRenderer, Stage, TierSettings, VisibilityKind};
+use grain_scenes::{GrainRadii, Region, Stacking, StackingSpec};
+use grain_splitter::sweep::Shot;
+use grain_splitter::{OccluderMapKind, SplitCounters, TierThresholds};
+
+use crate::cli::{Args, positive};
+use crate::impostor_cloud::{GRAINS, load_grain};
+
+/// The command's settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    out: PathBuf,
+    obj: Option<PathBuf>,
+    grain: &'static str,
+    count: usize,
+    frames: u32,
+    mesh_above: Option<f32>,
+    size: (u32, u32),
+}
+
+impl Options {
+    fn from_args(args: &Args<'_>) -> Result<Self, String> {
+        let quick = args.flag("quick");
+        let grain = |name: &str| {
+            GRAINS.into_iter().find(|g| *g == name).ok_or_else(|| format!("expected one of {}", GRAINS.join(", ")))
+        };
+        let pixels = |text: &str| {
+            text.parse::<f32>()
+                .ok()
+                .filter(|v| v.is_finite() && *v > 0.0)
+                .ok_or_else(|| format!("`{text}` is not a positive number of pixels"))
+        };
+        Ok(Self {
+            out: args.out_dir(),
+            obj: args.value("obj").map(PathBuf::from),
+            grain: args.parse_value("grain", grain)?.unwrap_or("bean"),
+            count: args.parse_value("grains", positive::<usize>)?.unwrap_or(if quick { 5_000 } else { 20_000 }),
+            frames: args.parse_value("frames", positive::<u32>)?.unwrap_or(if quick { 3 } else { 6 }),
+            mesh_above: args.parse_value("mesh-above", pixels)?,
+            size: if quick { (480, 270) } else { (960, 540) },
+        })
+    }
+}
+
+/// A pile of `count` grains whose inner balls are disjoint (spacing over the outer diameter
+/// at least `r/R` over the jitter's margin).
+fn pile(count: usize, inner: f32, outer: f32) -> Result<Stacking, String> {
+    let mut spec = StackingSpec::new(count, GrainRadii::new(inner, outer).map_err(|e| e.to_string())?);
+    spec.seed = 9;
+    spec.region = Region::Pile { slope: 0.6 };
+    spec.scale_jitter = 0.1;
+    spec.jitter = 0.05;
+    spec.spacing = (1.02 * inner / outer / (1.0 - 2.0 * spec.jitter)).max(0.85);
+    Stacking::generate(&spec).map_err(|e| e.to_string())
+}
+
+/// How much nearer than the foreground shot the dolly starts (its first frame shows grains
+/// above the mesh threshold).
+const CLOSE_UP: f32 = 0.45;
+
+/// Frame `k` of `frames`: from a close-up (the foreground shot's direction at [`CLOSE_UP`]
+/// of its distance) back to the wide shot, the distance to the target growing geometrically.
+fn dolly(shots: &[Shot; 3], k: u32, frames: u32, size: (u32, u32)) -> Result<StackingCamera, String> {
+    let [wide, _, close] = shots;
+    let t = if frames > 1 { k as f32 / (frames - 1) as f32 } else { 1.0 };
+    let target = close.target.lerp(wide.target, t);
+    let (d0, d1) = (CLOSE_UP * (close.eye - close.target).length(), (wide.eye - wide.target).length());
+    let direction = (close.eye - close.target).normalize().lerp((wide.eye - wide.target).normalize(), t).normalize();
+    let distance = d0 * (d1 / d0).powf(t);
+    let fov = close.fov_y + (wide.fov_y - close.fov_y) * t;
+    let far = 4.0 * (distance + (wide.eye - wide.target).length());
+    StackingCamera::perspective(target + direction * distance, target, fov, size, (1e-3 * distance, far))
+        .map_err(|e| e.to_string())
+}
+
+fn write(path: &Path, text: &str) -> Result<(), String> {
+    std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
+/// Runs the command.
+pub fn run(args: &Args<'_>) -> Result<(), String> {
+    let options = Options::from_args(args)?;
+    let (name, mesh) = load_grain(options.obj.as_deref(), options.grain)?;
+    let bounds = mesh.bounds();
+    let (inner, outer) = (bounds.occluder_radius(), bounds.outer_radius);
+    let mesh_above = match (options.mesh_above, &options.obj) {
+        (Some(pixels), _) => pixels,
+        (None, Some(path)) => {
+            return Err(format!(
+                "{}: no measured impostor table for an OBJ grain; give its mesh threshold with --mesh-above PX",
+                path.display()
+            ));
+        }
+        (None, None) => {
+            let rows = grain_impostor::choice::measured_accuracy()?;
+            TierThresholds::from_impostor_table(&rows, &name, 0.05, NO_POINT_TIER, 1.1)
+                .map_err(|e| e.to_string())?
+                .mesh_above()
+        }
+    };
+    std::fs::create_dir_all(&options.out).map_err(|e| format!("cannot create {}: {e}", options.out.display()))?;
+    let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
+    println!(
+        "stackings: {} grains of `{name}` (r/R = {:.2}), {}×{}, {} frames, meshes above {mesh_above:.1} px, on {}",
+        options.count,
+        inner / outer,
+        options.size.0,
+        options.size.1,
+        options.frames,
+        gpu.describe()
+    );
+    let started = Instant::now();
+    let stacking = pile(options.count, inner.max(1e-6 * outer), outer)?;
+    let grains: Vec<GrainInstance> = stacking
+        .centre_scale()
+        .iter()
+        .zip(stacking.rotation())
+        .map(|(c, q)| GrainInstance::new(c.truncate(), c.w, Quat::from_vec4(*q)))
+        .collect();
+    let settings = BakeSettings { progress: Progress::Hidden, ..BakeSettings::new(8, 64) };
+    let baker = Baker::new(&gpu.device).map_err(|e| e.to_string())?;
+    let atlas = baker.bake(&gpu.device, &gpu.queue, &mesh, &settings).map_err(|e| e.to_string())?;
+    println!("  scene and atlas (n = 8, p = 64) in {:.1} s", started.elapsed().as_secs_f64());
+    let renderer_options = RendererOptions {
+        size: options.size,
+        capacity: grains.len() as u32,
+        mesh_above,
+        band: 1.1,
+        occluder_map: OccluderMapKind::Auto,
+        visibility: VisibilityKind::Auto,
+        culling: true,
+    };
+    let renderer =
+        StackingRenderer::new(&gpu.device, &gpu.queue, &mesh, &atlas, renderer_options).map_err(|e| e.to_string())?;
+    let scene = renderer.upload(&gpu.device, &grains).map_err(|e| e.to_string())?;
+    let lighting = ShadingUniforms::new(
+        Vec3::new(0.4, 1.0, 0.6),
+        Vec3::splat(2.6),
+        Vec3::splat(0.25),
+        Vec3::new(0.08, 0.09, 0.12),
+    )
+    .ok_or("the light direction is zero")?;
+    let region = stacking.bounds();
+    let shots = Shot::fig15(region.min, region.max);
+    let mut csv = String::from("adapter,timing,frame,distance,");
+    for stage in Stage::ALL {
+        let _ = write!(csv, "{}_ms,", stage.name());
+    }
+    csv += "total_ms,mesh,impostor_occluder,impostor_rest,point,culled_frustum,culled_cone,culled_hiz\n";
+    let adapter = gpu.adapter_info().name.replace('"', "\"\"");
+    for k in 0..options.frames {
+        let camera = dolly(&shots, k, options.frames, options.size)?;
+        let times = time_frame(&gpu, &renderer, &scene, &camera, &lighting, TierSettings::default())
+            .map_err(|e| e.to_string())?;
+        let counters: SplitCounters = bytemuck::pod_read_unaligned(
+            &gpu.read_buffer(renderer.splitter().counters(), size_of::<SplitCounters>() as u64)
+                .map_err(|e| e.to_string())?,
+        );
+        let image = grain_impostor::shading::read_image(&gpu.device, &gpu.queue, renderer.image())
+            .map_err(|e| e.to_string())?;
+        let path = options.out.join(format!("stackings_{k:02}.png"));
+        image.save(&path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        let distance = (camera.uniforms.eye.truncate() - shots[0].target).length();
+        let breakdown: Vec<String> =
+            Stage::ALL.iter().zip(times.ms).map(|(s, ms)| format!("{} {ms:.1}", s.name())).collect();
+        println!(
+            "  frame {k}: {} ms ({:?}: {}); lists {:?}, culled (frustum, cone, Hi-Z) {:?}",
+            format_args!("{:.1}", times.total()),
+            times.source,
+            breakdown.join(", "),
+            counters.count,
+            &counters.culled[..3]
+        );
+        let _ = write!(csv, "\"{adapter}\",{:?},{k},{distance:.3},", times.source);
+        for ms in times.ms {
+            let _ = write!(csv, "{ms:.4},");
+        }
+        let c = counters;
+        let _ = writeln!(
+            csv,
+            "{:.4},{},{},{},{},{},{},{}",
+            times.total(),
+            c.count[0],
+            c.count[1],
+            c.count[2],
+            c.count[3],
+            c.culled[0],
+            c.culled[1],
+            c.culled[2]
+        );
+    }
+    write(&options.out.join("stackings.csv"), &csv)?;
+    println!(
+        "wrote {} frames and stackings.csv into {} in {:.1} s",
+        options.frames,
+        options.out.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}

@@ -390,3 +390,51 @@ fn culling_and_early_z_change_no_pixel_of_a_frame_and_the_mesh_tier_is_the_mesh_
     assert!(depth_error <= 64.0 * f32::EPSILON, "depth error {depth_error}");
     assert!(normal_error <= 3f32.sqrt() / 1024.0, "normal error {normal_error}");
 }
+
+/// Bad input is an error naming what is wrong, and no buffer of the tier can be mapped (a
+/// frame never waits on the CPU).
+#[test]
+fn errors_name_what_is_wrong_and_no_tier_buffer_is_mappable() {
+    use grain_renderer::{RendererOptions, StackingRenderer};
+    let gpu = gpu();
+    let scene = scene(2, grain_mesh::Ball::default().mesh().unwrap());
+    let tier = ImpostorTier::new(&gpu.device, SIZE, VisibilityKind::Auto).unwrap();
+    for (name, buffer) in tier.buffers() {
+        let usage = buffer.usage();
+        assert!(!usage.intersects(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE), "{name}: {usage:?}");
+    }
+    let e = ImpostorTier::new(&gpu.device, (0, 10), VisibilityKind::Auto).err().unwrap().to_string();
+    assert!(e.contains("size"), "{e}");
+    let options = RendererOptions {
+        size: SIZE,
+        capacity: 4,
+        mesh_above: 30.0,
+        band: 1.1,
+        occluder_map: OccluderMapKind::Auto,
+        visibility: VisibilityKind::Auto,
+        culling: true,
+    };
+    let renderer = StackingRenderer::new(&gpu.device, &gpu.queue, &scene.mesh, &scene.atlas, options).unwrap();
+    let e = renderer.upload(&gpu.device, &scene.grains).err().unwrap().to_string();
+    assert!(e.contains("8 grains: need 1 to 4"), "{e}");
+    let e = renderer.upload(&gpu.device, &[]).err().unwrap().to_string();
+    assert!(e.contains("0 grains"), "{e}");
+    let bad = RendererOptions { mesh_above: -1.0, ..options };
+    let e = StackingRenderer::new(&gpu.device, &gpu.queue, &scene.mesh, &scene.atlas, bad).err().unwrap().to_string();
+    assert!(e.contains("mesh_above"), "{e}");
+    let bindings = renderer.upload(&gpu.device, &scene.grains[..4]).unwrap();
+    let e = renderer.update(&gpu.queue, &bindings, &scene.grains).err().unwrap().to_string();
+    assert!(e.contains("8 grains for a scene of 4"), "{e}");
+    let small =
+        grain_renderer::StackingCamera::perspective(scene.eye, scene.target, 0.7, (64, 64), (0.05, 500.0)).unwrap();
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    let lighting = grain_impostor::scene::ShadingUniforms::new(Vec3::Y, Vec3::ONE, Vec3::ZERO, Vec3::ZERO).unwrap();
+    let e =
+        renderer.encode(&gpu.queue, &mut encoder, &bindings, &small, &lighting, TierSettings::default()).err().unwrap();
+    assert!(e.to_string().contains("size"), "{e}");
+    let camera =
+        grain_renderer::StackingCamera::perspective(scene.eye, scene.target, 0.7, SIZE, (0.05, 500.0)).unwrap();
+    let bad_threshold = TierSettings { coverage_threshold: 0.0, ..TierSettings::default() };
+    let e = renderer.encode(&gpu.queue, &mut encoder, &bindings, &camera, &lighting, bad_threshold).err().unwrap();
+    assert!(e.to_string().contains("coverage_threshold"), "{e}");
+}

@@ -1,4 +1,5 @@
-//! `cargo xtask bench-gpu culling [OUT_DIR] [--sizes LIST] [--frames N]`: GPU time of the
+//! `cargo xtask bench-gpu SUBJECT [OUT_DIR] [--sizes LIST] [--frames N]`; subject `stackings`
+//! is [`crate::bench_stackings`]. `culling`: GPU time of the
 //! occluder map and the splitter (`grain_splitter::bench`) on piles of coffee beans and of
 //! balls from `grain-scenes` at 1920×1080, in two shots (the whole pile; close, most grains outside the
 //! frustum and the nearest as meshes), for each occluder map the adapter has (64-bit, 32-bit),
@@ -69,6 +70,9 @@ fn bean_pile(count: usize) -> Result<(Stacking, f32, f32), String> {
 }
 
 pub fn run(args: &Args<'_>) -> Result<(), String> {
+    if args.subject() == "stackings" {
+        return crate::bench_stackings::run(args, args.parse_value("sizes", sizes)?);
+    }
     let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
     // Quoted for CSV: adapter names hold commas ("llvmpipe (LLVM 15.0.6, 256 bits)").
     let adapter = format!("\"{}\"", gpu.adapter_info().name.replace('"', "\"\""));

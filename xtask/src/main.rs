@@ -10,6 +10,7 @@
 
 mod abuffer_chart;
 mod bench_gpu;
+mod bench_stackings;
 mod chart;
 mod cli;
 mod culling_chart;
@@ -108,7 +109,7 @@ pub const COMMANDS: &[Command] = &[
         name: "bench-gpu",
         flags: &[value("sizes", "LIST"), value("frames", "N")],
         exclusive: &[],
-        positional: Positional::SubjectThenOutDir(&["culling"]),
+        positional: Positional::SubjectThenOutDir(&["culling", "stackings"]),
         run: bench_gpu::run,
     },
     Command { name: "codegen", flags: &[], exclusive: &[], positional: Positional::None, run: |_| codegen() },
@@ -405,7 +406,7 @@ mod tests {
         let error = parse("bench-gpu", "").err().unwrap();
         assert!(error.contains("needs a subject: culling"), "{error}");
         let error = parse("bench-gpu", "sorting").err().unwrap();
-        assert!(error.contains("unknown subject `sorting` (known: culling)"), "{error}");
+        assert!(error.contains("unknown subject `sorting` (known: culling, stackings)"), "{error}");
         let args = parse("bench-gpu", "culling --frames 50").unwrap();
         assert_eq!(args.subject(), "culling");
         assert!(args.out_dir().ends_with("target/bench-gpu/culling"));

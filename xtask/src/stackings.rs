@@ -63,7 +63,7 @@ impl Options {
 
 /// A pile of `count` grains whose inner balls are disjoint (spacing over the outer diameter
 /// at least `r/R` over the jitter's margin).
-fn pile(count: usize, inner: f32, outer: f32) -> Result<Stacking, String> {
+pub(crate) fn pile(count: usize, inner: f32, outer: f32) -> Result<Stacking, String> {
     let mut spec = StackingSpec::new(count, GrainRadii::new(inner, outer).map_err(|e| e.to_string())?);
     spec.seed = 9;
     spec.region = Region::Pile { slope: 0.6 };
@@ -79,7 +79,7 @@ const CLOSE_UP: f32 = 0.45;
 
 /// Frame `k` of `frames`: from a close-up (the foreground shot's direction at [`CLOSE_UP`]
 /// of its distance) back to the wide shot, the distance to the target growing geometrically.
-fn dolly(shots: &[Shot; 3], k: u32, frames: u32, size: (u32, u32)) -> Result<StackingCamera, String> {
+pub(crate) fn dolly(shots: &[Shot; 3], k: u32, frames: u32, size: (u32, u32)) -> Result<StackingCamera, String> {
     let [wide, _, close] = shots;
     let t = if frames > 1 { k as f32 / (frames - 1) as f32 } else { 1.0 };
     let target = close.target.lerp(wide.target, t);

@@ -147,10 +147,23 @@ fn tier_render(
     culling: bool,
     target: &ScreenGbuffer,
 ) -> (GbufferImage, [u32; TIER_STATS as usize], [u32; 4]) {
+    let (image, stats, culled, _) =
+        tier_render_with(scene, kind, settings, culling, TierThresholds::new(1e-3, 1e6, 1.0).unwrap(), target);
+    (image, stats, culled)
+}
+
+/// [`tier_render`] with `thresholds`, also returning the point tier's sums.
+fn tier_render_with(
+    scene: &Scene,
+    kind: VisibilityKind,
+    settings: TierSettings,
+    culling: bool,
+    thresholds: TierThresholds,
+    target: &ScreenGbuffer,
+) -> (GbufferImage, [u32; TIER_STATS as usize], [u32; 4], Vec<u32>) {
     let gpu = gpu();
     let n = scene.grains.len() as u32;
     let bounds = scene.mesh.bounds();
-    let thresholds = TierThresholds::new(1e-3, 1e6, 1.0).unwrap();
     let split_settings = SplitSettings {
         frustum_culling: culling,
         cone_culling: culling,
@@ -183,7 +196,9 @@ fn tier_render(
         bytemuck::pod_read_unaligned(&gpu.read_buffer(tier.stats(), u64::from(TIER_STATS) * 4).unwrap());
     let counters: grain_splitter::SplitCounters =
         bytemuck::pod_read_unaligned(&gpu.read_buffer(splitter.counters(), 64).unwrap());
-    (target.read(&gpu.device, &gpu.queue).unwrap(), stats, counters.culled)
+    let sums_bytes = u64::from(SIZE.0 * SIZE.1 * grain_renderer::impostor_tier::TIER_POINT_SUMS) * 4;
+    let sums = bytemuck::pod_collect_to_vec(&gpu.read_buffer(tier.point_sums(), sums_bytes).unwrap());
+    (target.read(&gpu.device, &gpu.queue).unwrap(), stats, counters.culled, sums)
 }
 
 fn kinds() -> Vec<VisibilityKind> {
@@ -313,6 +328,7 @@ fn culling_and_early_z_change_no_pixel_of_a_frame_and_the_mesh_tier_is_the_mesh_
             size: SIZE,
             capacity: scene.grains.len() as u32,
             mesh_above,
+            point_below: grain_renderer::renderer::NO_POINT_TIER,
             band: 1.0,
             occluder_map: OccluderMapKind::Auto,
             visibility: VisibilityKind::Auto,
@@ -409,6 +425,7 @@ fn errors_name_what_is_wrong_and_no_tier_buffer_is_mappable() {
         size: SIZE,
         capacity: 4,
         mesh_above: 30.0,
+        point_below: grain_renderer::renderer::NO_POINT_TIER,
         band: 1.1,
         occluder_map: OccluderMapKind::Auto,
         visibility: VisibilityKind::Auto,
@@ -437,4 +454,58 @@ fn errors_name_what_is_wrong_and_no_tier_buffer_is_mappable() {
     let bad_threshold = TierSettings { coverage_threshold: 0.0, ..TierSettings::default() };
     let e = renderer.encode(&gpu.queue, &mut encoder, &bindings, &camera, &lighting, bad_threshold).err().unwrap();
     assert!(e.to_string().contains("coverage_threshold"), "{e}");
+}
+
+/// The point tier: every grain a point (sub-pixel balls far away). The covered pixels are
+/// exactly those holding a grain's centre (each grain wins or joins its own pixel; centres
+/// within 10⁻³ px of a pixel edge are left out of the comparison and counted), the uniform
+/// material comes back within the fixed point's and the 8-bit G-buffer's rounding, and
+/// pixels holding several grains average them.
+#[test]
+fn the_point_tier_covers_the_centres_pixels_and_averages_their_grains() {
+    let mut scene = scene(12, grain_mesh::Ball::default().mesh().unwrap());
+    scene.eye = scene.target + (scene.eye - scene.target) * 3.0;
+    let split_camera = scene.split_camera();
+    let target = ScreenGbuffer::new(&gpu().device, SIZE).unwrap();
+    let points = TierThresholds::new(1e5, 1e6, 1.0).unwrap();
+    let settings = TierSettings { composite: false, ..TierSettings::default() };
+    for kind in kinds() {
+        let (image, stats, _, sums) = tier_render_with(&scene, kind, settings, false, points, &target);
+        let mut centre_pixels = vec![false; image.depth.len()];
+        let mut ambiguous = 0;
+        for g in &scene.grains {
+            let projected = split_camera.project(g.centre_scale.truncate());
+            let Some(pixel) = projected.pixel else { continue };
+            if !(pixel.x >= 0.0 && pixel.y >= 0.0 && pixel.x < SIZE.0 as f32 && pixel.y < SIZE.1 as f32) {
+                continue;
+            }
+            if projected.near_pixel_edge(SIZE, 64.0) {
+                ambiguous += 1;
+                continue;
+            }
+            centre_pixels[(pixel.y as u32 * SIZE.0 + pixel.x as u32) as usize] = true;
+        }
+        let covered: Vec<bool> = image.normal_coverage.iter().map(|n| n.w > 0.0).collect();
+        let missing = (0..covered.len()).filter(|&i| centre_pixels[i] && !covered[i]).count();
+        let extra = (0..covered.len()).filter(|&i| covered[i] && !centre_pixels[i]).count();
+        let weights: Vec<u32> =
+            sums.iter().step_by(grain_renderer::impostor_tier::TIER_POINT_SUMS as usize).copied().collect();
+        let covered_count = covered.iter().filter(|&&c| c).count();
+        let several = weights.iter().filter(|&&w| w >= 2).count();
+        let mean = weights.iter().map(|&w| f64::from(w)).sum::<f64>() / covered_count.max(1) as f64;
+        println!(
+            "{kind:?}: {} grains, {covered_count} pixels covered, {missing} centre pixels missing, {extra} covered without a centre ({ambiguous} centres near an edge); {several} pixels average 2 or more grains (mean {mean:.2}); resolved points {}",
+            scene.grains.len(),
+            stats[5]
+        );
+        assert_eq!(missing, 0);
+        assert!(extra <= ambiguous, "covered pixels without a grain centre");
+        assert_eq!(stats[5] as usize, covered_count);
+        assert!(several > 0, "the scene has pixels of several grains");
+        let albedo: Vec<f32> = (0..covered.len()).filter(|&i| covered[i]).map(|i| image.albedo[i].x).collect();
+        let (lo, hi) = albedo.iter().fold((f32::MAX, f32::MIN), |(lo, hi), &a| (lo.min(a), hi.max(a)));
+        // One material everywhere: the averages differ by the fixed point's rounding (1/1023 per
+        // grain) and the 8-bit G-buffer's (1/255) at most, twice.
+        assert!(hi - lo <= 2.0 * (1.0 / 1023.0 + 1.0 / 255.0), "albedo spread {lo}..{hi}");
+    }
 }

@@ -99,6 +99,7 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
                     size: SIZE,
                     capacity: grains.len() as u32,
                     mesh_above,
+                    point_below: NO_POINT_TIER,
                     band: 1.1,
                     occluder_map: OccluderMapKind::Auto,
                     visibility,

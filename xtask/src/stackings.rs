@@ -144,6 +144,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         size: options.size,
         capacity: grains.len() as u32,
         mesh_above,
+        point_below: NO_POINT_TIER,
         band: 1.1,
         occluder_map: OccluderMapKind::Auto,
         visibility: VisibilityKind::Auto,

@@ -7,7 +7,13 @@ const TIER_MESH: u32 = 4294967294u;
 
 const TIER_SMALL_PIXELS: u32 = 64u;
 
-const TIER_STATS: u32 = 5u;
+const TIER_STATS: u32 = 6u;
+
+const TIER_POINT_BIT: u32 = 2147483648u;
+
+const TIER_POINT_SUMS: u32 = 8u;
+
+const TIER_POINT_SCALE: f32 = 0x1.ff8000p+9f; // 1.023e3
 
 const TIER_COMPOSITE: u32 = 1u;
 

@@ -27,7 +27,7 @@
 // The splitter's counters: count of list l at COUNTER_COUNT + l, first element at COUNTER_OFFSET + l.
 @group(0) @binding(7) var<storage, read> lists: array<u32>;
 // [0..TIER_STATS): evaluated pixels of list pass 0 and 1, early-Z skips of pass 0 and 1,
-// resolved pixels.
+// resolved impostor pixels, resolved point pixels.
 @group(0) @binding(10) var<storage, read_write> stats: array<atomic<u32>, TIER_STATS>;
 @group(0) @binding(11) var atlas_normal_alpha: texture_2d_array<f32>;
 @group(0) @binding(12) var atlas_albedo_alpha: texture_2d_array<f32>;
@@ -179,7 +179,12 @@ fn tier_resolve(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let p = vec2<i32>(id.xy);
-    let g = tier_winner(id.y * size.x + id.x);
+    let i = id.y * size.x + id.x;
+    let g = tier_winner(i);
+    if g < TIER_MESH && (g & TIER_POINT_BIT) != 0u {
+        tier_resolve_point(p, i);
+        return;
+    }
     if g >= tier.counts.x {
         if (tier.counts.y & TIER_COMPOSITE) == 0u {
             textureStore(out_normal_coverage, p, vec4<f32>(0.0));

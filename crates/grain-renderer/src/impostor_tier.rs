@@ -37,18 +37,32 @@
 //! `√2·R·s`, rounded down: the resolved point lies on the pixel ray within `√2·R·s` of the
 //! centre). A skipped pixel could not have won, so the images are identical with and without
 //! it (a test); [`ImpostorTier::stats`] counts evaluated and skipped pixels per list.
+//!
+//! # Points (Fig. 2 ④)
+//!
+//! The point list's grains enter the same visibility buffer as one pixel each, at their
+//! centre's depth less the atlas' inner radius, their owner tagged with [`TIER_POINT_BIT`].
+//! Every point grain within its diameter `2·R·s` of the depth that won its pixel then adds
+//! its 1×1-mip colour, normal and roughness (the 4 views of §5 blended, un-premultiplied) to
+//! [`TIER_POINT_SUMS`] fixed-point sums (WGSL has no float atomics; [`TIER_POINT_SCALE`]),
+//! and the resolve writes their average: a pixel of many sub-pixel grains shows their mean
+//! rather than whichever is nearest. The average is over the grains the splitter kept, so
+//! culling can change a point pixel (a culled grain behind the front one no longer counts),
+//! which it cannot for meshes and impostors.
 
 use glam::UVec4;
 use grain_impostor::cloud::{AtlasBinding, CloudUniforms, GBufferBinding};
 use grain_impostor::scene::{CameraUniforms, PIXEL_TILE};
-use grain_splitter::lists::{INDIRECT_DISPATCH, INDIRECT_WORDS, LIST_IMPOSTOR_OCCLUDER, LIST_IMPOSTOR_REST};
+use grain_splitter::lists::{
+    INDIRECT_DISPATCH, INDIRECT_WORDS, LIST_IMPOSTOR_OCCLUDER, LIST_IMPOSTOR_REST, LIST_POINT,
+};
 use octahedral_map::ImpostorSamplingUniforms;
 
 use crate::error::RenderError;
 use crate::shaders::{impostor_tier_32_shader, impostor_tier_64_shader, int64_capabilities};
 pub use crate::tier_layout::{
-    TIER_COMPOSITE, TIER_DEPTH_SLACK, TIER_MESH, TIER_NONE, TIER_REACH, TIER_SMALL_PIXELS, TIER_STATS, TierPass,
-    TierUniforms,
+    TIER_COMPOSITE, TIER_DEPTH_SLACK, TIER_MESH, TIER_NONE, TIER_POINT_BIT, TIER_POINT_SCALE, TIER_POINT_SUMS,
+    TIER_REACH, TIER_SMALL_PIXELS, TIER_STATS, TierPass, TierUniforms,
 };
 
 /// How the visibility buffer is built.
@@ -120,6 +134,8 @@ struct Pipelines {
     clear: wgpu::ComputePipeline,
     small: wgpu::ComputePipeline,
     large: wgpu::ComputePipeline,
+    point_splat: wgpu::ComputePipeline,
+    point_accumulate: wgpu::ComputePipeline,
     resolve: wgpu::ComputePipeline,
 }
 
@@ -143,6 +159,7 @@ pub struct ImpostorTier {
     owner: wgpu::Buffer,
     stats: wgpu::Buffer,
     arguments: wgpu::Buffer,
+    point_sums: wgpu::Buffer,
 }
 
 fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
@@ -188,8 +205,9 @@ const UNIFORM: wgpu::BufferBindingType = wgpu::BufferBindingType::Uniform;
 const READ: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: true };
 const WRITE: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: false };
 
-/// The number of [`TierPass`] entries: two lists × two passes.
-const PASS_ENTRIES: u32 = 4;
+/// The number of [`TierPass`] entries: three lists (two impostor lists, the point list) ×
+/// two passes.
+const PASS_ENTRIES: u32 = 6;
 
 impl ImpostorTier {
     /// Whether `device` can build the 64-bit visibility buffer.
@@ -221,6 +239,14 @@ impl ImpostorTier {
             return Err(RenderError::TooLarge {
                 what: "visibility buffer bytes",
                 requested: pixels * word,
+                limit: storage_limit,
+            });
+        }
+        let sum_bytes = pixels * u64::from(TIER_POINT_SUMS) * 4;
+        if sum_bytes > storage_limit {
+            return Err(RenderError::TooLarge {
+                what: "point tier sum bytes",
+                requested: sum_bytes,
                 limit: storage_limit,
             });
         }
@@ -259,6 +285,7 @@ impl ImpostorTier {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                     count: None,
                 },
+                buffer_entry(16, WRITE, false),
             ],
         });
         let arguments_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -304,6 +331,8 @@ impl ImpostorTier {
             clear: pipeline(&[&layout, &clear_layout], "tier_clear"),
             small: pipeline(&[&layout], "tier_splat_small"),
             large: pipeline(&[&layout], "tier_splat_large"),
+            point_splat: pipeline(&[&layout], "tier_point_splat"),
+            point_accumulate: pipeline(&[&layout], "tier_point_accumulate"),
             resolve: pipeline(&[&layout, &resolve_layout], "tier_resolve"),
         };
         let buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
@@ -331,12 +360,19 @@ impl ImpostorTier {
             owner: buffer("tier owners", owner_bytes, storage),
             stats: buffer("tier stats", u64::from(TIER_STATS) * 4, storage),
             arguments: buffer("tier arguments", 24, storage | wgpu::BufferUsages::INDIRECT),
+            point_sums: buffer("point tier sums", sum_bytes, storage),
         })
     }
 
     /// The visibility buffer kind (never `Auto`).
     pub fn kind(&self) -> VisibilityKind {
         self.kind
+    }
+
+    /// The point tier's per-pixel sums of the last frame ([`TIER_POINT_SUMS`] `u32`s per
+    /// pixel, row-major; the first is the number of grains averaged).
+    pub fn point_sums(&self) -> &wgpu::Buffer {
+        &self.point_sums
     }
 
     /// The counters of the last frame ([`TIER_STATS`] `u32`s, see there).
@@ -389,6 +425,7 @@ impl ImpostorTier {
                 view(13, atlas.material_alpha),
                 view(14, atlas.depth_alpha),
                 wgpu::BindGroupEntry { binding: 15, resource: wgpu::BindingResource::Sampler(atlas.sampler) },
+                whole(16, &self.point_sums),
             ],
         });
         let arguments = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -415,8 +452,8 @@ impl ImpostorTier {
     }
 
     /// Writes the frame's uniforms through `queue` and records the tier (one compute
-    /// pass): arguments, clear, the splats of [`LIST_IMPOSTOR_OCCLUDER`] then
-    /// [`LIST_IMPOSTOR_REST`], and the resolve. Reads the splitter's lists of the same
+    /// pass): arguments, clear, the splats of [`LIST_IMPOSTOR_OCCLUDER`], [`LIST_IMPOSTOR_REST`]
+    /// and [`LIST_POINT`], the points' accumulation, and the resolve. Reads the splitter's lists of the same
     /// submission; nothing is read back.
     pub fn encode(
         &self,
@@ -434,13 +471,20 @@ impl ImpostorTier {
             )));
         }
         let settings = frame.settings;
+        if frame.instance_count >= TIER_POINT_BIT {
+            return Err(RenderError::TooLarge {
+                what: "grains (indices must stay below the point bit)",
+                requested: u64::from(frame.instance_count),
+                limit: u64::from(TIER_POINT_BIT) - 1,
+            });
+        }
         if !(settings.coverage_threshold > 0.0 && settings.coverage_threshold <= 1.0) {
             return Err(RenderError::InvalidSetting {
                 field: "coverage_threshold",
                 reason: format!("{}: must be in (0, 1]", settings.coverage_threshold),
             });
         }
-        let lists = [LIST_IMPOSTOR_OCCLUDER, LIST_IMPOSTOR_REST];
+        let lists = [LIST_IMPOSTOR_OCCLUDER, LIST_IMPOSTOR_REST, LIST_POINT];
         queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(frame.camera));
         queue.write_buffer(&self.sampling, 0, bytemuck::bytes_of(&frame.sampling));
         let cloud = CloudUniforms {
@@ -454,7 +498,7 @@ impl ImpostorTier {
         let flags = if settings.composite { TIER_COMPOSITE } else { 0 };
         let tier = TierUniforms {
             counts: UVec4::new(frame.instance_count, flags, 0, 0),
-            lists: UVec4::new(lists[0], lists[1], 0, 0),
+            lists: UVec4::new(lists[0], lists[1], lists[2], 0),
         };
         queue.write_buffer(&self.tier, 0, bytemuck::bytes_of(&tier));
         let mut passes = vec![0u8; (PASS_ENTRIES * self.pass_stride) as usize];
@@ -467,6 +511,7 @@ impl ImpostorTier {
         }
         queue.write_buffer(&self.passes, 0, &passes);
         encoder.clear_buffer(&self.stats, 0, None);
+        encoder.clear_buffer(&self.point_sums, 0, None);
 
         let mut pass = encoder
             .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("impostor tier"), timestamp_writes: None });
@@ -483,13 +528,23 @@ impl ImpostorTier {
             for (k, &list) in lists.iter().enumerate() {
                 let offset = (2 * k as u32 + owner_pass) * self.pass_stride;
                 pass.set_bind_group(0, &bindings.splat, &[offset]);
-                pass.set_pipeline(&self.pipelines.small);
                 let splitter_arguments = u64::from(list * INDIRECT_WORDS + INDIRECT_DISPATCH) * 4;
+                if list == LIST_POINT {
+                    pass.set_pipeline(&self.pipelines.point_splat);
+                    pass.dispatch_workgroups_indirect(&bindings.indirect, splitter_arguments);
+                    continue;
+                }
+                pass.set_pipeline(&self.pipelines.small);
                 pass.dispatch_workgroups_indirect(&bindings.indirect, splitter_arguments);
                 pass.set_pipeline(&self.pipelines.large);
                 pass.dispatch_workgroups_indirect(&self.arguments, 12 * k as u64);
             }
         }
+        // Every point grain in the layer that won its pixel adds to the pixel's sums.
+        pass.set_bind_group(0, &bindings.splat, &[4 * self.pass_stride]);
+        pass.set_pipeline(&self.pipelines.point_accumulate);
+        let point_arguments = u64::from(LIST_POINT * INDIRECT_WORDS + INDIRECT_DISPATCH) * 4;
+        pass.dispatch_workgroups_indirect(&bindings.indirect, point_arguments);
         pass.set_bind_group(0, &bindings.splat, &[0]);
         pass.set_pipeline(&self.pipelines.resolve);
         pass.set_bind_group(1, &bindings.resolve, &[]);
@@ -509,6 +564,7 @@ impl ImpostorTier {
             ("owners", &self.owner),
             ("stats", &self.stats),
             ("arguments", &self.arguments),
+            ("point sums", &self.point_sums),
         ]
     }
 }

@@ -2,9 +2,8 @@
 //! Multiscale Rendering of Dense Dynamic Stackings* (CGF 2020), §3 (Fig. 2), §4–5 and §9:
 //! the tiers `grain-splitter` sorts grains into, drawn in one frame with no CPU round trip.
 //!
-//! [`StackingRenderer`] records a frame — split, mesh tier, impostor tier, deferred shading —
-//! into one command encoder; the point tier is not built yet (every grain below the mesh
-//! threshold is an impostor).
+//! [`StackingRenderer`] records a frame — split, mesh tier, impostor and point tiers,
+//! deferred shading — into one command encoder.
 //!
 //! The **mesh tier** ([`MeshTier`]) draws the splitter's mesh list with one
 //! `draw_indexed_indirect`. The **impostor tier** ([`ImpostorTier`]): the splitter's impostor

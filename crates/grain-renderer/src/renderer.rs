@@ -1,7 +1,6 @@
 //! [`StackingRenderer`]: the splitter, the mesh tier, the impostor tier and deferred shading
 //! of one grain type, built once and encoded per frame with no CPU readback (§3, Fig. 2:
-//! ① split, ② meshes, ③ impostors; the point tier ④ is not built yet, so every grain below
-//! the mesh threshold is an impostor).
+//! ① split, ② meshes, ③ impostors, ④ points, drawn by the impostor tier's visibility buffer).
 
 use glam::{Vec3, Vec4};
 use grain_impostor::atlas::ImpostorAtlas;
@@ -20,8 +19,7 @@ use crate::error::RenderError;
 use crate::impostor_tier::{ImpostorTier, TierBindings, TierFrame, TierInputs, TierSettings, VisibilityKind};
 use crate::mesh_tier::{MeshTier, MeshTierBindings, MeshTierInputs};
 
-/// The point-tier threshold the splitter is given while the point tier does not exist: a
-/// projected diameter no grain on screen is below, so that none goes to the point list.
+/// A point threshold no grain on screen is below: no grain goes to the point list.
 pub const NO_POINT_TIER: f32 = 1e-6;
 
 /// What a renderer is built for.
@@ -34,7 +32,11 @@ pub struct RendererOptions {
     /// Projected diameter (pixels) above which a grain is a mesh: the measured impostor
     /// table's (`TierThresholds::from_impostor_table`), never a distance.
     pub mesh_above: f32,
-    /// Hysteresis band (≥ 1) around it.
+    /// Projected diameter (pixels) below which a grain is a point ([`NO_POINT_TIER`]: none
+    /// are). Its measurement against the error budget is still to be done; give it
+    /// knowingly.
+    pub point_below: f32,
+    /// Hysteresis band (≥ 1) around both thresholds.
     pub band: f32,
     /// The occluder map's atomics.
     pub occluder_map: OccluderMapKind,

@@ -11,8 +11,16 @@ pub const TIER_MESH: u32 = u32::MAX - 1;
 /// The largest screen rectangle, in pixels, splatted by one invocation.
 pub const TIER_SMALL_PIXELS: u32 = 64;
 /// Counters in [`ImpostorTier::stats`](crate::ImpostorTier::stats): evaluated pixels of the first and second list,
-/// early-Z skips of the first and second list, resolved pixels.
-pub const TIER_STATS: u32 = 5;
+/// early-Z skips of the first and second list, resolved impostor pixels, resolved point pixels.
+pub const TIER_STATS: u32 = 6;
+/// The bit of a visibility-buffer owner that marks a grain of the point list (grain indices
+/// stay below it).
+pub const TIER_POINT_BIT: u32 = 1 << 31;
+/// `u32` sums per pixel of the point tier: weight, albedo (3), normal (3), roughness.
+pub const TIER_POINT_SUMS: u32 = 8;
+/// Fixed-point scale of the point tier's sums: 10 bits per value in `[0, 1]` (sums of up to
+/// 4·10⁶ grains per pixel fit a `u32`).
+pub const TIER_POINT_SCALE: f32 = 1023.0;
 /// Flag bit of [`TierUniforms::counts`]: composite over the mesh tier's depth.
 pub const TIER_COMPOSITE: u32 = 1;
 /// The early-Z reach over `R·s`: `√2`, raised by one part in 10⁶ to round up.
@@ -27,6 +35,9 @@ pub(crate) const TIER_CONSTANTS: &[GpuConst] = &[
     gpu_const!(TIER_MESH: u32),
     gpu_const!(TIER_SMALL_PIXELS: u32),
     gpu_const!(TIER_STATS: u32),
+    gpu_const!(TIER_POINT_BIT: u32),
+    gpu_const!(TIER_POINT_SUMS: u32),
+    gpu_const!(TIER_POINT_SCALE: f32),
     gpu_const!(TIER_COMPOSITE: u32),
     gpu_const!(TIER_REACH: f32),
     gpu_const!(TIER_DEPTH_SLACK: f32),

@@ -1,0 +1,150 @@
+// The point tier (Fig. 2 ④; crates/grain-renderer/src/impostor_tier.rs): grains of the
+// splitter's point list, each one pixel at its centre, in the impostor tier's visibility
+// buffer (owner tagged with TIER_POINT_BIT), then accumulated: every point grain within its
+// own diameter of the depth that won its pixel adds its colour, normal and roughness — read
+// from the atlas' 1×1 mips, blended over the 4 views of §5 — to fixed-point sums, so that a
+// pixel of sub-pixel grains shows their average instead of one of them (aliasing). Composed
+// after impostor_tier.wgsl.
+
+// Per pixel: TIER_POINT_SUMS u32 (weight, albedo rgb, normal xyz, roughness), fixed point.
+@group(0) @binding(16) var<storage, read_write> point_sums: array<atomic<u32>>;
+
+// The point grain's pixel and depth (its centre's depth less the atlas' inner radius: the
+// nearest its surface can be); none behind the eye or off screen.
+struct TierPoint {
+    pixel: vec2<u32>,
+    depth: f32,
+    valid: bool,
+}
+
+fn tier_point(grain: GrainInstance) -> TierPoint {
+    var out: TierPoint;
+    out.valid = false;
+    let clip = cloud_clip(grain.centre_scale.xyz);
+    if !(clip.w > 0.0) {
+        return out;
+    }
+    let ndc = clip.xy / clip.w;
+    let size = camera.viewport.xy;
+    let screen = vec2<f32>((ndc.x * 0.5 + 0.5) * size.x, (0.5 - 0.5 * ndc.y) * size.y);
+    if !(all(screen >= vec2<f32>(0.0)) && all(screen < size)) {
+        return out;
+    }
+    let centre = dot(grain.centre_scale.xyz - cloud_depth_origin(), cloud_forward());
+    out.depth = centre - sampling.inner_radius * grain.centre_scale.w;
+    out.pixel = vec2<u32>(screen);
+    out.valid = out.depth > 0.0;
+    return out;
+}
+
+// The grain's 1×1-mip surface seen from the eye (the 4 views' blend of §5, un-premultiplied).
+fn tier_point_surface(grain: GrainInstance) -> CloudSurface {
+    let origin = select(cloud_depth_origin(), camera.eye.xyz, cloud_is_perspective());
+    var direction = cloud_forward();
+    if cloud_is_perspective() {
+        direction = normalize(grain.centre_scale.xyz - origin);
+    }
+    let ray = impostor_grain_ray(origin, direction, grain.centre_scale, grain.rotation);
+    let s = impostor_sample(ray, cloud_sampling());
+    let lod = log2(f32(max(cloud.texels, 1u)));
+    var normal_alpha = vec4<f32>(0.0);
+    var albedo_alpha = vec4<f32>(0.0);
+    var material_alpha = vec4<f32>(0.0);
+    for (var k = 0u; k < 4u; k++) {
+        let layer = s.indices[k];
+        if s.weights[k] > 0.0 && layer < cloud.layers {
+            let centre = vec2<f32>(0.5);
+            normal_alpha += s.weights[k] * textureSampleLevel(atlas_normal_alpha, atlas_sampler, centre, layer, lod);
+            albedo_alpha += s.weights[k] * textureSampleLevel(atlas_albedo_alpha, atlas_sampler, centre, layer, lod);
+            material_alpha += s.weights[k] * textureSampleLevel(atlas_material_alpha, atlas_sampler, centre, layer, lod);
+        }
+    }
+    let alpha = max(normal_alpha.a, 1e-6);
+    let encoded = normal_alpha.rgb / alpha * 2.0 - 1.0;
+    let local_normal = select(vec3<f32>(0.0, 0.0, 1.0), normalize(encoded), dot(encoded, encoded) > 1e-12);
+    var out: CloudSurface;
+    out.normal = cloud_rotate(impostor_normalized_rotation(grain.rotation), local_normal);
+    out.albedo = albedo_alpha.rgb / max(albedo_alpha.a, 1e-6);
+    out.material = material_alpha.rg / max(material_alpha.a, 1e-6);
+    out.depth = 0.0;
+    return out;
+}
+
+// One invocation per element of the point list (the splitter's dispatch arguments).
+fn tier_point_grain(workgroup: vec3<u32>, workgroups: vec3<u32>, local: u32) -> u32 {
+    return tier_element_grain((workgroup.y * workgroups.x + workgroup.x) * ELEMENT_WORKGROUP + local);
+}
+
+@compute @workgroup_size(64)
+fn tier_point_splat(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) workgroups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let g = tier_point_grain(workgroup, workgroups, local);
+    if g == TIER_NONE {
+        return;
+    }
+    let point = tier_point(instances[g]);
+    if point.valid {
+        tier_offer(point.pixel.y * tier_size().x + point.pixel.x, point.depth, g | TIER_POINT_BIT);
+    }
+}
+
+fn tier_fixed(x: f32, scale: f32) -> u32 {
+    return u32(clamp(x, 0.0, 1.0) * scale + 0.5);
+}
+
+@compute @workgroup_size(64)
+fn tier_point_accumulate(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) workgroups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let g = tier_point_grain(workgroup, workgroups, local);
+    if g == TIER_NONE {
+        return;
+    }
+    let grain = instances[g];
+    let point = tier_point(grain);
+    if !point.valid {
+        return;
+    }
+    let i = point.pixel.y * tier_size().x + point.pixel.x;
+    let winner = tier_winner(i);
+    let thickness = 2.0 * sampling.outer_radius * grain.centre_scale.w;
+    if winner >= TIER_MESH || (winner & TIER_POINT_BIT) == 0u || point.depth > tier_stored_depth(i) + thickness {
+        return;
+    }
+    let surface = tier_point_surface(grain);
+    let base = i * TIER_POINT_SUMS;
+    let n = surface.normal * 0.5 + 0.5;
+    atomicAdd(&point_sums[base], 1u);
+    atomicAdd(&point_sums[base + 1u], tier_fixed(surface.albedo.r, TIER_POINT_SCALE));
+    atomicAdd(&point_sums[base + 2u], tier_fixed(surface.albedo.g, TIER_POINT_SCALE));
+    atomicAdd(&point_sums[base + 3u], tier_fixed(surface.albedo.b, TIER_POINT_SCALE));
+    atomicAdd(&point_sums[base + 4u], tier_fixed(n.x, TIER_POINT_SCALE));
+    atomicAdd(&point_sums[base + 5u], tier_fixed(n.y, TIER_POINT_SCALE));
+    atomicAdd(&point_sums[base + 6u], tier_fixed(n.z, TIER_POINT_SCALE));
+    atomicAdd(&point_sums[base + 7u], tier_fixed(surface.material.x, TIER_POINT_SCALE));
+}
+
+fn tier_point_sum(i: u32, k: u32, weight: f32) -> f32 {
+    return f32(atomicLoad(&point_sums[i * TIER_POINT_SUMS + k])) / (weight * TIER_POINT_SCALE);
+}
+
+// Resolves pixel i whose winner is a point grain: the accumulated average.
+fn tier_resolve_point(p: vec2<i32>, i: u32) {
+    let weight = f32(atomicLoad(&point_sums[i * TIER_POINT_SUMS]));
+    if !(weight > 0.0) {
+        return;
+    }
+    let albedo = vec3<f32>(tier_point_sum(i, 1u, weight), tier_point_sum(i, 2u, weight), tier_point_sum(i, 3u, weight));
+    let encoded = vec3<f32>(tier_point_sum(i, 4u, weight), tier_point_sum(i, 5u, weight), tier_point_sum(i, 6u, weight)) * 2.0 - 1.0;
+    let normal = select(vec3<f32>(0.0, 0.0, 1.0), normalize(encoded), dot(encoded, encoded) > 1e-12);
+    textureStore(out_normal_coverage, p, vec4<f32>(normal, 1.0));
+    textureStore(out_albedo, p, vec4<f32>(albedo, 1.0));
+    textureStore(out_material, p, vec4<f32>(tier_point_sum(i, 7u, weight), 0.0, 0.0, 0.0));
+    textureStore(out_depth, p, vec4<f32>(tier_stored_depth(i), 0.0, 0.0, 0.0));
+    atomicAdd(&stats[5u], 1u);
+}

@@ -189,13 +189,18 @@ fn canonical_special_direction(direction: Vec3) -> Vec3 {
 /// Listing 1 (cancellation-free, clamped) of `d`, a plain direction or the canonical form
 /// of one, for `n` in `1..=MAX_SUBDIVISIONS`.
 ///
-/// `2(x⁺ + x⁻ + y⁺ + y⁻ + |z|)` is computed as `2(|x| + |y| + |z|)`, the same bits since
-/// one of `x⁺`, `x⁻` (and of `y⁺`, `y⁻`) is zero. `u` is finite and in `[0, n-1]`, so
-/// `⌊u⌋ = u as u32` and `⌈u⌉ = ⌊u⌋ + (u > ⌊u⌋)`, exactly (`n - 1 < 2²⁴`).
+/// The same bits as the formulas of [`view_sample_from_direction`], in fewer operations:
+/// - `2(x⁺ + x⁻ + y⁺ + y⁻ + |z|)` as `2(|x| + |y| + |z|)`, since one of `x⁺`, `x⁻` (and
+///   of `y⁺`, `y⁻`) is zero, and `y⁻` as `|y| - y⁺`, exact;
+/// - `u` is finite and in `[0, n-1]`, so `⌊u⌋ = u as u32` and `⌈u⌉ = ⌊u⌋ + (u > ⌊u⌋)`,
+///   exactly (`n - 1 < 2²⁴`), without `libm`'s branches;
+/// - the hemisphere's `n²` is added to the two rows `⌊u⌋ n` and `⌈u⌉ n` (integer sums,
+///   the same in any order).
 fn view_sample_of_plain(d: Vec3, n: u32) -> ViewSample {
     let z_abs = d.z.abs();
     let twice_l1 = 2.0 * (d.x.abs() + d.y.abs() + z_abs);
-    let (x_pos, y_pos, y_neg) = (d.x.max(0.0), d.y.max(0.0), (-d.y).max(0.0));
+    let (x_pos, y_pos) = (d.x.max(0.0), d.y.max(0.0));
+    let y_neg = d.y.abs() - y_pos;
     let edge = (n - 1) as f32;
     let u = ((2.0 * (x_pos + y_pos) + z_abs) / twice_l1 * edge).clamp(0.0, edge);
     let v = ((2.0 * (x_pos + y_neg) + z_abs) / twice_l1 * edge).clamp(0.0, edge);
@@ -203,8 +208,9 @@ fn view_sample_of_plain(d: Vec3, n: u32) -> ViewSample {
     let (u_floor, v_floor) = (u0 as f32, v0 as f32);
     let (u1, v1) = (u0 + u32::from(u > u_floor), v0 + u32::from(v > v_floor));
     let hemisphere = if d.z > 0.0 { n * n } else { 0 };
+    let (row0, row1) = (u0 * n + hemisphere, u1 * n + hemisphere);
     ViewSample {
-        indices: UVec4::new(u0 * n + v0, u1 * n + v0, u0 * n + v1, u1 * n + v1) + hemisphere,
+        indices: UVec4::new(row0 + v0, row1 + v0, row0 + v1, row1 + v1),
         alpha: Vec2::new(u - u_floor, v - v_floor),
         padding: Vec2::ZERO,
     }

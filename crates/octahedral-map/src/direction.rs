@@ -14,6 +14,32 @@ use gpu_layout::f32_bits::{ABS_MASK, INFINITY_BITS};
 /// component, or every component subnormal. It is the pole of the lower hemisphere.
 pub const FALLBACK_DIRECTION: Vec3 = Vec3::NEG_Z;
 
+/// The bits of `2⁻⁶³`, the smallest nonzero magnitude of a plain direction's component
+/// (see [`is_plain_direction`]).
+pub(crate) const PLAIN_MIN_BITS: u32 = (127 - 63) << 23;
+/// The bits of `2⁶⁴`, the magnitude that every component of a plain direction stays below.
+pub(crate) const PLAIN_END_BITS: u32 = (127 + 64) << 23;
+
+/// Whether `direction` is *plain*: not zero, and every component either `±0` or of
+/// magnitude in `[2⁻⁶³, 2⁶⁴)`. One test on the bits classifies every special input
+/// (NaN, ±∞, zero, subnormal, huge or tiny) as not plain.
+///
+/// A plain direction needs no [`canonical_direction`] before Listing 1: its nonzero
+/// biased exponents lie in `64..=190`, so the power of two that the canonical form
+/// multiplies by makes no component subnormal (`64 + 128 - 190 ≥ 1`) and nothing is
+/// flushed; sums of up to six magnitudes stay below `2¹²⁸`, and sums of nonzero magnitudes
+/// stay normal. Every rounding in the lookup then commutes with that power of two, and its
+/// ratios are bit for bit those of the canonical form.
+pub(crate) fn is_plain_direction(direction: Vec3) -> bool {
+    let magnitudes = direction.to_array().map(|c| c.to_bits() & ABS_MASK);
+    // `m - MIN < END - MIN` (wrapping) is `MIN ≤ m < END` in one comparison.
+    let in_range = magnitudes.map(|m| m.wrapping_sub(PLAIN_MIN_BITS) < PLAIN_END_BITS - PLAIN_MIN_BITS);
+    let each = (in_range[0] | (magnitudes[0] == 0))
+        & (in_range[1] | (magnitudes[1] == 0))
+        & (in_range[2] | (magnitudes[2] == 0));
+    each & (in_range[0] | in_range[1] | in_range[2])
+}
+
 /// Replaces a subnormal value (biased exponent 0) by `+0.0`, as GPUs may (WGSL allows
 /// flushing subnormals to zero).
 fn flush_subnormal(x: f32) -> f32 {
@@ -67,6 +93,35 @@ mod tests {
         assert_eq!(canonical_direction(Vec3::new(huge, -huge, 0.0)), Vec3::new(2.0, -2.0, 0.0));
         let largest = canonical_direction(Vec3::new(f32::MAX, f32::MAX, f32::MAX));
         assert_eq!(largest, Vec3::splat(f32::MAX * 2.0_f32.powi(-126)));
+    }
+
+    #[test]
+    fn plain_directions_are_classified_by_their_bits() {
+        let (min, end) = (f32::from_bits(PLAIN_MIN_BITS), f32::from_bits(PLAIN_END_BITS));
+        assert_eq!((min, end), (2.0_f32.powi(-63), 2.0_f32.powi(64)));
+        for plain in [
+            Vec3::X,
+            Vec3::new(-0.0, 0.0, -3.0),
+            Vec3::new(0.3, -0.7, 0.2),
+            Vec3::splat(min),
+            Vec3::splat(-end.next_down()),
+        ] {
+            assert!(is_plain_direction(plain), "{plain}");
+        }
+        let special = [
+            Vec3::ZERO,
+            Vec3::new(-0.0, 0.0, -0.0),
+            Vec3::new(1.0, f32::NAN, 0.0),
+            Vec3::new(f32::INFINITY, 1.0, 0.0),
+            Vec3::new(0.0, 0.0, f32::NEG_INFINITY),
+            Vec3::new(1.0, f32::from_bits(1), 0.0),
+            Vec3::new(1.0, min.next_down(), 0.0),
+            Vec3::new(-end, 1.0, 0.0),
+            Vec3::new(1.0, 1.0, f32::MAX),
+        ];
+        for d in special {
+            assert!(!is_plain_direction(d), "{d}");
+        }
     }
 
     #[test]

@@ -23,7 +23,7 @@ use glam::{DVec3, IVec3, UVec4, Vec2, Vec3};
 
 use gpu_layout::gpu_struct;
 
-use crate::direction::canonical_direction;
+use crate::direction::{canonical_direction, is_plain_direction};
 
 /// The largest supported subdivision count: `2n²` must fit in a `u32`.
 pub const MAX_SUBDIVISIONS: u32 = 46_340;
@@ -168,25 +168,49 @@ impl OctahedralViews {
 /// exactly on grid lines, and GPU compilers that reassociate additions (Mesa folds the
 /// listing's `+ 1` into other terms) no longer flip `floor` at them. Other differences from
 /// the listing, all robustness fixes:
-/// - the input goes through [`canonical_direction`] first;
+/// - the input goes through [`canonical_direction`] first, unless it is *plain* (not zero,
+///   every component `±0` or of magnitude in `[2⁻⁶³, 2⁶⁴)`, which one bit test decides),
+///   since then the canonical form would change no bit of the result;
 /// - `u` and `v` are clamped to `[0, n-1]`;
 /// - `fract(x)` is written `x - floor(x)`, its WGSL definition.
 pub fn view_sample_from_direction(direction: Vec3, subdivisions: u32) -> ViewSample {
     let n = subdivisions.clamp(1, MAX_SUBDIVISIONS);
-    let d = canonical_direction(direction);
-    let (x_pos, x_neg) = (d.x.max(0.0), (-d.x).max(0.0));
-    let (y_pos, y_neg) = (d.y.max(0.0), (-d.y).max(0.0));
+    let d = if is_plain_direction(direction) { direction } else { canonical_special_direction(direction) };
+    view_sample_of_plain(d, n)
+}
+
+/// [`canonical_direction`] of a direction that is not plain: out of the common path.
+#[cold]
+#[inline(never)]
+fn canonical_special_direction(direction: Vec3) -> Vec3 {
+    canonical_direction(direction)
+}
+
+/// Listing 1 (cancellation-free, clamped) of `d`, a plain direction or the canonical form
+/// of one, for `n` in `1..=MAX_SUBDIVISIONS`.
+///
+/// The same bits as the formulas of [`view_sample_from_direction`], in fewer operations:
+/// - `2(x⁺ + x⁻ + y⁺ + y⁻ + |z|)` as `2(|x| + |y| + |z|)`, since one of `x⁺`, `x⁻` (and
+///   of `y⁺`, `y⁻`) is zero, and `y⁻` as `|y| - y⁺`, exact;
+/// - `u` is finite and in `[0, n-1]`, so `⌊u⌋ = u as u32` and `⌈u⌉ = ⌊u⌋ + (u > ⌊u⌋)`,
+///   exactly (`n - 1 < 2²⁴`), without `libm`'s branches;
+/// - the hemisphere's `n²` is added to the two rows `⌊u⌋ n` and `⌈u⌉ n` (integer sums,
+///   the same in any order).
+fn view_sample_of_plain(d: Vec3, n: u32) -> ViewSample {
     let z_abs = d.z.abs();
-    let twice_l1 = 2.0 * (x_pos + x_neg + y_pos + y_neg + z_abs);
+    let twice_l1 = 2.0 * (d.x.abs() + d.y.abs() + z_abs);
+    let (x_pos, y_pos) = (d.x.max(0.0), d.y.max(0.0));
+    let y_neg = d.y.abs() - y_pos;
     let edge = (n - 1) as f32;
     let u = ((2.0 * (x_pos + y_pos) + z_abs) / twice_l1 * edge).clamp(0.0, edge);
     let v = ((2.0 * (x_pos + y_neg) + z_abs) / twice_l1 * edge).clamp(0.0, edge);
-    let (u_floor, v_floor) = (libm::floorf(u), libm::floorf(v));
-    let (u0, v0) = (u_floor as u32, v_floor as u32);
-    let (u1, v1) = (libm::ceilf(u) as u32, libm::ceilf(v) as u32);
+    let (u0, v0) = (u as u32, v as u32);
+    let (u_floor, v_floor) = (u0 as f32, v0 as f32);
+    let (u1, v1) = (u0 + u32::from(u > u_floor), v0 + u32::from(v > v_floor));
     let hemisphere = if d.z > 0.0 { n * n } else { 0 };
+    let (row0, row1) = (u0 * n + hemisphere, u1 * n + hemisphere);
     ViewSample {
-        indices: UVec4::new(u0 * n + v0, u1 * n + v0, u0 * n + v1, u1 * n + v1) + hemisphere,
+        indices: UVec4::new(row0 + v0, row1 + v0, row0 + v1, row1 + v1),
         alpha: Vec2::new(u - u_floor, v - v_floor),
         padding: Vec2::ZERO,
     }
@@ -194,7 +218,160 @@ pub fn view_sample_from_direction(direction: Vec3, subdivisions: u32) -> ViewSam
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
+
     use super::*;
+    use gpu_layout::f32_bits::SIGN_MASK;
+
+    use crate::direction::{PLAIN_END_BITS, PLAIN_MIN_BITS};
+
+    /// The lookup before the plain fast path, verbatim: every input through
+    /// [`canonical_direction`], the five-term L1 sum, `libm`'s floor and ceil. The
+    /// reference that [`the_fast_path_changes_no_bit`] compares with.
+    fn reference_view_sample(direction: Vec3, subdivisions: u32) -> ViewSample {
+        let n = subdivisions.clamp(1, MAX_SUBDIVISIONS);
+        let d = canonical_direction(direction);
+        let (x_pos, x_neg) = (d.x.max(0.0), (-d.x).max(0.0));
+        let (y_pos, y_neg) = (d.y.max(0.0), (-d.y).max(0.0));
+        let z_abs = d.z.abs();
+        let twice_l1 = 2.0 * (x_pos + x_neg + y_pos + y_neg + z_abs);
+        let edge = (n - 1) as f32;
+        let u = ((2.0 * (x_pos + y_pos) + z_abs) / twice_l1 * edge).clamp(0.0, edge);
+        let v = ((2.0 * (x_pos + y_neg) + z_abs) / twice_l1 * edge).clamp(0.0, edge);
+        let (u_floor, v_floor) = (libm::floorf(u), libm::floorf(v));
+        let (u0, v0) = (u_floor as u32, v_floor as u32);
+        let (u1, v1) = (libm::ceilf(u) as u32, libm::ceilf(v) as u32);
+        let hemisphere = if d.z > 0.0 { n * n } else { 0 };
+        ViewSample {
+            indices: UVec4::new(u0 * n + v0, u1 * n + v0, u0 * n + v1, u1 * n + v1) + hemisphere,
+            alpha: Vec2::new(u - u_floor, v - v_floor),
+            padding: Vec2::ZERO,
+        }
+    }
+
+    /// `SplitMix64`: a fixed stream of test inputs without a dependency.
+    struct SplitMix(u64);
+
+    impl SplitMix {
+        fn next(&mut self) -> u32 {
+            self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            ((z ^ (z >> 31)) >> 32) as u32
+        }
+
+        /// Uniform in `[-1, 1)`.
+        fn unit(&mut self) -> f32 {
+            (self.next() >> 8) as f32 * 2.0_f32.powi(-23) - 1.0
+        }
+
+        /// A random sign and mantissa with a biased exponent in `60..=195` (both ends of
+        /// the plain range and beyond), or `±0` one time in eight.
+        fn around_the_plain_range(&mut self) -> f32 {
+            let bits = self.next();
+            let exponent = if bits.is_multiple_of(8) { 0 } else { 60 + (bits >> 3) % 136 };
+            let mantissa = if exponent == 0 { 0 } else { self.next() & 0x007f_ffff };
+            f32::from_bits((bits & SIGN_MASK) | exponent << 23 | mantissa)
+        }
+    }
+
+    /// Compares [`view_sample_from_direction`] with [`reference_view_sample`] bit for bit
+    /// (indices and both alphas) at `d` for every `n` of `SUBDIVISIONS`; counts `d` and
+    /// whether it was plain.
+    #[derive(Default)]
+    struct Comparison {
+        directions: usize,
+        plain: usize,
+    }
+
+    const SUBDIVISIONS: [u32; 8] = [1, 2, 3, 8, 12, 64, 256, MAX_SUBDIVISIONS];
+
+    impl Comparison {
+        fn check(&mut self, d: Vec3) {
+            let bits = |s: ViewSample| (s.indices, s.alpha.to_array().map(f32::to_bits));
+            for n in SUBDIVISIONS {
+                assert_eq!(bits(view_sample_from_direction(d, n)), bits(reference_view_sample(d, n)), "n={n} d={d:?}");
+            }
+            self.directions += 1;
+            self.plain += usize::from(is_plain_direction(d));
+        }
+    }
+
+    /// Every input class, compared bit for bit with the lookup before the fast path: 10⁶
+    /// random directions in the cube (the common path), 10⁶ with exponents around both
+    /// ends of the plain range, 10⁶ random bit patterns (NaN, ±∞, subnormal, huge), the
+    /// products of special scalars, and every view direction and cell-edge midpoint of
+    /// n ≤ 12 (exact ties).
+    #[test]
+    fn the_fast_path_changes_no_bit() {
+        const RANDOM: usize = 1_000_000;
+        let mut rng = SplitMix(0x0c7a_fa57);
+        let mut cube = Comparison::default();
+        for _ in 0..RANDOM {
+            cube.check(Vec3::new(rng.unit(), rng.unit(), rng.unit()));
+        }
+        assert_eq!((cube.directions, cube.plain), (RANDOM, RANDOM), "the cube is the common path");
+        let mut others = Comparison::default();
+        for _ in 0..RANDOM {
+            others.check(Vec3::new(
+                rng.around_the_plain_range(),
+                rng.around_the_plain_range(),
+                rng.around_the_plain_range(),
+            ));
+            others.check(Vec3::new(f32::from_bits(rng.next()), f32::from_bits(rng.next()), f32::from_bits(rng.next())));
+        }
+        let (min, end) = (f32::from_bits(PLAIN_MIN_BITS), f32::from_bits(PLAIN_END_BITS));
+        let special = [
+            0.0,
+            -0.0,
+            f32::NAN,
+            -f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MIN_POSITIVE,
+            f32::from_bits(1),
+            -f32::from_bits(0x0040_0000),
+            f32::MAX,
+            -f32::MAX,
+            min,
+            -min.next_down(),
+            end,
+            end.next_down(),
+            1.0,
+            -1.0,
+            0.5,
+            -1e-30,
+            3e30,
+        ];
+        for x in special {
+            for y in special {
+                for z in special {
+                    others.check(Vec3::new(x, y, z));
+                }
+            }
+        }
+        let mut ties = 0;
+        for n in 1..=12 {
+            let views = OctahedralViews::new(n).unwrap();
+            for index in 0..views.view_count() {
+                let d = views.view_direction(index).unwrap();
+                let next = views.view_direction((index + 1) % views.view_count()).unwrap();
+                others.check(d);
+                others.check((d + next) * 0.5);
+                ties += 2;
+            }
+        }
+        assert_eq!(others.directions, 2 * RANDOM + special.len().pow(3) + ties);
+        // Both paths are taken many times: most random bit patterns are not plain.
+        let special_inputs = others.directions - others.plain;
+        assert!(others.plain > RANDOM / 2 && special_inputs > RANDOM / 2, "{} plain", others.plain);
+        let compared = SUBDIVISIONS.len() * (cube.directions + others.directions);
+        std::println!(
+            "{compared} samples compared bit for bit: {} directions, {special_inputs} not plain",
+            cube.directions + others.directions
+        );
+    }
 
     #[test]
     fn rejects_invalid_subdivisions() {

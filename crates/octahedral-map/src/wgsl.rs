@@ -5,7 +5,7 @@
 use gpu_layout::f32_bits::{ABS_MASK, INFINITY_BITS, SIGN_MASK};
 use gpu_layout::{StructDecl, WgslModule, gpu_const};
 
-use crate::direction::FALLBACK_DIRECTION;
+use crate::direction::{FALLBACK_DIRECTION, PLAIN_END_BITS, PLAIN_MIN_BITS};
 use crate::sampling::{
     ImpostorSample, ImpostorSamplingUniforms, MAX_DISTANCE_RATIO, MAX_GRAIN_SCALE, MAX_RAY_ORIGIN_COMPONENT,
     MAX_TEXTURE_COORDINATE, MAX_WORLD_COMPONENT, MIN_GRAIN_SCALE, MIN_PLANE_COSINE, MISS_TEXTURE_COORDINATE,
@@ -36,6 +36,8 @@ pub const WGSL: WgslModule = WgslModule {
         gpu_const!(ABS_MASK: u32 as "OCTAHEDRAL_ABS_MASK"),
         gpu_const!(SIGN_MASK: u32 as "OCTAHEDRAL_SIGN_MASK"),
         gpu_const!(INFINITY_BITS: u32 as "OCTAHEDRAL_INFINITY_BITS"),
+        gpu_const!(PLAIN_MIN_BITS: u32 as "OCTAHEDRAL_PLAIN_MIN_BITS"),
+        gpu_const!(PLAIN_END_BITS: u32 as "OCTAHEDRAL_PLAIN_END_BITS"),
         gpu_const!(MISS_TEXTURE_COORDINATE: f32 as "IMPOSTOR_MISS_TEXTURE_COORDINATE"),
         gpu_const!(MAX_TEXTURE_COORDINATE: f32 as "IMPOSTOR_MAX_TEXTURE_COORDINATE"),
         gpu_const!(MIN_PLANE_COSINE: f32 as "IMPOSTOR_MIN_PLANE_COSINE"),

@@ -37,26 +37,48 @@ fn octahedral_canonical_direction(direction: vec3<f32>) -> vec3<f32> {
     return octahedral_flush_subnormal(flushed * scale);
 }
 
-// Rust: octahedral_map::views::view_sample_from_direction (Listing 1).
+// Rust: direction::is_plain_direction. Not zero, every component ±0 or of magnitude in
+// [2^-63, 2^64): then the canonical form would change no bit of the sample.
+fn octahedral_is_plain_direction(direction: vec3<f32>) -> bool {
+    let magnitude = bitcast<vec3<u32>>(direction) & vec3<u32>(OCTAHEDRAL_ABS_MASK);
+    // MIN <= m < END in one (wrapping) comparison.
+    let in_range = (magnitude - vec3<u32>(OCTAHEDRAL_PLAIN_MIN_BITS))
+        < vec3<u32>(OCTAHEDRAL_PLAIN_END_BITS - OCTAHEDRAL_PLAIN_MIN_BITS);
+    // `&`, not `&&`: no short-circuit branch.
+    return all(in_range | (magnitude == vec3<u32>(0u))) & any(in_range);
+}
+
+// Rust: octahedral_map::views::view_sample_from_direction (Listing 1). Classifies the
+// input once; only a direction that is not plain takes the canonical form.
 fn octahedral_view_sample(direction: vec3<f32>, subdivisions: u32) -> ViewSample {
     let n = clamp(subdivisions, 1u, OCTAHEDRAL_MAX_SUBDIVISIONS);
-    let d = octahedral_canonical_direction(direction);
-    // Cancellation-free form of Listing 1's (px ± py + 1)(n-1)/2, see the Rust docs.
+    var d = direction;
+    if !octahedral_is_plain_direction(direction) {
+        d = octahedral_canonical_direction(direction);
+    }
+    return octahedral_view_sample_of_plain(d, n);
+}
+
+// Rust: views::view_sample_of_plain, for a plain or canonical d and n in
+// 1..=OCTAHEDRAL_MAX_SUBDIVISIONS. Cancellation-free form of Listing 1's
+// (px ± py + 1)(n-1)/2, see the Rust docs; the same bits in other words:
+// fma(2, a, |z|) = 2a + |z| (2a is exact, fused or not), and the hemisphere's n² is added
+// to the two rows (integer sums reassociate exactly).
+fn octahedral_view_sample_of_plain(d: vec3<f32>, n: u32) -> ViewSample {
+    let a = abs(d);
     let x_pos = max(d.x, 0.0);
-    let x_neg = max(-d.x, 0.0);
     let y_pos = max(d.y, 0.0);
-    let y_neg = max(-d.y, 0.0);
-    let z_abs = abs(d.z);
-    let twice_l1 = 2.0 * (x_pos + x_neg + y_pos + y_neg + z_abs);
+    let y_neg = a.y - y_pos; // max(-y, 0), exactly
+    let twice_l1 = 2.0 * (a.x + a.y + a.z);
     let edge = f32(n - 1u);
-    let u = clamp((2.0 * (x_pos + y_pos) + z_abs) / twice_l1 * edge, 0.0, edge);
-    let v = clamp((2.0 * (x_pos + y_neg) + z_abs) / twice_l1 * edge, 0.0, edge);
+    let u = clamp(fma(2.0, x_pos + y_pos, a.z) / twice_l1 * edge, 0.0, edge);
+    let v = clamp(fma(2.0, x_pos + y_neg, a.z) / twice_l1 * edge, 0.0, edge);
     let uv_floor = floor(vec2<f32>(u, v));
     let lo = vec2<u32>(uv_floor);
     let hi = vec2<u32>(ceil(vec2<f32>(u, v)));
-    let hemisphere = select(0u, n * n, d.z > 0.0);
+    let rows = vec2<u32>(lo.x, hi.x) * n + select(0u, n * n, d.z > 0.0);
     var sample: ViewSample;
-    sample.indices = vec4<u32>(lo.x * n + lo.y, hi.x * n + lo.y, lo.x * n + hi.y, hi.x * n + hi.y) + hemisphere;
+    sample.indices = vec4<u32>(rows.x + lo.y, rows.y + lo.y, rows.x + hi.y, rows.y + hi.y);
     sample.alpha = vec2<f32>(u, v) - uv_floor;
     sample.padding = vec2<f32>(0.0);
     return sample;

@@ -11,7 +11,8 @@ use grain_impostor::bake::{BakeSettings, Baker, Progress};
 use grain_impostor::cloud::{AtlasBinding, CloudFrame, CloudSettings, GBufferBinding, ImpostorCloudPass};
 use grain_impostor::mesh_gbuffer::{GbufferImage, GpuMesh, MeshGbufferPass, ScreenGbuffer};
 use grain_impostor::scene::{CameraUniforms, GrainInstance};
-use grain_renderer::impostor_tier::{TIER_STATS, TierInputs};
+use grain_renderer::ListInputs;
+use grain_renderer::impostor_tier::TIER_STATS;
 use grain_renderer::{ImpostorTier, TierFrame, TierSettings, VisibilityKind};
 use grain_splitter::{
     GrainSplitter, ListOrder, OccluderMapKind, SplitCamera, SplitSettings, SplitterOptions, TierThresholds,
@@ -178,7 +179,7 @@ fn tier_render_with(
     let split_bindings = splitter.bind(&gpu.device, &centre_buffer).unwrap();
     let tier = ImpostorTier::new(&gpu.device, SIZE, kind).unwrap();
     let instances = scene.instances();
-    let inputs = TierInputs {
+    let inputs = ListInputs {
         instances: &instances,
         elements: splitter.elements(),
         counters: splitter.counters(),

@@ -12,9 +12,8 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use glam::{Quat, Vec3};
-use grain_impostor::bake::{BakeSettings, Baker, Progress};
-use grain_impostor::scene::{GrainInstance, ShadingUniforms};
+use glam::Vec3;
+use grain_impostor::scene::ShadingUniforms;
 use grain_renderer::bench::{StageTimes, time_frame};
 use grain_renderer::impostor_tier::TIER_STATS;
 use grain_renderer::renderer::NO_POINT_TIER;
@@ -24,7 +23,7 @@ use grain_splitter::{OccluderMapKind, SplitCounters, TierThresholds};
 
 use crate::cli::{Args, positive};
 use crate::impostor_cloud::load_grain;
-use crate::stackings::{dolly, pile};
+use crate::stackings::{dolly, scene};
 
 const SIZE: (u32, u32) = (1920, 1080);
 const DOLLY_FRAMES: u32 = 5;
@@ -77,16 +76,7 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
             let mesh_above = TierThresholds::from_impostor_table(&rows, &name, 0.05, NO_POINT_TIER, 1.1)
                 .map_err(|e| e.to_string())?
                 .mesh_above();
-            let stacking = pile(count, inner.max(1e-6 * outer), outer)?;
-            let grains: Vec<GrainInstance> = stacking
-                .centre_scale()
-                .iter()
-                .zip(stacking.rotation())
-                .map(|(c, q)| GrainInstance::new(c.truncate(), c.w, Quat::from_vec4(*q)))
-                .collect();
-            let settings = BakeSettings { progress: Progress::Hidden, ..BakeSettings::new(8, 64) };
-            let baker = Baker::new(&gpu.device).map_err(|e| e.to_string())?;
-            let atlas = baker.bake(&gpu.device, &gpu.queue, &mesh, &settings).map_err(|e| e.to_string())?;
+            let (stacking, grains, atlas) = scene(&gpu, count, &mesh)?;
             let region = stacking.bounds();
             let shots = Shot::fig15(region.min, region.max);
             println!(

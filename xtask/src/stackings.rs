@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use glam::{Quat, Vec3};
+use grain_impostor::atlas::ImpostorAtlas;
 use grain_impostor::bake::{BakeSettings, Baker, Progress};
 use grain_impostor::scene::{GrainInstance, ShadingUniforms};
 use grain_renderer::bench::time_frame;
@@ -92,6 +93,28 @@ pub(crate) fn dolly(shots: &[Shot; 3], k: u32, frames: u32, size: (u32, u32)) ->
         .map_err(|e| e.to_string())
 }
 
+/// A pile of `count` grains of `mesh` ([`pile`]) as instances, and the grain's atlas
+/// (n = 8, p = 64).
+pub(crate) fn scene(
+    gpu: &gpu_harness::Gpu,
+    count: usize,
+    mesh: &grain_mesh::GrainMesh,
+) -> Result<(Stacking, Vec<GrainInstance>, ImpostorAtlas), String> {
+    let bounds = mesh.bounds();
+    let (inner, outer) = (bounds.occluder_radius(), bounds.outer_radius);
+    let stacking = pile(count, inner.max(1e-6 * outer), outer)?;
+    let grains = stacking
+        .centre_scale()
+        .iter()
+        .zip(stacking.rotation())
+        .map(|(c, q)| GrainInstance::new(c.truncate(), c.w, Quat::from_vec4(*q)))
+        .collect();
+    let settings = BakeSettings { progress: Progress::Hidden, ..BakeSettings::new(8, 64) };
+    let baker = Baker::new(&gpu.device).map_err(|e| e.to_string())?;
+    let atlas = baker.bake(&gpu.device, &gpu.queue, mesh, &settings).map_err(|e| e.to_string())?;
+    Ok((stacking, grains, atlas))
+}
+
 fn write(path: &Path, text: &str) -> Result<(), String> {
     std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
@@ -129,16 +152,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         gpu.describe()
     );
     let started = Instant::now();
-    let stacking = pile(options.count, inner.max(1e-6 * outer), outer)?;
-    let grains: Vec<GrainInstance> = stacking
-        .centre_scale()
-        .iter()
-        .zip(stacking.rotation())
-        .map(|(c, q)| GrainInstance::new(c.truncate(), c.w, Quat::from_vec4(*q)))
-        .collect();
-    let settings = BakeSettings { progress: Progress::Hidden, ..BakeSettings::new(8, 64) };
-    let baker = Baker::new(&gpu.device).map_err(|e| e.to_string())?;
-    let atlas = baker.bake(&gpu.device, &gpu.queue, &mesh, &settings).map_err(|e| e.to_string())?;
+    let (stacking, grains, atlas) = scene(&gpu, options.count, &mesh)?;
     println!("  scene and atlas (n = 8, p = 64) in {:.1} s", started.elapsed().as_secs_f64());
     let renderer_options = RendererOptions {
         size: options.size,

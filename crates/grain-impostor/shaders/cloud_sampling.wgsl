@@ -165,9 +165,8 @@ fn cloud_pixel_index(p: vec2<u32>) -> u32 {
     return p.y * u32(camera.viewport.x) + p.x;
 }
 
-// What the G-buffer stores of `grain` at `pixel`: the four views of every atlas layer
-// (trilinear, LOD = log2 of texels per pixel) blended with the bilinear weights,
-// un-premultiplied, the grain-local normal rotated to world space; the depth of cloud_hit.
+// What the G-buffer stores of `grain` at `pixel`: cloud_blend of its views (trilinear, LOD =
+// log2 of texels per pixel) and the depth of cloud_hit.
 struct CloudSurface {
     normal: vec3<f32>,
     albedo: vec3<f32>,
@@ -179,13 +178,24 @@ fn cloud_surface(pixel: vec2<f32>, grain: GrainInstance) -> CloudSurface {
     let hit = cloud_hit(pixel, grain);
     let world = cloud_pixel_ray(pixel);
     let ray = impostor_grain_ray(world.origin, world.direction, grain.centre_scale, grain.rotation);
-    let s = impostor_sample(ray, cloud_sampling());
-    let lod = cloud_lod(pixel, grain);
+    var out = cloud_blend(impostor_sample(ray, cloud_sampling()), cloud_lod(pixel, grain), false, grain.rotation);
+    out.depth = hit.depth;
+    return out;
+}
+
+// The atlas layers of the 4 views of `s` blended with its weights at level `lod` — at each
+// view's texture coordinates, or at every view's centre when `centres` (the 1×1 mips of the
+// point tier) — un-premultiplied (every layer shares the coverage α, §4.2), the grain-local
+// normal decoded and rotated by `rotation` to world space; depth 0.
+fn cloud_blend(s: ImpostorSample, lod: f32, centres: bool, rotation: vec4<f32>) -> CloudSurface {
     var normal_alpha = vec4<f32>(0.0);
     var albedo_alpha = vec4<f32>(0.0);
     var material_alpha = vec4<f32>(0.0);
     for (var k = 0u; k < 4u; k++) {
-        let uv = select(s.texture_coordinates[k / 2u].xy, s.texture_coordinates[k / 2u].zw, k % 2u == 1u);
+        var uv = select(s.texture_coordinates[k / 2u].xy, s.texture_coordinates[k / 2u].zw, k % 2u == 1u);
+        if centres {
+            uv = vec2<f32>(0.5);
+        }
         let layer = s.indices[k];
         if s.weights[k] > 0.0 && cloud_view_valid(uv, layer) {
             normal_alpha += s.weights[k] * textureSampleLevel(atlas_normal_alpha, atlas_sampler, uv, layer, lod);
@@ -193,14 +203,13 @@ fn cloud_surface(pixel: vec2<f32>, grain: GrainInstance) -> CloudSurface {
             material_alpha += s.weights[k] * textureSampleLevel(atlas_material_alpha, atlas_sampler, uv, layer, lod);
         }
     }
-    // Un-premultiply (every layer shares the coverage α, §4.2), decode, rotate to world.
     let alpha = max(normal_alpha.a, 1e-6);
     let encoded = normal_alpha.rgb / alpha * 2.0 - 1.0;
     let local_normal = select(vec3<f32>(0.0, 0.0, 1.0), normalize(encoded), dot(encoded, encoded) > 1e-12);
     var out: CloudSurface;
-    out.normal = cloud_rotate(impostor_normalized_rotation(grain.rotation), local_normal);
+    out.normal = cloud_rotate(impostor_normalized_rotation(rotation), local_normal);
     out.albedo = albedo_alpha.rgb / max(albedo_alpha.a, 1e-6);
     out.material = material_alpha.rg / max(material_alpha.a, 1e-6);
-    out.depth = hit.depth;
+    out.depth = 0.0;
     return out;
 }

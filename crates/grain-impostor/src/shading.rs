@@ -124,47 +124,10 @@ impl ShadingPass {
         gbuffer: &ScreenGbuffer,
         target: &wgpu::Texture,
     ) -> Result<(), GpuError> {
-        use wgpu::util::DeviceExt;
-        if (target.width(), target.height()) != (gbuffer.width, gbuffer.height) {
-            return Err(GpuError::InvalidRequest(format!(
-                "shading target {}×{} differs from the G-buffer {}×{}",
-                target.width(),
-                target.height(),
-                gbuffer.width,
-                gbuffer.height
-            )));
-        }
+        let bindings = self.bind(device, gbuffer, target)?;
         scoped(device, || {
-            let uniform = |contents: &[u8]| {
-                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("deferred shading uniforms"),
-                    contents,
-                    usage: wgpu::BufferUsages::UNIFORM,
-                })
-            };
-            let camera_buffer = uniform(bytemuck::bytes_of(camera));
-            let lighting_buffer = uniform(bytemuck::bytes_of(lighting));
-            let target_view = target.create_view(&Default::default());
-            let view = |view| wgpu::BindingResource::TextureView(view);
-            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("deferred shading"),
-                layout: &self.layout,
-                entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: camera_buffer.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 1, resource: lighting_buffer.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 2, resource: view(&gbuffer.views[0]) },
-                    wgpu::BindGroupEntry { binding: 3, resource: view(&gbuffer.views[1]) },
-                    wgpu::BindGroupEntry { binding: 4, resource: view(&gbuffer.views[2]) },
-                    wgpu::BindGroupEntry { binding: 5, resource: view(&target_view) },
-                ],
-            });
             let mut encoder = device.create_command_encoder(&Default::default());
-            {
-                let mut pass = encoder.begin_compute_pass(&Default::default());
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &bind_group, &[]);
-                pass.dispatch_workgroups(gbuffer.width.div_ceil(PIXEL_TILE), gbuffer.height.div_ceil(PIXEL_TILE), 1);
-            }
+            self.encode(queue, &mut encoder, &bindings, camera, lighting);
             queue.submit([encoder.finish()]);
         })
     }

@@ -45,29 +45,8 @@ fn tier_point_surface(grain: GrainInstance) -> CloudSurface {
         direction = normalize(grain.centre_scale.xyz - origin);
     }
     let ray = impostor_grain_ray(origin, direction, grain.centre_scale, grain.rotation);
-    let s = impostor_sample(ray, cloud_sampling());
     let lod = log2(f32(max(cloud.texels, 1u)));
-    var normal_alpha = vec4<f32>(0.0);
-    var albedo_alpha = vec4<f32>(0.0);
-    var material_alpha = vec4<f32>(0.0);
-    for (var k = 0u; k < 4u; k++) {
-        let layer = s.indices[k];
-        if s.weights[k] > 0.0 && layer < cloud.layers {
-            let centre = vec2<f32>(0.5);
-            normal_alpha += s.weights[k] * textureSampleLevel(atlas_normal_alpha, atlas_sampler, centre, layer, lod);
-            albedo_alpha += s.weights[k] * textureSampleLevel(atlas_albedo_alpha, atlas_sampler, centre, layer, lod);
-            material_alpha += s.weights[k] * textureSampleLevel(atlas_material_alpha, atlas_sampler, centre, layer, lod);
-        }
-    }
-    let alpha = max(normal_alpha.a, 1e-6);
-    let encoded = normal_alpha.rgb / alpha * 2.0 - 1.0;
-    let local_normal = select(vec3<f32>(0.0, 0.0, 1.0), normalize(encoded), dot(encoded, encoded) > 1e-12);
-    var out: CloudSurface;
-    out.normal = cloud_rotate(impostor_normalized_rotation(grain.rotation), local_normal);
-    out.albedo = albedo_alpha.rgb / max(albedo_alpha.a, 1e-6);
-    out.material = material_alpha.rg / max(material_alpha.a, 1e-6);
-    out.depth = 0.0;
-    return out;
+    return cloud_blend(impostor_sample(ray, cloud_sampling()), lod, true, grain.rotation);
 }
 
 // One invocation per element of the point list (the splitter's dispatch arguments).

@@ -59,6 +59,7 @@ use grain_splitter::lists::{
 use octahedral_map::ImpostorSamplingUniforms;
 
 use crate::error::RenderError;
+use crate::inputs::ListInputs;
 use crate::shaders::{impostor_tier_32_shader, impostor_tier_64_shader, int64_capabilities};
 pub use crate::tier_layout::{
     TIER_COMPOSITE, TIER_DEPTH_SLACK, TIER_MESH, TIER_NONE, TIER_POINT_BIT, TIER_POINT_SCALE, TIER_POINT_SUMS,
@@ -105,19 +106,6 @@ pub struct TierFrame<'a> {
     pub instance_count: u32,
     /// Settings.
     pub settings: TierSettings,
-}
-
-/// The buffers a tier reads, bound once.
-#[derive(Clone, Copy, Debug)]
-pub struct TierInputs<'a> {
-    /// `GrainInstance`s (centre and scale, rotation), `STORAGE`.
-    pub instances: &'a wgpu::Buffer,
-    /// The splitter's element lists (`GrainSplitter::elements`).
-    pub elements: &'a wgpu::Buffer,
-    /// The splitter's counters (`GrainSplitter::counters`).
-    pub counters: &'a wgpu::Buffer,
-    /// The splitter's indirect arguments (`GrainSplitter::indirect`).
-    pub indirect: &'a wgpu::Buffer,
 }
 
 /// The bind groups of one set of inputs, atlas and G-buffer.
@@ -385,7 +373,7 @@ impl ImpostorTier {
     pub fn bind(
         &self,
         device: &wgpu::Device,
-        inputs: &TierInputs<'_>,
+        inputs: &ListInputs<'_>,
         atlas: &AtlasBinding<'_>,
         gbuffer: &GBufferBinding<'_>,
     ) -> Result<TierBindings, RenderError> {

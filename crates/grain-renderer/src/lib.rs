@@ -18,7 +18,8 @@
 //! - [`renderer`]: [`StackingRenderer`], every pass of a frame built once.
 //! - [`bench`](mod@bench): a frame timed stage by stage.
 //! - [`mesh_tier`]: [`MeshTier`], the mesh list in one indirect draw.
-//! - [`impostor_tier`]: [`ImpostorTier`], its settings, inputs and counters.
+//! - [`impostor_tier`]: [`ImpostorTier`], its settings and counters.
+//! - [`inputs`]: [`ListInputs`], the grains and the splitter's lists the tiers read.
 //! - [`tier_layout`]: the tier's uniform blocks and constants (generated into WGSL).
 //! - [`shaders`]: the generated declarations and the composed shaders.
 //! - [`error`]: the error type, [`RenderError`].
@@ -26,14 +27,14 @@
 pub mod bench;
 pub mod error;
 pub mod impostor_tier;
+pub mod inputs;
 pub mod mesh_tier;
 pub mod renderer;
 pub mod shaders;
 pub mod tier_layout;
 
 pub use error::RenderError;
-pub use impostor_tier::{
-    ImpostorTier, TierBindings, TierFrame, TierInputs, TierPass, TierSettings, TierUniforms, VisibilityKind,
-};
-pub use mesh_tier::{MeshTier, MeshTierBindings, MeshTierInputs};
+pub use impostor_tier::{ImpostorTier, TierBindings, TierFrame, TierPass, TierSettings, TierUniforms, VisibilityKind};
+pub use inputs::ListInputs;
+pub use mesh_tier::{MeshTier, MeshTierBindings};
 pub use renderer::{RendererOptions, SceneBindings, StackingCamera, StackingRenderer, Stage};

@@ -11,22 +11,9 @@ use grain_impostor::scene::CameraUniforms;
 use grain_splitter::{GrainSplitter, LIST_MESH};
 
 use crate::error::RenderError;
+use crate::inputs::ListInputs;
 use crate::shaders::mesh_tier_shader;
 use crate::tier_layout::MeshTierUniforms;
-
-/// The buffers the mesh tier reads, bound once.
-#[derive(Clone, Copy, Debug)]
-pub struct MeshTierInputs<'a> {
-    /// `GrainInstance`s (centre and scale, rotation), `STORAGE`.
-    pub instances: &'a wgpu::Buffer,
-    /// The splitter's element lists (`GrainSplitter::elements`).
-    pub elements: &'a wgpu::Buffer,
-    /// The splitter's counters (`GrainSplitter::counters`).
-    pub counters: &'a wgpu::Buffer,
-    /// The splitter's indirect arguments (`GrainSplitter::indirect`), whose mesh list's
-    /// `draw_indexed` index count must be the mesh's (`SplitSettings::mesh_index_count`).
-    pub indirect: &'a wgpu::Buffer,
-}
 
 /// The bind group of one set of inputs.
 pub struct MeshTierBindings {
@@ -157,7 +144,7 @@ impl MeshTier {
     }
 
     /// The bind group of `inputs`.
-    pub fn bind(&self, device: &wgpu::Device, inputs: &MeshTierInputs<'_>) -> Result<MeshTierBindings, RenderError> {
+    pub fn bind(&self, device: &wgpu::Device, inputs: &ListInputs<'_>) -> Result<MeshTierBindings, RenderError> {
         if !inputs.indirect.usage().contains(wgpu::BufferUsages::INDIRECT) {
             return Err(RenderError::InvalidInput("the splitter's indirect buffer needs INDIRECT usage".into()));
         }

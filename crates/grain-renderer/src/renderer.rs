@@ -16,8 +16,9 @@ use grain_splitter::{
 use octahedral_map::{ImpostorSampler, ImpostorSamplingUniforms, SamplingMode, ViewSelection};
 
 use crate::error::RenderError;
-use crate::impostor_tier::{ImpostorTier, TierBindings, TierFrame, TierInputs, TierSettings, VisibilityKind};
-use crate::mesh_tier::{MeshTier, MeshTierBindings, MeshTierInputs};
+use crate::impostor_tier::{ImpostorTier, TierBindings, TierFrame, TierSettings, VisibilityKind};
+use crate::inputs::ListInputs;
+use crate::mesh_tier::{MeshTier, MeshTierBindings};
 
 /// A point threshold no grain on screen is below: no grain goes to the point list.
 pub const NO_POINT_TIER: f32 = 1e-6;
@@ -239,15 +240,13 @@ impl StackingRenderer {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         });
         let split = self.splitter.bind(device, &centres).map_err(gpu_error)?;
-        let mesh = self.mesh_tier.bind(
-            device,
-            &MeshTierInputs {
-                instances: &instances,
-                elements: self.splitter.elements(),
-                counters: self.splitter.counters(),
-                indirect: self.splitter.indirect(),
-            },
-        )?;
+        let lists = ListInputs {
+            instances: &instances,
+            elements: self.splitter.elements(),
+            counters: self.splitter.counters(),
+            indirect: self.splitter.indirect(),
+        };
+        let mesh = self.mesh_tier.bind(device, &lists)?;
         let g = &self.gbuffer;
         let gbuffer = GBufferBinding {
             normal_coverage: &g.views[0],
@@ -255,17 +254,7 @@ impl StackingRenderer {
             material: &g.views[2],
             depth: &g.views[3],
         };
-        let impostor = self.impostor_tier.bind(
-            device,
-            &TierInputs {
-                instances: &instances,
-                elements: self.splitter.elements(),
-                counters: self.splitter.counters(),
-                indirect: self.splitter.indirect(),
-            },
-            &self.atlas_binding(),
-            &gbuffer,
-        )?;
+        let impostor = self.impostor_tier.bind(device, &lists, &self.atlas_binding(), &gbuffer)?;
         Ok(SceneBindings { centres, instances, count, split, mesh, impostor })
     }
 

@@ -198,6 +198,7 @@ pub const COMMANDS: &[Command] = &[
             OBJ,
             value("grain", "NAME"),
             value("mesh-above", "PX"),
+            switch("shake"),
             QUICK,
         ],
         exclusive: &[("obj", "grain")],

@@ -1,7 +1,8 @@
 //! `cargo xtask stackings [OUT_DIR] [--grains COUNT] [--frames K] [--obj PATH | --grain NAME]
-//! [--mesh-above PX] [--quick]`: the multiscale renderer (`grain-renderer`) on a pile from
-//! `grain-scenes` — a backward dolly from a close view to the whole pile (paper Fig. 9) —
-//! written as PNG frames, with the per-stage breakdown printed and written to
+//! [--mesh-above PX] [--shake] [--quick]`: the multiscale renderer (`grain-renderer`) on a pile
+//! from `grain-scenes` — a backward dolly from a close view to the whole pile (paper Fig. 9),
+//! with `--shake` every grain moving and turning each frame (`grain_scenes::Shake`, uploaded
+//! per frame) — written as PNG frames, with the per-stage breakdown printed and written to
 //! `stackings.csv` (GPU timestamps on a GPU, wall clock on a software adapter).
 //!
 //! The mesh threshold is the measured impostor table's (`TierThresholds::from_impostor_table`,
@@ -35,6 +36,7 @@ pub struct Options {
     count: usize,
     frames: u32,
     mesh_above: Option<f32>,
+    shake: bool,
     size: (u32, u32),
 }
 
@@ -57,6 +59,7 @@ impl Options {
             count: args.parse_value("grains", positive::<usize>)?.unwrap_or(if quick { 5_000 } else { 20_000 }),
             frames: args.parse_value("frames", positive::<u32>)?.unwrap_or(if quick { 3 } else { 6 }),
             mesh_above: args.parse_value("mesh-above", pixels)?,
+            shake: args.flag("shake"),
             size: if quick { (480, 270) } else { (960, 540) },
         })
     }
@@ -167,6 +170,13 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     let renderer =
         StackingRenderer::new(&gpu.device, &gpu.queue, &mesh, &atlas, renderer_options).map_err(|e| e.to_string())?;
     let scene = renderer.upload(&gpu.device, &grains).map_err(|e| e.to_string())?;
+    // Within the amplitude that keeps the inner balls apart (`Stacking::max_amplitude`).
+    let shake = options
+        .shake
+        .then(|| grain_scenes::Shake::new((0.9 * stacking.max_amplitude()).min(0.05) as f32, 2.0, 3.0))
+        .transpose()
+        .map_err(|e| e.to_string())?;
+    let (mut centre_scale, mut rotation) = (stacking.centre_scale().to_vec(), stacking.rotation().to_vec());
     let lighting = ShadingUniforms::new(
         Vec3::new(0.4, 1.0, 0.6),
         Vec3::splat(2.6),
@@ -184,6 +194,21 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     let adapter = gpu.adapter_info().name.replace('"', "\"\"");
     for k in 0..options.frames {
         let camera = dolly(&shots, k, options.frames, options.size)?;
+        if let Some(shake) = &shake {
+            let started = Instant::now();
+            shake.pose_at(&stacking, k as f32 / 24.0, &mut centre_scale, &mut rotation).map_err(|e| e.to_string())?;
+            let moved: Vec<GrainInstance> = centre_scale
+                .iter()
+                .zip(&rotation)
+                .map(|(c, q)| GrainInstance::new(c.truncate(), c.w, Quat::from_vec4(*q)))
+                .collect();
+            renderer.update(&gpu.queue, &scene, &moved).map_err(|e| e.to_string())?;
+            println!(
+                "  frame {k}: {} grains posed and uploaded in {:.1} ms",
+                moved.len(),
+                started.elapsed().as_secs_f64() * 1e3
+            );
+        }
         let times = time_frame(&gpu, &renderer, &scene, &camera, &lighting, TierSettings::default())
             .map_err(|e| e.to_string())?;
         let counters: SplitCounters = bytemuck::pod_read_unaligned(

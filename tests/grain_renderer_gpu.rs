@@ -457,11 +457,11 @@ fn errors_name_what_is_wrong_and_no_tier_buffer_is_mappable() {
     assert!(e.to_string().contains("coverage_threshold"), "{e}");
 }
 
-/// The point tier: every grain a point (sub-pixel balls far away). The covered pixels are
-/// exactly those holding a grain's centre (each grain wins or joins its own pixel; centres
-/// within 10⁻³ px of a pixel edge are left out of the comparison and counted), the uniform
-/// material comes back within the fixed point's and the 8-bit G-buffer's rounding, and
-/// pixels holding several grains average them.
+/// The point tier: every grain a point (small balls far away). Every pixel holding a grain's
+/// centre is covered (centres within 10⁻³ px of a pixel edge are left out and counted), every
+/// covered pixel lies in some grain's disc (its projected outer radius, 1 % and 10⁻³ px of
+/// rounding allowed), the uniform material comes back within the fixed point's and the 8-bit
+/// G-buffer's rounding, and pixels holding several grains average them.
 #[test]
 fn the_point_tier_covers_the_centres_pixels_and_averages_their_grains() {
     let mut scene = scene(12, grain_mesh::Ball::default().mesh().unwrap());
@@ -474,9 +474,13 @@ fn the_point_tier_covers_the_centres_pixels_and_averages_their_grains() {
         let (image, stats, _, sums) = tier_render_with(&scene, kind, settings, false, points, &target);
         let mut centre_pixels = vec![false; image.depth.len()];
         let mut ambiguous = 0;
+        let focal = split_camera.projection.x;
+        let mut discs = Vec::new();
         for g in &scene.grains {
             let projected = split_camera.project(g.centre_scale.truncate());
             let Some(pixel) = projected.pixel else { continue };
+            let radius = (scene.atlas.outer_radius * g.centre_scale.w * focal / projected.view_depth).min(4.0);
+            discs.push((pixel, radius));
             if !(pixel.x >= 0.0 && pixel.y >= 0.0 && pixel.x < SIZE.0 as f32 && pixel.y < SIZE.1 as f32) {
                 continue;
             }
@@ -489,18 +493,28 @@ fn the_point_tier_covers_the_centres_pixels_and_averages_their_grains() {
         let covered: Vec<bool> = image.normal_coverage.iter().map(|n| n.w > 0.0).collect();
         let missing = (0..covered.len()).filter(|&i| centre_pixels[i] && !covered[i]).count();
         let extra = (0..covered.len()).filter(|&i| covered[i] && !centre_pixels[i]).count();
+        let outside = (0..covered.len())
+            .filter(|&i| covered[i] && !centre_pixels[i])
+            .filter(|&i| {
+                let p = glam::Vec2::new((i as u32 % SIZE.0) as f32 + 0.5, (i as u32 / SIZE.0) as f32 + 0.5);
+                !discs.iter().any(|&(c, r)| {
+                    let cell = c.floor() + 0.5;
+                    p.distance(c) <= r * 1.01 + 1e-3 || p.distance(cell) < 1e-3
+                })
+            })
+            .count();
         let weights: Vec<u32> =
             sums.iter().step_by(grain_renderer::impostor_tier::TIER_POINT_SUMS as usize).copied().collect();
         let covered_count = covered.iter().filter(|&&c| c).count();
         let several = weights.iter().filter(|&&w| w >= 2).count();
         let mean = weights.iter().map(|&w| f64::from(w)).sum::<f64>() / covered_count.max(1) as f64;
         println!(
-            "{kind:?}: {} grains, {covered_count} pixels covered, {missing} centre pixels missing, {extra} covered without a centre ({ambiguous} centres near an edge); {several} pixels average 2 or more grains (mean {mean:.2}); resolved points {}",
+            "{kind:?}: {} grains, {covered_count} pixels covered, {missing} centre pixels missing, {extra} covered by discs beyond the centres, {outside} outside every disc ({ambiguous} centres near an edge); {several} pixels average 2 or more grains (mean {mean:.2}); resolved points {}",
             scene.grains.len(),
             stats[5]
         );
         assert_eq!(missing, 0);
-        assert!(extra <= ambiguous, "covered pixels without a grain centre");
+        assert_eq!(outside, 0, "covered pixels outside every grain's disc");
         assert_eq!(stats[5] as usize, covered_count);
         assert!(several > 0, "the scene has pixels of several grains");
         let albedo: Vec<f32> = (0..covered.len()).filter(|&i| covered[i]).map(|i| image.albedo[i].x).collect();
@@ -509,4 +523,54 @@ fn the_point_tier_covers_the_centres_pixels_and_averages_their_grains() {
         // grain) and the 8-bit G-buffer's (1/255) at most, twice.
         assert!(hi - lo <= 2.0 * (1.0 / 1023.0 + 1.0 / 255.0), "albedo spread {lo}..{hi}");
     }
+}
+
+/// The point threshold's measurement runs on a small pile: one row per diameter, losses in
+/// range, and the threshold the rows define (`point_threshold::threshold_of`).
+#[test]
+fn the_point_threshold_is_measured_against_the_supersampled_mesh() {
+    use grain_renderer::point_threshold::{measure, threshold_of};
+    let gpu = gpu();
+    let scene = scene(6, grain_mesh::CoffeeBean::default().mesh().unwrap());
+    let diameters = [1.0, 2.0, 4.0];
+    let measured = measure(
+        &gpu.device,
+        &gpu.queue,
+        &scene.mesh,
+        &scene.atlas,
+        &scene.grains,
+        (scene.target, scene.eye - scene.target),
+        SIZE,
+        &diameters,
+        0.05,
+    )
+    .unwrap();
+    for row in &measured.rows {
+        println!(
+            "{} px: SSIM loss points {:.4}, impostors {:.4} ({} px)",
+            row.diameter,
+            1.0 - row.points.ssim,
+            1.0 - row.impostors.ssim,
+            row.pixels
+        );
+        for ssim in [row.points.ssim, row.impostors.ssim] {
+            assert!((-1.0..=1.0).contains(&ssim), "{ssim}");
+        }
+        assert!(row.pixels >= 256);
+    }
+    assert_eq!(measured.rows.iter().map(|r| r.diameter).collect::<Vec<_>>(), diameters);
+    assert_eq!(measured.threshold, threshold_of(&measured.rows, 0.05));
+    println!("threshold: {:?}", measured.threshold);
+    let e = measure(
+        &gpu.device,
+        &gpu.queue,
+        &scene.mesh,
+        &scene.atlas,
+        &scene.grains,
+        (scene.target, Vec3::Z),
+        SIZE,
+        &[2.0, 1.0],
+        0.05,
+    );
+    assert!(e.err().unwrap().to_string().contains("diameters"));
 }

@@ -7,7 +7,8 @@
 //!
 //! The mesh threshold is the measured impostor table's (`TierThresholds::from_impostor_table`,
 //! SSIM loss ≤ 0.05) for the procedural grains; an OBJ grain has no measured table, so
-//! `--mesh-above` must say it (pixels of projected diameter).
+//! `--mesh-above` must say it (pixels of projected diameter). The point threshold is measured
+//! on the pile itself before the dolly (`grain_renderer::point_threshold`, same budget).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -76,6 +77,11 @@ pub(crate) fn pile(count: usize, inner: f32, outer: f32) -> Result<Stacking, Str
     spec.spacing = (1.02 * inner / outer / (1.0 - 2.0 * spec.jitter)).max(0.85);
     Stacking::generate(&spec).map_err(|e| e.to_string())
 }
+
+/// The diameters (pixels) at which the point threshold is measured.
+const POINT_DIAMETERS: [f32; 5] = [1.0, 1.5, 2.0, 3.0, 4.0];
+/// The SSIM loss the switch from impostors to points may add (the mesh threshold's budget).
+const POINT_BUDGET: f64 = 0.05;
 
 /// How much nearer than the foreground shot the dolly starts (its first frame shows grains
 /// above the mesh threshold).
@@ -157,11 +163,39 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     let started = Instant::now();
     let (stacking, grains, atlas) = scene(&gpu, options.count, &mesh)?;
     println!("  scene and atlas (n = 8, p = 64) in {:.1} s", started.elapsed().as_secs_f64());
+    let region = stacking.bounds();
+    let shots = Shot::fig15(region.min, region.max);
+    // The point threshold, measured on this pile (grain_renderer::point_threshold).
+    let measured = grain_renderer::point_threshold::measure(
+        &gpu.device,
+        &gpu.queue,
+        &mesh,
+        &atlas,
+        &grains,
+        (shots[0].target, shots[0].eye - shots[0].target),
+        options.size,
+        &POINT_DIAMETERS,
+        POINT_BUDGET,
+    )
+    .map_err(|e| e.to_string())?;
+    for row in &measured.rows {
+        println!(
+            "  against the mesh (4×4 supersampled) at {:.1} px: SSIM loss points {:.4}, impostors {:.4}; RMSE points {:.4}, impostors {:.4} ({} px)",
+            row.diameter,
+            1.0 - row.points.ssim,
+            1.0 - row.impostors.ssim,
+            row.points.rmse,
+            row.impostors.rmse,
+            row.pixels
+        );
+    }
+    let point_below = measured.threshold.unwrap_or(NO_POINT_TIER);
+    println!("  point threshold: {:?} px (points' SSIM loss ≤ impostors' + {POINT_BUDGET})", measured.threshold);
     let renderer_options = RendererOptions {
         size: options.size,
         capacity: grains.len() as u32,
         mesh_above,
-        point_below: NO_POINT_TIER,
+        point_below,
         band: 1.1,
         occluder_map: OccluderMapKind::Auto,
         visibility: VisibilityKind::Auto,
@@ -184,8 +218,6 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         Vec3::new(0.08, 0.09, 0.12),
     )
     .ok_or("the light direction is zero")?;
-    let region = stacking.bounds();
-    let shots = Shot::fig15(region.min, region.max);
     let mut csv = String::from("adapter,timing,frame,distance,");
     for stage in Stage::ALL {
         let _ = write!(csv, "{}_ms,", stage.name());

@@ -15,6 +15,8 @@ const TIER_POINT_SUMS: u32 = 8u;
 
 const TIER_POINT_SCALE: f32 = 0x1.ff8000p+9f; // 1.023e3
 
+const TIER_POINT_MAX_RADIUS: f32 = 0x1.000000p+2f; // 4e0
+
 const TIER_COMPOSITE: u32 = 1u;
 
 const TIER_REACH: f32 = 0x1.6a09fcp+0f; // 1.4142148e0

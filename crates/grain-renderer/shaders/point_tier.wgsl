@@ -1,5 +1,6 @@
 // The point tier (Fig. 2 ④; crates/grain-renderer/src/impostor_tier.rs): grains of the
-// splitter's point list, each one pixel at its centre, in the impostor tier's visibility
+// splitter's point list, each a small disc (its outer radius projected, at most
+// TIER_POINT_MAX_RADIUS pixels, always the centre's pixel), in the impostor tier's visibility
 // buffer (owner tagged with TIER_POINT_BIT), then accumulated: every point grain within its
 // own diameter of the depth that won its pixel adds its colour, normal and roughness — read
 // from the atlas' 1×1 mips, blended over the 4 views of §5 — to fixed-point sums, so that a
@@ -13,6 +14,8 @@
 // nearest its surface can be); none behind the eye or off screen.
 struct TierPoint {
     pixel: vec2<u32>,
+    screen: vec2<f32>,
+    radius: f32,
     depth: f32,
     valid: bool,
 }
@@ -33,6 +36,13 @@ fn tier_point(grain: GrainInstance) -> TierPoint {
     let centre = dot(grain.centre_scale.xyz - cloud_depth_origin(), cloud_forward());
     out.depth = centre - sampling.inner_radius * grain.centre_scale.w;
     out.pixel = vec2<u32>(screen);
+    out.screen = screen;
+    // The outer radius over the world size of a pixel at the centre's distance.
+    let r0 = cloud_pixel_ray(screen);
+    let r1 = cloud_pixel_ray(screen + vec2<f32>(1.0, 0.0));
+    let t = dot(grain.centre_scale.xyz - r0.origin, r0.direction);
+    let footprint = length((r1.origin + t * r1.direction) - (r0.origin + t * r0.direction));
+    out.radius = min(sampling.outer_radius * grain.centre_scale.w / max(footprint, 1e-30), TIER_POINT_MAX_RADIUS);
     out.valid = out.depth > 0.0;
     return out;
 }
@@ -65,9 +75,30 @@ fn tier_point_splat(
         return;
     }
     let point = tier_point(instances[g]);
-    if point.valid {
-        tier_offer(point.pixel.y * tier_size().x + point.pixel.x, point.depth, g | TIER_POINT_BIT);
+    if !point.valid {
+        return;
     }
+    let reach = i32(ceil(point.radius));
+    for (var dy = -reach; dy <= reach; dy++) {
+        for (var dx = -reach; dx <= reach; dx++) {
+            let p = tier_disc_pixel(point, dx, dy);
+            if p.x >= 0 {
+                tier_offer(u32(p.y) * tier_size().x + u32(p.x), point.depth, g | TIER_POINT_BIT);
+            }
+        }
+    }
+}
+
+// Pixel (dx, dy) from the centre's pixel if it is in the point's disc (its centre within the
+// radius, or the centre's own pixel) and on screen; x = -1 otherwise.
+fn tier_disc_pixel(point: TierPoint, dx: i32, dy: i32) -> vec2<i32> {
+    let p = vec2<i32>(point.pixel) + vec2<i32>(dx, dy);
+    let size = vec2<i32>(tier_size());
+    let inside = distance(vec2<f32>(p) + 0.5, point.screen) <= point.radius || (dx == 0 && dy == 0);
+    if !inside || p.x < 0 || p.y < 0 || p.x >= size.x || p.y >= size.y {
+        return vec2<i32>(-1);
+    }
+    return p;
 }
 
 fn tier_fixed(x: f32, scale: f32) -> u32 {
@@ -89,23 +120,32 @@ fn tier_point_accumulate(
     if !point.valid {
         return;
     }
-    let i = point.pixel.y * tier_size().x + point.pixel.x;
-    let winner = tier_winner(i);
     let thickness = 2.0 * sampling.outer_radius * grain.centre_scale.w;
-    if winner >= TIER_MESH || (winner & TIER_POINT_BIT) == 0u || point.depth > tier_stored_depth(i) + thickness {
-        return;
-    }
     let surface = tier_point_surface(grain);
-    let base = i * TIER_POINT_SUMS;
     let n = surface.normal * 0.5 + 0.5;
-    atomicAdd(&point_sums[base], 1u);
-    atomicAdd(&point_sums[base + 1u], tier_fixed(surface.albedo.r, TIER_POINT_SCALE));
-    atomicAdd(&point_sums[base + 2u], tier_fixed(surface.albedo.g, TIER_POINT_SCALE));
-    atomicAdd(&point_sums[base + 3u], tier_fixed(surface.albedo.b, TIER_POINT_SCALE));
-    atomicAdd(&point_sums[base + 4u], tier_fixed(n.x, TIER_POINT_SCALE));
-    atomicAdd(&point_sums[base + 5u], tier_fixed(n.y, TIER_POINT_SCALE));
-    atomicAdd(&point_sums[base + 6u], tier_fixed(n.z, TIER_POINT_SCALE));
-    atomicAdd(&point_sums[base + 7u], tier_fixed(surface.material.x, TIER_POINT_SCALE));
+    let reach = i32(ceil(point.radius));
+    for (var dy = -reach; dy <= reach; dy++) {
+        for (var dx = -reach; dx <= reach; dx++) {
+            let p = tier_disc_pixel(point, dx, dy);
+            if p.x < 0 {
+                continue;
+            }
+            let i = u32(p.y) * tier_size().x + u32(p.x);
+            let winner = tier_winner(i);
+            if winner >= TIER_MESH || (winner & TIER_POINT_BIT) == 0u || point.depth > tier_stored_depth(i) + thickness {
+                continue;
+            }
+            let base = i * TIER_POINT_SUMS;
+            atomicAdd(&point_sums[base], 1u);
+            atomicAdd(&point_sums[base + 1u], tier_fixed(surface.albedo.r, TIER_POINT_SCALE));
+            atomicAdd(&point_sums[base + 2u], tier_fixed(surface.albedo.g, TIER_POINT_SCALE));
+            atomicAdd(&point_sums[base + 3u], tier_fixed(surface.albedo.b, TIER_POINT_SCALE));
+            atomicAdd(&point_sums[base + 4u], tier_fixed(n.x, TIER_POINT_SCALE));
+            atomicAdd(&point_sums[base + 5u], tier_fixed(n.y, TIER_POINT_SCALE));
+            atomicAdd(&point_sums[base + 6u], tier_fixed(n.z, TIER_POINT_SCALE));
+            atomicAdd(&point_sums[base + 7u], tier_fixed(surface.material.x, TIER_POINT_SCALE));
+        }
+    }
 }
 
 fn tier_point_sum(i: u32, k: u32, weight: f32) -> f32 {

@@ -40,8 +40,11 @@
 //!
 //! # Points (Fig. 2 ④)
 //!
-//! The point list's grains enter the same visibility buffer as one pixel each, at their
-//! centre's depth less the atlas' inner radius, their owner tagged with [`TIER_POINT_BIT`].
+//! The point list's grains enter the same visibility buffer as small discs — the pixels whose
+//! centre lies within the grain's projected outer radius (at most
+//! [`TIER_POINT_MAX_RADIUS`](crate::tier_layout::TIER_POINT_MAX_RADIUS)), and always the
+//! centre's pixel — at their centre's depth less the atlas' inner radius, their owner tagged
+//! with [`TIER_POINT_BIT`].
 //! Every point grain within its diameter `2·R·s` of the depth that won its pixel then adds
 //! its 1×1-mip colour, normal and roughness (the 4 views of §5 blended, un-premultiplied) to
 //! [`TIER_POINT_SUMS`] fixed-point sums (WGSL has no float atomics; [`TIER_POINT_SCALE`]),

@@ -17,6 +17,7 @@
 //!
 //! - [`renderer`]: [`StackingRenderer`], every pass of a frame built once.
 //! - [`bench`](mod@bench): a frame timed stage by stage.
+//! - [`point_threshold`]: the point tier's threshold, measured against the impostor tier.
 //! - [`mesh_tier`]: [`MeshTier`], the mesh list in one indirect draw.
 //! - [`impostor_tier`]: [`ImpostorTier`], its settings and counters.
 //! - [`inputs`]: [`ListInputs`], the grains and the splitter's lists the tiers read.
@@ -29,6 +30,7 @@ pub mod error;
 pub mod impostor_tier;
 pub mod inputs;
 pub mod mesh_tier;
+pub mod point_threshold;
 pub mod renderer;
 pub mod shaders;
 pub mod tier_layout;

@@ -34,8 +34,7 @@ pub struct RendererOptions {
     /// table's (`TierThresholds::from_impostor_table`), never a distance.
     pub mesh_above: f32,
     /// Projected diameter (pixels) below which a grain is a point ([`NO_POINT_TIER`]: none
-    /// are). Its measurement against the error budget is still to be done; give it
-    /// knowingly.
+    /// are): measured by [`crate::point_threshold::measure`], never a distance.
     pub point_below: f32,
     /// Hysteresis band (≥ 1) around both thresholds.
     pub band: f32,
@@ -151,12 +150,18 @@ impl StackingRenderer {
         options: RendererOptions,
     ) -> Result<Self, RenderError> {
         let mesh_tier = MeshTier::new(device, options.size, mesh)?;
-        let thresholds = TierThresholds::new(NO_POINT_TIER, options.mesh_above, options.band).map_err(|e| match e {
-            grain_splitter::SplitError::InvalidSetting { field, reason } => {
-                RenderError::InvalidSetting { field: if field == "band" { "band" } else { "mesh_above" }, reason }
-            }
-            other => gpu_error(other),
-        })?;
+        let thresholds =
+            TierThresholds::new(options.point_below, options.mesh_above, options.band).map_err(|e| match e {
+                grain_splitter::SplitError::InvalidSetting { field, reason } => RenderError::InvalidSetting {
+                    field: match field {
+                        "band" => "band",
+                        "point_below" => "point_below",
+                        _ => "mesh_above",
+                    },
+                    reason,
+                },
+                other => gpu_error(other),
+            })?;
         let bounds = mesh.bounds();
         let c = options.culling;
         let settings = SplitSettings {

@@ -18,6 +18,9 @@ pub const TIER_STATS: u32 = 6;
 pub const TIER_POINT_BIT: u32 = 1 << 31;
 /// `u32` sums per pixel of the point tier: weight, albedo (3), normal (3), roughness.
 pub const TIER_POINT_SUMS: u32 = 8;
+/// The largest radius, in pixels, of a point grain's disc (a grain that large belongs to the
+/// impostor tier; the bound caps one invocation's work at 9 × 9 pixels).
+pub const TIER_POINT_MAX_RADIUS: f32 = 4.0;
 /// Fixed-point scale of the point tier's sums: 10 bits per value in `[0, 1]` (sums of up to
 /// 4·10⁶ grains per pixel fit a `u32`).
 pub const TIER_POINT_SCALE: f32 = 1023.0;
@@ -38,6 +41,7 @@ pub(crate) const TIER_CONSTANTS: &[GpuConst] = &[
     gpu_const!(TIER_POINT_BIT: u32),
     gpu_const!(TIER_POINT_SUMS: u32),
     gpu_const!(TIER_POINT_SCALE: f32),
+    gpu_const!(TIER_POINT_MAX_RADIUS: f32),
     gpu_const!(TIER_COMPOSITE: u32),
     gpu_const!(TIER_REACH: f32),
     gpu_const!(TIER_DEPTH_SLACK: f32),

@@ -13,7 +13,7 @@ pub mod table;
 pub mod view_set;
 
 pub use metrics::{ImageError, MetricError, compare_images};
-pub use sweep::{AccuracySweep, SweepError, SweepRow, SweepSettings};
+pub use sweep::{AccuracySweep, REFERENCE_SUPERSAMPLING, SweepError, SweepRow, SweepSettings};
 pub use table::{
     rows_from_csv, rows_to_csv, sampling_mode_from_name, sampling_mode_name, view_layout_from_name, view_layout_name,
 };

@@ -12,8 +12,6 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use glam::Vec3;
-use grain_impostor::scene::ShadingUniforms;
 use grain_renderer::bench::{StageTimes, time_frame};
 use grain_renderer::impostor_tier::TIER_STATS;
 use grain_renderer::renderer::NO_POINT_TIER;
@@ -64,9 +62,7 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
     csv += "total_ms,mesh,impostor_occluder,impostor_rest,point,culled_frustum,culled_cone,culled_hiz,\
             evaluated_per_pixel,early_z_skips_per_pixel,resolved_pixels\n";
     let rows = grain_impostor::choice::measured_accuracy()?;
-    let lighting =
-        ShadingUniforms::new(Vec3::new(0.4, 1.0, 0.6), Vec3::splat(2.6), Vec3::splat(0.25), Vec3::splat(0.1))
-            .ok_or("the light direction is zero")?;
+    let lighting = grain_renderer::renderer::pile_lighting();
     for &count in &counts {
         for scene_name in SCENES {
             let started = Instant::now();

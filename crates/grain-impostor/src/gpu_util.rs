@@ -188,7 +188,7 @@ pub(crate) fn loaded_texture_entry(binding: u32, dimension: wgpu::TextureViewDim
 }
 
 /// A bind group layout entry for a write-only 2-D storage texture of `format`.
-pub(crate) fn storage_texture_entry(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+pub fn storage_texture_entry(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,

@@ -78,6 +78,46 @@ pub fn mesh_vertex_layout() -> wgpu::VertexBufferLayout<'static> {
     }
 }
 
+/// The G-buffer raster of a grain mesh: `module`'s vertex entry point `vertex_entry` over
+/// [`mesh_vertex_layout`], `mesh_gbuffer.wgsl`'s `mesh_fragment` into the four
+/// [`GBUFFER_FORMATS`] targets, depth test `Less` with writes in [`MESH_DEPTH_FORMAT`]. The
+/// mesh pass here and the mesh tier of `grain-renderer` (its own vertex entry point) share it.
+pub fn mesh_raster_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    vertex_entry: &str,
+) -> wgpu::RenderPipeline {
+    let targets = GBUFFER_FORMATS.map(|format| Some(wgpu::ColorTargetState::from(format)));
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(vertex_entry),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(vertex_entry),
+            compilation_options: Default::default(),
+            buffers: &[Some(mesh_vertex_layout())],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("mesh_fragment"),
+            compilation_options: Default::default(),
+            targets: &targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
 /// A grain mesh in GPU buffers.
 #[derive(Debug)]
 pub struct GpuMesh {
@@ -336,38 +376,7 @@ impl MeshGbufferPass {
                 bind_group_layouts: &[Some(&raster_layout)],
                 immediate_size: 0,
             });
-            let targets = GBUFFER_FORMATS.map(|format| Some(wgpu::ColorTargetState::from(format)));
-            let raster = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("mesh G-buffer raster"),
-                layout: Some(&raster_pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &raster_module,
-                    entry_point: Some("mesh_vertex"),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(wgpu::VertexBufferLayout {
-                        array_stride: size_of::<MeshVertex>() as u64,
-                        step_mode: wgpu::VertexStepMode::Vertex,
-                        attributes: &VERTEX_ATTRIBUTES,
-                    })],
-                },
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &raster_module,
-                    entry_point: Some("mesh_fragment"),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
+            let raster = mesh_raster_pipeline(device, &raster_pipeline_layout, &raster_module, "mesh_vertex");
             let array = wgpu::TextureViewDimension::D2Array;
             let reduce_source_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("G-buffer reduction source"),

@@ -60,11 +60,16 @@ fn tier_element_grain(e: u32) -> u32 {
     return select(TIER_NONE, g, g < tier.counts.x);
 }
 
+// The view depth of a grain's centre (the G-buffer's depth measure, as cloud_hit's).
+fn tier_centre_depth(grain: GrainInstance) -> f32 {
+    return dot(grain.centre_scale.xyz - cloud_depth_origin(), cloud_forward());
+}
+
 // A lower bound of the view depth of every point a grain's pixels can take (cloud_hit moves
 // the blended surface point q, |q − c| ≤ R·s, onto the pixel ray: within √2·R·s of the centre),
 // rounded down.
 fn tier_nearest_depth(grain: GrainInstance) -> f32 {
-    let centre = dot(grain.centre_scale.xyz - cloud_depth_origin(), cloud_forward());
+    let centre = tier_centre_depth(grain);
     let reach = TIER_REACH * sampling.outer_radius * grain.centre_scale.w;
     return (centre - reach) - TIER_DEPTH_SLACK * (abs(centre) + reach + length(grain.centre_scale.xyz));
 }

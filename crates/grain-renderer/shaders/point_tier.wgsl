@@ -33,8 +33,7 @@ fn tier_point(grain: GrainInstance) -> TierPoint {
     if !(all(screen >= vec2<f32>(0.0)) && all(screen < size)) {
         return out;
     }
-    let centre = dot(grain.centre_scale.xyz - cloud_depth_origin(), cloud_forward());
-    out.depth = centre - sampling.inner_radius * grain.centre_scale.w;
+    out.depth = tier_centre_depth(grain) - sampling.inner_radius * grain.centre_scale.w;
     out.pixel = vec2<u32>(screen);
     out.screen = screen;
     // The outer radius over the world size of a pixel at the centre's distance.

@@ -55,6 +55,7 @@
 
 use glam::UVec4;
 use grain_impostor::cloud::{AtlasBinding, CloudUniforms, GBufferBinding};
+use grain_impostor::gpu_util::storage_texture_entry;
 use grain_impostor::scene::{CameraUniforms, PIXEL_TILE};
 use grain_splitter::lists::{
     INDIRECT_DISPATCH, INDIRECT_WORDS, LIST_IMPOSTOR_OCCLUDER, LIST_IMPOSTOR_REST, LIST_POINT,
@@ -179,19 +180,6 @@ fn texture_entry(
     }
 }
 
-fn storage_texture(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::StorageTexture {
-            access: wgpu::StorageTextureAccess::WriteOnly,
-            format,
-            view_dimension: wgpu::TextureViewDimension::D2,
-        },
-        count: None,
-    }
-}
-
 const UNIFORM: wgpu::BufferBindingType = wgpu::BufferBindingType::Uniform;
 const READ: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: true };
 const WRITE: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: false };
@@ -295,10 +283,10 @@ impl ImpostorTier {
         let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("impostor tier: G-buffer"),
             entries: &[
-                storage_texture(1, formats[0]),
-                storage_texture(2, formats[1]),
-                storage_texture(3, formats[2]),
-                storage_texture(4, formats[3]),
+                storage_texture_entry(1, formats[0]),
+                storage_texture_entry(2, formats[1]),
+                storage_texture_entry(3, formats[2]),
+                storage_texture_entry(4, formats[3]),
             ],
         });
         let pipeline = |groups: &[&wgpu::BindGroupLayout], entry: &str| {

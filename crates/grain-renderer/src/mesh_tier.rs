@@ -6,7 +6,7 @@
 //! screen G-buffer directly: it clears the G-buffer, so it runs first in a frame.
 
 use glam::{UVec4, Vec3};
-use grain_impostor::mesh_gbuffer::{GBUFFER_FORMATS, GpuMesh, MESH_DEPTH_FORMAT, ScreenGbuffer, mesh_vertex_layout};
+use grain_impostor::mesh_gbuffer::{GpuMesh, MESH_DEPTH_FORMAT, ScreenGbuffer, mesh_raster_pipeline};
 use grain_impostor::scene::CameraUniforms;
 use grain_splitter::{GrainSplitter, LIST_MESH};
 
@@ -77,34 +77,7 @@ impl MeshTier {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let targets = GBUFFER_FORMATS.map(|format| Some(wgpu::ColorTargetState::from(format)));
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("mesh tier"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("mesh_tier_vertex"),
-                compilation_options: Default::default(),
-                buffers: &[Some(mesh_vertex_layout())],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: MESH_DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("mesh_fragment"),
-                compilation_options: Default::default(),
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = mesh_raster_pipeline(device, &pipeline_layout, &module, "mesh_tier_vertex");
         let buffer = |label: &str, size: usize| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),

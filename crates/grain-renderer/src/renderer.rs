@@ -20,6 +20,15 @@ use crate::impostor_tier::{ImpostorTier, TierBindings, TierFrame, TierSettings, 
 use crate::inputs::ListInputs;
 use crate::mesh_tier::{MeshTier, MeshTierBindings};
 
+/// The light of the pile renders (`cargo xtask bench-gpu stackings`, the point threshold):
+/// from the upper right front, white, a dim ambient term, a dark grey background.
+pub fn pile_lighting() -> ShadingUniforms {
+    // A non-zero constant direction: `new` cannot fail; the fallback is never used.
+    ShadingUniforms::new(Vec3::new(0.4, 1.0, 0.6), Vec3::splat(2.6), Vec3::splat(0.25), Vec3::splat(0.1)).unwrap_or(
+        ShadingUniforms { light_direction: Vec4::Y, light_colour: Vec4::ONE, ambient: Vec4::ZERO, background: Vec4::W },
+    )
+}
+
 /// A point threshold no grain on screen is below: no grain goes to the point list.
 pub const NO_POINT_TIER: f32 = 1e-6;
 

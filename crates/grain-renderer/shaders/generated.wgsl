@@ -23,6 +23,8 @@ const TIER_REACH: f32 = 0x1.6a09fcp+0f; // 1.4142148e0
 
 const TIER_DEPTH_SLACK: f32 = 0x1.000000p-12f; // 2.4414063e-4
 
+const TIER_DRAW_ARGUMENTS: u32 = 6u;
+
 const COUNTER_COUNT: u32 = 0u;
 
 const COUNTER_OFFSET: u32 = 4u;
@@ -31,10 +33,11 @@ const ELEMENT_WORKGROUP: u32 = 64u;
 
 const MAX_GROUPS_PER_DIMENSION: u32 = 65535u;
 
-// Rust size 32 bytes.
+// Rust size 48 bytes.
 struct TierUniforms {
     counts: vec4<u32>, // offset 0
     lists: vec4<u32>, // offset 16
+    raster: vec4<f32>, // offset 32
 }
 
 // Rust size 16 bytes.

@@ -42,8 +42,9 @@
 @group(1) @binding(2) var out_albedo: texture_storage_2d<rgba8unorm, write>;
 @group(1) @binding(3) var out_material: texture_storage_2d<rgba8unorm, write>;
 @group(1) @binding(4) var out_depth: texture_storage_2d<r32float, write>;
-// One-workgroup-per-element dispatch arguments: (x, y, 1) per list of TierUniforms.lists
-// (tier_arguments only: the splats read them as INDIRECT, which excludes a storage binding).
+// One-workgroup-per-element dispatch arguments: (x, y, 1) per list of TierUniforms.lists,
+// then the raster path's draw arguments from TIER_DRAW_ARGUMENTS (tier_arguments only: the
+// splats and draws read them as INDIRECT, which excludes a storage binding).
 @group(1) @binding(5) var<storage, read_write> arguments: array<u32>;
 
 fn tier_size() -> vec2<u32> {
@@ -109,6 +110,12 @@ fn tier_arguments() {
         arguments[3u * k] = x;
         arguments[3u * k + 1u] = select(1u, (count + x - 1u) / max(x, 1u), count != 0u);
         arguments[3u * k + 2u] = 1u;
+        // The raster path: 6 vertices (a screen rectangle), one instance per element.
+        let draw = TIER_DRAW_ARGUMENTS + 4u * k;
+        arguments[draw] = 6u;
+        arguments[draw + 1u] = count;
+        arguments[draw + 2u] = 0u;
+        arguments[draw + 3u] = 0u;
     }
 }
 

@@ -53,7 +53,7 @@
 //! culling can change a point pixel (a culled grain behind the front one no longer counts),
 //! which it cannot for meshes and impostors.
 
-use glam::UVec4;
+use glam::{UVec4, Vec4};
 use grain_impostor::cloud::{AtlasBinding, CloudUniforms, GBufferBinding};
 use grain_impostor::gpu_util::storage_texture_entry;
 use grain_impostor::scene::{CameraUniforms, PIXEL_TILE};
@@ -63,8 +63,10 @@ use grain_splitter::lists::{
 use octahedral_map::ImpostorSamplingUniforms;
 
 use crate::error::RenderError;
+use crate::impostor_raster::{RasterPath, raster_depth_scale};
 use crate::inputs::ListInputs;
 use crate::shaders::{impostor_tier_32_shader, impostor_tier_64_shader, int64_capabilities};
+use crate::tier_layout::{TIER_ARGUMENT_WORDS, TIER_DRAW_ARGUMENTS};
 pub use crate::tier_layout::{
     TIER_COMPOSITE, TIER_DEPTH_SLACK, TIER_MESH, TIER_NONE, TIER_POINT_BIT, TIER_POINT_SCALE, TIER_POINT_SUMS,
     TIER_REACH, TIER_SMALL_PIXELS, TIER_STATS, TierPass, TierUniforms,
@@ -81,6 +83,18 @@ pub enum VisibilityKind {
     TwoPass32,
 }
 
+/// How the impostor lists reach the visibility buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ImpostorPath {
+    /// Compute splats (one invocation per small grain, a workgroup per large one) with the
+    /// software early-Z.
+    #[default]
+    Compute,
+    /// Sprites with a hardware depth test ([`crate::impostor_raster`]), merged into the
+    /// visibility buffer.
+    Raster,
+}
+
 /// Per-frame settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TierSettings {
@@ -91,11 +105,13 @@ pub struct TierSettings {
     /// Start from the G-buffer's depth (the mesh tier's) and write only the impostors' pixels;
     /// otherwise every pixel is written (background where no impostor covers it).
     pub composite: bool,
+    /// Compute splats or raster sprites (the point list is splatted in compute either way).
+    pub path: ImpostorPath,
 }
 
 impl Default for TierSettings {
     fn default() -> Self {
-        Self { coverage_threshold: 0.5, early_z: true, composite: true }
+        Self { coverage_threshold: 0.5, early_z: true, composite: true, path: ImpostorPath::Compute }
     }
 }
 
@@ -152,12 +168,23 @@ pub struct ImpostorTier {
     stats: wgpu::Buffer,
     arguments: wgpu::Buffer,
     point_sums: wgpu::Buffer,
+    raster: RasterPath,
 }
 
+/// The stages of the raster path's sprites and of every compute pass.
+const ALL_STAGES: wgpu::ShaderStages = wgpu::ShaderStages::COMPUTE.union(wgpu::ShaderStages::VERTEX_FRAGMENT);
+
 fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
+    // Read-only inputs are shared with the sprites; of the writable buffers only the counters
+    // are (fragment shaders may write storage, vertex shaders may not).
+    let visibility = match (ty, binding) {
+        (WRITE, TIER_STATS_BINDING) => wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
+        (WRITE, _) => wgpu::ShaderStages::COMPUTE,
+        _ => ALL_STAGES,
+    };
     wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
+        visibility,
         ty: wgpu::BindingType::Buffer {
             ty,
             has_dynamic_offset: dynamic,
@@ -174,7 +201,7 @@ fn texture_entry(
 ) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
+        visibility: ALL_STAGES,
         ty: wgpu::BindingType::Texture { sample_type, view_dimension: dimension, multisampled: false },
         count: None,
     }
@@ -183,6 +210,8 @@ fn texture_entry(
 const UNIFORM: wgpu::BufferBindingType = wgpu::BufferBindingType::Uniform;
 const READ: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: true };
 const WRITE: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: false };
+/// The binding of the counters (`stats` in the WGSL).
+const TIER_STATS_BINDING: u32 = 10;
 
 /// The number of [`TierPass`] entries: three lists (two impostor lists, the point list) ×
 /// two passes.
@@ -253,14 +282,14 @@ impl ImpostorTier {
                 buffer_entry(7, READ, false),
                 buffer_entry(8, WRITE, false),
                 buffer_entry(9, WRITE, false),
-                buffer_entry(10, WRITE, false),
+                buffer_entry(TIER_STATS_BINDING, WRITE, false),
                 texture_entry(11, float, array),
                 texture_entry(12, float, array),
                 texture_entry(13, float, array),
                 texture_entry(14, float, array),
                 wgpu::BindGroupLayoutEntry {
                     binding: 15,
-                    visibility: wgpu::ShaderStages::COMPUTE,
+                    visibility: ALL_STAGES,
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                     count: None,
                 },
@@ -321,6 +350,7 @@ impl ImpostorTier {
         let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
         let pass_stride = limits.min_uniform_buffer_offset_alignment.max(16);
         let owner_bytes = if kind == VisibilityKind::TwoPass32 { pixels * 4 } else { 16 };
+        let raster = RasterPath::new(device, &module, &layout, size);
         Ok(Self {
             size,
             kind,
@@ -338,8 +368,13 @@ impl ImpostorTier {
             visibility: buffer("tier visibility", pixels * word, storage),
             owner: buffer("tier owners", owner_bytes, storage),
             stats: buffer("tier stats", u64::from(TIER_STATS) * 4, storage),
-            arguments: buffer("tier arguments", 24, storage | wgpu::BufferUsages::INDIRECT),
+            arguments: buffer(
+                "tier arguments",
+                u64::from(TIER_ARGUMENT_WORDS) * 4,
+                storage | wgpu::BufferUsages::INDIRECT,
+            ),
             point_sums: buffer("point tier sums", sum_bytes, storage),
+            raster,
         })
     }
 
@@ -475,9 +510,11 @@ impl ImpostorTier {
         };
         queue.write_buffer(&self.cloud, 0, bytemuck::bytes_of(&cloud));
         let flags = if settings.composite { TIER_COMPOSITE } else { 0 };
+        let (depth_scale, inverse_scale) = raster_depth_scale(frame.camera)?;
         let tier = TierUniforms {
             counts: UVec4::new(frame.instance_count, flags, 0, 0),
             lists: UVec4::new(lists[0], lists[1], lists[2], 0),
+            raster: Vec4::new(depth_scale, inverse_scale, 0.0, 0.0),
         };
         queue.write_buffer(&self.tier, 0, bytemuck::bytes_of(&tier));
         let mut passes = vec![0u8; (PASS_ENTRIES * self.pass_stride) as usize];
@@ -492,19 +529,39 @@ impl ImpostorTier {
         encoder.clear_buffer(&self.stats, 0, None);
         encoder.clear_buffer(&self.point_sums, 0, None);
 
-        let mut pass = encoder
-            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("impostor tier"), timestamp_writes: None });
-        pass.set_bind_group(0, &bindings.splat, &[0]);
-        pass.set_pipeline(&self.pipelines.arguments);
-        pass.set_bind_group(1, &bindings.arguments, &[]);
-        pass.dispatch_workgroups(1, 1, 1);
         let pixel_groups = (self.size.0.div_ceil(PIXEL_TILE), self.size.1.div_ceil(PIXEL_TILE));
-        pass.set_pipeline(&self.pipelines.clear);
-        pass.set_bind_group(1, &bindings.clear, &[]);
-        pass.dispatch_workgroups(pixel_groups.0, pixel_groups.1, 1);
+        let raster = settings.path == ImpostorPath::Raster;
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("impostor tier"),
+                timestamp_writes: None,
+            });
+            pass.set_bind_group(0, &bindings.splat, &[0]);
+            pass.set_pipeline(&self.pipelines.arguments);
+            pass.set_bind_group(1, &bindings.arguments, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
+            pass.set_pipeline(&self.pipelines.clear);
+            pass.set_bind_group(1, &bindings.clear, &[]);
+            pass.dispatch_workgroups(pixel_groups.0, pixel_groups.1, 1);
+        }
+        if raster {
+            let draws = [0, 1].map(|k: u64| u64::from(TIER_DRAW_ARGUMENTS) * 4 + 16 * k);
+            self.raster.encode_draws(encoder, &bindings.splat, &self.arguments, [0, 2 * self.pass_stride], draws);
+        }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("impostor tier: visibility and resolve"),
+            timestamp_writes: None,
+        });
         let owner_passes: &[u32] = if self.kind == VisibilityKind::TwoPass32 { &[0, 1] } else { &[0] };
         for &owner_pass in owner_passes {
+            if raster {
+                pass.set_bind_group(0, &bindings.splat, &[owner_pass * self.pass_stride]);
+                self.raster.encode_merge(&mut pass, PIXEL_TILE);
+            }
             for (k, &list) in lists.iter().enumerate() {
+                if raster && list != LIST_POINT {
+                    continue;
+                }
                 let offset = (2 * k as u32 + owner_pass) * self.pass_stride;
                 pass.set_bind_group(0, &bindings.splat, &[offset]);
                 let splitter_arguments = u64::from(list * INDIRECT_WORDS + INDIRECT_DISPATCH) * 4;

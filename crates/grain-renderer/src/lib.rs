@@ -11,7 +11,9 @@
 //! `(depth << 32) | grain` per covered pixel where the adapter has 64-bit atomics, a robust
 //! two-pass 32-bit fallback elsewhere), occluder candidates first and the rest with a software
 //! early-Z (§9's double draw), work per grain by footprint, then one resolve into the screen
-//! G-buffer of `grain-impostor` — composited over the mesh tier's depth.
+//! G-buffer of `grain-impostor` — composited over the mesh tier's depth. The same lists can
+//! be drawn as sprites with a hardware depth test instead ([`ImpostorPath::Raster`]), the
+//! paper's form and the comparison, into the same visibility buffer.
 //!
 //! # Modules
 //!
@@ -20,6 +22,7 @@
 //! - [`point_threshold`]: the point tier's threshold, measured against the impostor tier.
 //! - [`mesh_tier`]: [`MeshTier`], the mesh list in one indirect draw.
 //! - [`impostor_tier`]: [`ImpostorTier`], its settings and counters.
+//! - [`impostor_raster`]: the impostor tier's raster path.
 //! - [`inputs`]: [`ListInputs`], the grains and the splitter's lists the tiers read.
 //! - [`tier_layout`]: the tier's uniform blocks and constants (generated into WGSL).
 //! - [`shaders`]: the generated declarations and the composed shaders.
@@ -27,6 +30,7 @@
 
 pub mod bench;
 pub mod error;
+pub mod impostor_raster;
 pub mod impostor_tier;
 pub mod inputs;
 pub mod mesh_tier;
@@ -36,7 +40,9 @@ pub mod shaders;
 pub mod tier_layout;
 
 pub use error::RenderError;
-pub use impostor_tier::{ImpostorTier, TierBindings, TierFrame, TierPass, TierSettings, TierUniforms, VisibilityKind};
+pub use impostor_tier::{
+    ImpostorPath, ImpostorTier, TierBindings, TierFrame, TierPass, TierSettings, TierUniforms, VisibilityKind,
+};
 pub use inputs::ListInputs;
 pub use mesh_tier::{MeshTier, MeshTierBindings};
 pub use renderer::{RendererOptions, SceneBindings, StackingCamera, StackingRenderer, Stage};

@@ -18,6 +18,8 @@ const TIER_PATH: &str = "crates/grain-renderer/shaders/impostor_tier.wgsl";
 const TIER: &str = include_str!("../shaders/impostor_tier.wgsl");
 const POINT_TIER_PATH: &str = "crates/grain-renderer/shaders/point_tier.wgsl";
 const POINT_TIER: &str = include_str!("../shaders/point_tier.wgsl");
+const RASTER_PATH: &str = "crates/grain-renderer/shaders/impostor_raster.wgsl";
+const RASTER: &str = include_str!("../shaders/impostor_raster.wgsl");
 const MESH_TIER_PATH: &str = "crates/grain-renderer/shaders/mesh_tier.wgsl";
 const MESH_TIER: &str = include_str!("../shaders/mesh_tier.wgsl");
 const VISIBILITY_64_PATH: &str = "crates/grain-renderer/shaders/tier_visibility_64.wgsl";
@@ -52,6 +54,7 @@ pub fn impostor_tier_64_shader() -> ComposedShader {
         .with_part(VISIBILITY_64_PATH, VISIBILITY_64)
         .with_part(TIER_PATH, TIER)
         .with_part(POINT_TIER_PATH, POINT_TIER)
+        .with_part(RASTER_PATH, RASTER)
 }
 
 /// The impostor tier with the two-pass 32-bit visibility buffer.
@@ -61,6 +64,7 @@ pub fn impostor_tier_32_shader() -> ComposedShader {
         .with_part(VISIBILITY_32_PATH, VISIBILITY_32)
         .with_part(TIER_PATH, TIER)
         .with_part(POINT_TIER_PATH, POINT_TIER)
+        .with_part(RASTER_PATH, RASTER)
 }
 
 /// The mesh tier: `grain-impostor`'s mesh raster (`mesh_gbuffer.wgsl`) with a vertex entry

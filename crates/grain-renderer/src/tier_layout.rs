@@ -32,6 +32,13 @@ pub const TIER_REACH: f32 = std::f32::consts::SQRT_2 * 1.000_001;
 /// is `2⁻²⁴` of them).
 pub const TIER_DEPTH_SLACK: f32 = 1.0 / 4096.0;
 
+/// Words of [`ImpostorTier`](crate::ImpostorTier)'s argument buffer: per impostor list,
+/// the dispatch of its large grains (3 words), then per impostor list the raster path's
+/// `draw_indirect` arguments (4 words: 6 vertices, one instance per element).
+pub const TIER_ARGUMENT_WORDS: u32 = 14;
+/// The first word of the raster path's draw arguments in the argument buffer.
+pub const TIER_DRAW_ARGUMENTS: u32 = 6;
+
 /// The constants the shaders share with this module.
 pub(crate) const TIER_CONSTANTS: &[GpuConst] = &[
     gpu_const!(TIER_NONE: u32),
@@ -45,6 +52,7 @@ pub(crate) const TIER_CONSTANTS: &[GpuConst] = &[
     gpu_const!(TIER_COMPOSITE: u32),
     gpu_const!(TIER_REACH: f32),
     gpu_const!(TIER_DEPTH_SLACK: f32),
+    gpu_const!(TIER_DRAW_ARGUMENTS: u32),
 ];
 
 gpu_struct! {
@@ -54,6 +62,10 @@ gpu_struct! {
         pub counts: UVec4,
         /// `(first list, second list, 0, 0)`: the splitter's list indices drawn in order.
         pub lists: UVec4,
+        /// Raster path: `(depth scale, its inverse, 0, 0)`, powers of two that map view
+        /// depths up to the far plane into the depth attachment's `[0, 1]` exactly
+        /// ([`raster_depth_scale`](crate::impostor_raster::raster_depth_scale)).
+        pub raster: Vec4,
     }
 }
 

@@ -474,6 +474,62 @@ fn culling_and_early_z_change_no_pixel_of_a_frame_and_the_mesh_tier_is_the_mesh_
     assert!(normal_error <= 3f32.sqrt() / 1024.0, "normal error {normal_error}");
 }
 
+/// A dynamic scene where a few grains move uploads only those (`update_changed`: one write
+/// pair per run of consecutive indices) and renders what a fresh upload of the moved scene
+/// renders.
+#[test]
+fn updating_only_the_moved_grains_renders_the_moved_scene() {
+    use grain_renderer::{RendererOptions, StackingCamera, StackingRenderer};
+    let gpu = gpu();
+    let scene = scene(5, grain_mesh::Ball::default().mesh().unwrap());
+    let camera = StackingCamera::perspective(scene.eye, scene.target, 0.7, SIZE, (0.05, 500.0)).unwrap();
+    let lighting = grain_renderer::renderer::pile_lighting();
+    let options = RendererOptions {
+        size: SIZE,
+        capacity: scene.grains.len() as u32,
+        mesh_above: 18.0,
+        point_below: grain_renderer::renderer::NO_POINT_TIER,
+        band: 1.0,
+        occluder_map: OccluderMapKind::Auto,
+        visibility: VisibilityKind::Auto,
+        culling: false,
+    };
+    let renderer = StackingRenderer::new(&gpu.device, &gpu.queue, &scene.mesh, &scene.atlas, options).unwrap();
+    let frame = |bindings: &grain_renderer::SceneBindings| {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        renderer.encode(&gpu.queue, &mut encoder, bindings, &camera, &lighting, TierSettings::default()).unwrap();
+        gpu.queue.submit([encoder.finish()]);
+        renderer.gbuffer().read(&gpu.device, &gpu.queue).unwrap()
+    };
+    let bindings = renderer.upload(&gpu.device, &scene.grains).unwrap();
+    let before = frame(&bindings);
+    // Grains 99 and 120..123 (on the faces the eye sees) move by half an outer radius and turn.
+    let mut moved = scene.grains.clone();
+    let mut changes = Vec::new();
+    for i in [99u32, 120, 121, 122, 123] {
+        let g = &mut moved[i as usize];
+        g.centre_scale += Vec4::new(0.5, -0.3, 0.2, 0.0) * scene.atlas.outer_radius;
+        g.rotation = (Quat::from_vec4(g.rotation) * Quat::from_rotation_y(0.7)).into();
+        changes.push((i, *g));
+    }
+    assert_eq!(renderer.update_changed(&gpu.queue, &bindings, &changes).unwrap(), 2, "two runs of indices");
+    let updated = frame(&bindings);
+    let fresh = frame(&renderer.upload(&gpu.device, &moved).unwrap());
+    let differing = (0..before.depth.len()).filter(|&i| before.depth[i] != updated.depth[i]).count();
+    println!("{differing} depths changed when 5 of {} grains moved", scene.grains.len());
+    assert!(differing > 0, "the moved grains show");
+    assert!(updated == fresh, "the updated scene renders as a fresh upload of it");
+    // Out of order, or past the scene: errors naming the indices.
+    let swapped = [changes[1], changes[0]];
+    let error = renderer.update_changed(&gpu.queue, &bindings, &swapped).unwrap_err().to_string();
+    assert!(error.contains("increasing index order: 99 after 120"), "{error}");
+    let past = [(scene.grains.len() as u32, moved[0])];
+    let error = renderer.update_changed(&gpu.queue, &bindings, &past).unwrap_err().to_string();
+    assert!(error.contains("grain 125 for a scene of 125 grains"), "{error}");
+    let error = renderer.update_range(&gpu.queue, &bindings, 124, &moved[..2]).unwrap_err().to_string();
+    assert!(error.contains("grains 124..126 for a scene of 125 grains"), "{error}");
+}
+
 /// Bad input is an error naming what is wrong, and no buffer of the tier can be mapped (a
 /// frame never waits on the CPU).
 #[test]

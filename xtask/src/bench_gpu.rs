@@ -1,4 +1,5 @@
-//! `cargo xtask bench-gpu SUBJECT [OUT_DIR] [--sizes LIST] [--frames N]`; subject `stackings`
+//! `cargo xtask bench-gpu SUBJECT [OUT_DIR] [--grains LIST] [--frames N]`; subject `stackings`
+//! (which also takes `--scene NAME`, `--obj PATH`, `--mesh-above PX`)
 //! is [`crate::bench_stackings`]. `culling`: GPU time of the
 //! occluder map and the splitter (`grain_splitter::bench`) on piles of coffee beans and of
 //! balls from `grain-scenes` at 1920×1080, in two shots (the whole pile; close, most grains outside the
@@ -37,7 +38,7 @@ const CULLINGS: [(&str, ListOrder); 5] = [
 const DEFAULT_FRAMES: u32 = 60;
 
 /// A comma-separated list of grain counts: `20k`, `1.6M`, … or plain integers.
-fn sizes(text: &str) -> Result<Vec<usize>, String> {
+fn grain_counts(text: &str) -> Result<Vec<usize>, String> {
     text.split(',')
         .map(|word| {
             let word = word.trim();
@@ -71,14 +72,19 @@ fn bean_pile(count: usize) -> Result<(Stacking, f32, f32), String> {
 
 pub fn run(args: &Args<'_>) -> Result<(), String> {
     if args.subject() == "stackings" {
-        return crate::bench_stackings::run(args, args.parse_value("sizes", sizes)?);
+        return crate::bench_stackings::run(args, args.parse_value("grains", grain_counts)?);
+    }
+    for flag in ["scene", "obj", "mesh-above"] {
+        if args.value(flag).is_some() {
+            return Err(format!("bench-gpu culling: --{flag} applies to `bench-gpu stackings` only"));
+        }
     }
     let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
     // Quoted for CSV: adapter names hold commas ("llvmpipe (LLVM 15.0.6, 256 bits)").
     let adapter = format!("\"{}\"", gpu.adapter_info().name.replace('"', "\"\""));
     let default_sizes =
         if gpu.is_software() { vec![20_000, 200_000] } else { vec![20_000, 200_000, 1_600_000, 20_000_000] };
-    let counts = args.parse_value("sizes", sizes)?.unwrap_or(default_sizes);
+    let counts = args.parse_value("grains", grain_counts)?.unwrap_or(default_sizes);
     let timed = args.parse_value("frames", positive::<u32>)?.unwrap_or(DEFAULT_FRAMES);
     let out = args.out_dir();
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;

@@ -107,8 +107,8 @@ pub const COMMANDS: &[Command] = &[
     },
     Command {
         name: "bench-gpu",
-        flags: &[value("sizes", "LIST"), value("frames", "N")],
-        exclusive: &[],
+        flags: &[value("grains", "LIST"), value("frames", "N"), value("scene", "NAME"), OBJ, value("mesh-above", "PX")],
+        exclusive: &[("obj", "scene")],
         positional: Positional::SubjectThenOutDir(&["culling", "stackings"]),
         run: bench_gpu::run,
     },

@@ -47,12 +47,6 @@ impl Options {
         let grain = |name: &str| {
             GRAINS.into_iter().find(|g| *g == name).ok_or_else(|| format!("expected one of {}", GRAINS.join(", ")))
         };
-        let pixels = |text: &str| {
-            text.parse::<f32>()
-                .ok()
-                .filter(|v| v.is_finite() && *v > 0.0)
-                .ok_or_else(|| format!("`{text}` is not a positive number of pixels"))
-        };
         Ok(Self {
             out: args.out_dir(),
             obj: args.value("obj").map(PathBuf::from),
@@ -102,13 +96,11 @@ pub(crate) fn dolly(shots: &[Shot; 3], k: u32, frames: u32, size: (u32, u32)) ->
         .map_err(|e| e.to_string())
 }
 
-/// A pile of `count` grains of `mesh` ([`pile`]) as instances, and the grain's atlas
-/// (n = 8, p = 64).
-pub(crate) fn scene(
-    gpu: &gpu_harness::Gpu,
+/// A pile of `count` grains of `mesh` ([`pile`]) and its instances.
+pub(crate) fn pile_instances(
     count: usize,
     mesh: &grain_mesh::GrainMesh,
-) -> Result<(Stacking, Vec<GrainInstance>, ImpostorAtlas), String> {
+) -> Result<(Stacking, Vec<GrainInstance>), String> {
     let bounds = mesh.bounds();
     let (inner, outer) = (bounds.occluder_radius(), bounds.outer_radius);
     let stacking = pile(count, inner.max(1e-6 * outer), outer)?;
@@ -118,10 +110,52 @@ pub(crate) fn scene(
         .zip(stacking.rotation())
         .map(|(c, q)| GrainInstance::new(c.truncate(), c.w, Quat::from_vec4(*q)))
         .collect();
+    Ok((stacking, grains))
+}
+
+/// The grain's atlas (n = 8, p = 64).
+pub(crate) fn bake_atlas(gpu: &gpu_harness::Gpu, mesh: &grain_mesh::GrainMesh) -> Result<ImpostorAtlas, String> {
     let settings = BakeSettings { progress: Progress::Hidden, ..BakeSettings::new(8, 64) };
     let baker = Baker::new(&gpu.device).map_err(|e| e.to_string())?;
-    let atlas = baker.bake(&gpu.device, &gpu.queue, mesh, &settings).map_err(|e| e.to_string())?;
-    Ok((stacking, grains, atlas))
+    baker.bake(&gpu.device, &gpu.queue, mesh, &settings).map_err(|e| e.to_string())
+}
+
+/// A pile of `count` grains of `mesh` ([`pile_instances`]) and the grain's atlas
+/// ([`bake_atlas`]).
+pub(crate) fn scene(
+    gpu: &gpu_harness::Gpu,
+    count: usize,
+    mesh: &grain_mesh::GrainMesh,
+) -> Result<(Stacking, Vec<GrainInstance>, ImpostorAtlas), String> {
+    let (stacking, grains) = pile_instances(count, mesh)?;
+    Ok((stacking, grains, bake_atlas(gpu, mesh)?))
+}
+
+/// The mesh threshold (pixels of projected diameter): `given` (`--mesh-above`), else the
+/// measured impostor table's for a procedural grain (SSIM loss ≤ 0.05); an OBJ grain has no
+/// measured table, so it must be given.
+pub(crate) fn mesh_threshold(given: Option<f32>, obj: Option<&Path>, name: &str) -> Result<f32, String> {
+    match (given, obj) {
+        (Some(pixels), _) => Ok(pixels),
+        (None, Some(path)) => Err(format!(
+            "{}: no measured impostor table for an OBJ grain; give its mesh threshold with --mesh-above PX",
+            path.display()
+        )),
+        (None, None) => {
+            let rows = grain_impostor::choice::measured_accuracy()?;
+            Ok(TierThresholds::from_impostor_table(&rows, name, 0.05, NO_POINT_TIER, 1.1)
+                .map_err(|e| e.to_string())?
+                .mesh_above())
+        }
+    }
+}
+
+/// A positive number of pixels (`--mesh-above`).
+pub(crate) fn pixels(text: &str) -> Result<f32, String> {
+    text.parse::<f32>()
+        .ok()
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .ok_or_else(|| format!("`{text}` is not a positive number of pixels"))
 }
 
 fn write(path: &Path, text: &str) -> Result<(), String> {
@@ -134,21 +168,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     let (name, mesh) = load_grain(options.obj.as_deref(), options.grain)?;
     let bounds = mesh.bounds();
     let (inner, outer) = (bounds.occluder_radius(), bounds.outer_radius);
-    let mesh_above = match (options.mesh_above, &options.obj) {
-        (Some(pixels), _) => pixels,
-        (None, Some(path)) => {
-            return Err(format!(
-                "{}: no measured impostor table for an OBJ grain; give its mesh threshold with --mesh-above PX",
-                path.display()
-            ));
-        }
-        (None, None) => {
-            let rows = grain_impostor::choice::measured_accuracy()?;
-            TierThresholds::from_impostor_table(&rows, &name, 0.05, NO_POINT_TIER, 1.1)
-                .map_err(|e| e.to_string())?
-                .mesh_above()
-        }
-    };
+    let mesh_above = mesh_threshold(options.mesh_above, options.obj.as_deref(), &name)?;
     std::fs::create_dir_all(&options.out).map_err(|e| format!("cannot create {}: {e}", options.out.display()))?;
     let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
     println!(

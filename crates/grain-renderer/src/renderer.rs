@@ -158,6 +158,16 @@ impl StackingRenderer {
         atlas: &ImpostorAtlas,
         options: RendererOptions,
     ) -> Result<Self, RenderError> {
+        let limits = device.limits();
+        let storage_limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        let instance_bytes = u64::from(options.capacity) * size_of::<GrainInstance>() as u64;
+        if instance_bytes > storage_limit {
+            return Err(RenderError::TooLarge {
+                what: "grain instance bytes (capacity × instance size)",
+                requested: instance_bytes,
+                limit: storage_limit,
+            });
+        }
         let mesh_tier = MeshTier::new(device, options.size, mesh)?;
         let thresholds =
             TierThresholds::new(options.point_below, options.mesh_above, options.band).map_err(|e| match e {
@@ -272,8 +282,8 @@ impl StackingRenderer {
         Ok(SceneBindings { centres, instances, count, split, mesh, impostor })
     }
 
-    /// Rewrites the grains of `scene` (dynamic scenes: positions and orientations change
-    /// every frame); as many as it holds.
+    /// Rewrites every grain of `scene` (dynamic scenes where all grains move each frame);
+    /// `grains` holds as many as the scene.
     pub fn update(
         &self,
         queue: &wgpu::Queue,
@@ -283,10 +293,65 @@ impl StackingRenderer {
         if grains.len() != scene.count as usize {
             return Err(RenderError::InvalidInput(format!("{} grains for a scene of {}", grains.len(), scene.count)));
         }
+        self.update_range(queue, scene, 0, grains)
+    }
+
+    /// Rewrites grains `first .. first + grains.len()` of `scene` and nothing else (two buffer
+    /// writes: the splitter's centres and the instances).
+    pub fn update_range(
+        &self,
+        queue: &wgpu::Queue,
+        scene: &SceneBindings,
+        first: u32,
+        grains: &[GrainInstance],
+    ) -> Result<(), RenderError> {
+        let end = u64::from(first) + grains.len() as u64;
+        if end > u64::from(scene.count) {
+            return Err(RenderError::InvalidInput(format!(
+                "grains {first}..{end} for a scene of {} grains",
+                scene.count
+            )));
+        }
         let centres: Vec<Vec4> = grains.iter().map(|g| g.centre_scale).collect();
-        queue.write_buffer(&scene.centres, 0, bytemuck::cast_slice(&centres));
-        queue.write_buffer(&scene.instances, 0, bytemuck::cast_slice(grains));
+        let at = u64::from(first);
+        queue.write_buffer(&scene.centres, at * size_of::<Vec4>() as u64, bytemuck::cast_slice(&centres));
+        queue.write_buffer(&scene.instances, at * size_of::<GrainInstance>() as u64, bytemuck::cast_slice(grains));
         Ok(())
+    }
+
+    /// Rewrites only the grains that changed: `changes` lists `(index, new state)` in
+    /// increasing index order; each run of consecutive indices is one [`update_range`]
+    /// (so a frame where few grains move uploads only those). Returns the number of runs.
+    ///
+    /// [`update_range`]: StackingRenderer::update_range
+    pub fn update_changed(
+        &self,
+        queue: &wgpu::Queue,
+        scene: &SceneBindings,
+        changes: &[(u32, GrainInstance)],
+    ) -> Result<usize, RenderError> {
+        if let Some(w) = changes.windows(2).find(|w| w[1].0 <= w[0].0) {
+            return Err(RenderError::InvalidInput(format!(
+                "changed grains must be listed in increasing index order: {} after {}",
+                w[1].0, w[0].0
+            )));
+        }
+        if let Some(&(last, _)) = changes.last().filter(|(i, _)| *i >= scene.count) {
+            return Err(RenderError::InvalidInput(format!("grain {last} for a scene of {} grains", scene.count)));
+        }
+        let mut runs = 0;
+        let mut start = 0;
+        while start < changes.len() {
+            let mut end = start + 1;
+            while end < changes.len() && changes[end].0 == changes[end - 1].0 + 1 {
+                end += 1;
+            }
+            let grains: Vec<GrainInstance> = changes[start..end].iter().map(|(_, g)| *g).collect();
+            self.update_range(queue, scene, changes[start].0, &grains)?;
+            runs += 1;
+            start = end;
+        }
+        Ok(runs)
     }
 
     /// Records one frame: every [`Stage`] in order — split, mesh tier, impostor tier

@@ -107,13 +107,12 @@ pub fn ssim_luma(width: u32, height: u32, reference: &[f64], test: &[f64]) -> Re
         })
         .collect();
 
-    // numpy's mean of the cropped view: each row's pairwise sum added in turn.
+    // scikit-image's `crop(S, pad).mean()`: numpy's pairwise sum of the cropped values in
+    // row-major order, divided by their count.
     let pad = SSIM_WINDOW_RADIUS as usize;
-    let mut sum = 0.0;
-    for row in map.chunks_exact(w).skip(pad).take(h - 2 * pad) {
-        sum += pairwise_sum(&row[pad..w - pad]);
-    }
-    let mean = sum / ((w - 2 * pad) * (h - 2 * pad)) as f64;
+    let cropped: Vec<f64> =
+        map.chunks_exact(w).skip(pad).take(h - 2 * pad).flat_map(|row| &row[pad..w - pad]).copied().collect();
+    let mean = pairwise_sum(&cropped) / cropped.len() as f64;
     let map = SsimMap::from_raw(width, height, map).expect("one value per pixel");
     Ok(Ssim { mean, map })
 }

@@ -13,9 +13,10 @@ pub enum MetricError {
         /// The test's `(width, height)`.
         test: (u32, u32),
     },
-    /// The images are smaller than the metric needs (SSIM: its 11 × 11 window).
+    /// The images are smaller than the metric needs (SSIM: its 11 × 11 window; ꟻLIP: one
+    /// pixel).
     TooSmall {
-        /// The metric (`"SSIM"`).
+        /// The metric (`"SSIM"`, `"FLIP"`).
         metric: &'static str,
         /// The images' `(width, height)`.
         size: (u32, u32),

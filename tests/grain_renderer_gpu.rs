@@ -37,8 +37,13 @@ struct Scene {
 /// A jittered pile of `n³` grains of `mesh` with random orientations and scales, outer balls
 /// overlapping (spacing 1.6 R), so that grains occlude each other.
 fn scene(n: u32, mesh: grain_mesh::GrainMesh) -> Scene {
+    scene_with_atlas(n, mesh, (4, 32))
+}
+
+/// [`scene`] with an atlas of `views × views` views of `texels` texels a side.
+fn scene_with_atlas(n: u32, mesh: grain_mesh::GrainMesh, (views, texels): (u32, u32)) -> Scene {
     let gpu = gpu();
-    let settings = BakeSettings { progress: Progress::Hidden, ..BakeSettings::new(4, 32) };
+    let settings = BakeSettings { progress: Progress::Hidden, ..BakeSettings::new(views, texels) };
     let atlas = Baker::new(&gpu.device).unwrap().bake(&gpu.device, &gpu.queue, &mesh, &settings).unwrap();
     let textures = AtlasTextures::upload(&gpu.device, &gpu.queue, &atlas).unwrap();
     let outer = atlas.outer_radius;
@@ -528,6 +533,88 @@ fn updating_only_the_moved_grains_renders_the_moved_scene() {
     assert!(error.contains("grain 125 for a scene of 125 grains"), "{error}");
     let error = renderer.update_range(&gpu.queue, &bindings, 124, &moved[..2]).unwrap_err().to_string();
     assert!(error.contains("grains 124..126 for a scene of 125 grains"), "{error}");
+}
+
+/// The multiscale renderer along a dolly from 200-pixel to 2-pixel grains, frame by frame
+/// against every grain as a mesh 4 × 4 supersampled (standard SSIM and ꟻLIP), and two slow
+/// dollies across the tier thresholds (meshes ↔ impostors, impostors ↔ points) where no frame
+/// may spike (`frame_accuracy::spikes`: more than half of a full pop).
+#[test]
+fn the_multiscale_dolly_is_measured_per_frame_and_no_tier_switch_spikes() {
+    use grain_renderer::frame_accuracy::{measure_frames, spikes};
+    use grain_renderer::mesh_reference::MeshReference;
+    use grain_renderer::{RendererOptions, StackingCamera, StackingRenderer};
+    let gpu = gpu();
+    // The atlas the measured impostor table's threshold is for (n = 8, p = 64, as `cargo
+    // xtask stackings` bakes).
+    let scene = scene_with_atlas(10, grain_mesh::CoffeeBean::default().mesh().unwrap(), (8, 64));
+    let rows = grain_impostor::choice::measured_accuracy().unwrap();
+    // The mesh threshold of the measured impostor table (SSIM loss ≤ 0.05); the point
+    // threshold `cargo xtask stackings` measures on its bean pile (2 px), taken as a setting.
+    let thresholds = TierThresholds::from_impostor_table(&rows, "bean", 0.05, 2.0, 1.1).unwrap();
+    let options = RendererOptions {
+        size: SIZE,
+        capacity: scene.grains.len() as u32,
+        mesh_above: thresholds.mesh_above(),
+        point_below: thresholds.point_below(),
+        band: 1.1,
+        occluder_map: OccluderMapKind::Auto,
+        visibility: VisibilityKind::Auto,
+        culling: true,
+    };
+    let lighting = grain_renderer::renderer::pile_lighting();
+    let truth = MeshReference::new(&gpu.device, &scene.mesh, &scene.grains, SIZE).unwrap();
+    let focal = 0.5 * SIZE.1 as f32 / (0.5f32 * 0.7).tan();
+    let direction = (scene.eye - scene.target).normalize();
+    // A camera at which a grain of scale 1 at the target is `diameter` pixels across.
+    let camera = |diameter: f32| {
+        let distance = focal * 2.0 * scene.atlas.outer_radius / diameter;
+        let eye = scene.target + direction * distance;
+        (StackingCamera::perspective(eye, scene.target, 0.7, SIZE, (1e-3 * distance, 500.0)).unwrap(), diameter)
+    };
+    let run = |diameters: Vec<f32>| {
+        let renderer = StackingRenderer::new(&gpu.device, &gpu.queue, &scene.mesh, &scene.atlas, options).unwrap();
+        let bindings = renderer.upload(&gpu.device, &scene.grains).unwrap();
+        let cameras: Vec<_> = diameters.into_iter().map(camera).collect();
+        let settings = TierSettings::default();
+        measure_frames(gpu, &renderer, &bindings, &truth, &cameras, &lighting, settings, |_, _, _| Ok(())).unwrap()
+    };
+    println!("meshes above {:.1} px, points below {:.1} px", thresholds.mesh_above(), thresholds.point_below());
+    let dolly = run((0..7).map(|k| 200.0 * 0.01f32.powf(k as f32 / 6.0)).collect());
+    for f in &dolly {
+        println!(
+            "  {:6.1} px: lists {:?}, SSIM {:.4}, FLIP {:.4}, mean error {:.4}",
+            f.label, f.lists, f.ssim, f.flip, f.error
+        );
+    }
+    // Every tier is drawn somewhere along the dolly.
+    for list in [0, 3] {
+        assert!(dolly.iter().any(|f| f.lists[list] > 0), "list {list} is drawn on the dolly");
+    }
+    assert!(dolly.iter().any(|f| f.lists[1] + f.lists[2] > 0), "impostors are drawn on the dolly");
+    // Pins against regressions (measured on lavapipe 2026-12-02, not bounds from a property):
+    // whole-frame SSIM ≥ 0.8 and mean ꟻLIP ≤ 0.2 at every frame.
+    for f in &dolly {
+        assert!(f.ssim >= 0.8 && f.flip <= 0.2, "{:.1} px: SSIM {:.4}, FLIP {:.4}", f.label, f.ssim, f.flip);
+    }
+    let mut switched = 0;
+    for (name, threshold) in [("meshes ↔ impostors", thresholds.mesh_above()), ("impostors ↔ points", 2.0)] {
+        // 10 frames from 25 % above the threshold to 25 % below, 2.5 % apart.
+        let frames = run((0..10).map(|k| threshold * 1.25 * 0.6f32.powf(k as f32 / 9.0)).collect());
+        for f in &frames {
+            println!(
+                "  {name} {:6.2} px: lists {:?}, mean error {:.4}, popping {:?}",
+                f.label,
+                f.lists,
+                f.error,
+                f.popping()
+            );
+        }
+        assert_ne!(frames[0].lists, frames[9].lists, "{name}: grains change tier across the threshold");
+        assert!(spikes(&frames).is_empty(), "{name}: frames {:?} spike", spikes(&frames));
+        switched += 1;
+    }
+    assert_eq!(switched, 2);
 }
 
 /// Bad input is an error naming what is wrong, and no buffer of the tier can be mapped (a

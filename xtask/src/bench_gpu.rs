@@ -37,17 +37,18 @@ const CULLINGS: [(&str, ListOrder); 5] = [
 /// Timed frames by default (the issue asks for the median of at least 50).
 const DEFAULT_FRAMES: u32 = 60;
 
-/// A comma-separated list of grain counts: `20k`, `1.6M`, … or plain integers.
+/// A grain count: a paper size (`20k`, `200k`, `1.6M`, `20M`) or a positive integer.
+pub(crate) fn grain_count(word: &str) -> Result<usize, String> {
+    let word = word.trim();
+    StackingSize::from_str(word)
+        .map(|size| size.count())
+        .or_else(|_| positive::<usize>(word))
+        .map_err(|_| format!("`{word}` is neither a paper size (20k, 200k, 1.6M, 20M) nor a positive integer"))
+}
+
+/// A comma-separated list of grain counts ([`grain_count`]).
 fn grain_counts(text: &str) -> Result<Vec<usize>, String> {
-    text.split(',')
-        .map(|word| {
-            let word = word.trim();
-            StackingSize::from_str(word)
-                .map(|size| size.count())
-                .or_else(|_| positive::<usize>(word))
-                .map_err(|_| format!("`{word}` is neither a paper size (20k, 200k, 1.6M, 20M) nor a positive integer"))
-        })
-        .collect()
+    text.split(',').map(grain_count).collect()
 }
 
 /// A pile of balls (`r = R = 1`): the pile of `cargo xtask culling-chart`, where the cone and

@@ -199,9 +199,10 @@ pub const COMMANDS: &[Command] = &[
             value("grain", "NAME"),
             value("mesh-above", "PX"),
             switch("shake"),
+            switch("accuracy"),
             QUICK,
         ],
-        exclusive: &[("obj", "grain")],
+        exclusive: &[("obj", "grain"), ("shake", "accuracy")],
         positional: Positional::OutDir("target/stackings"),
         run: stackings::run,
     },
@@ -244,7 +245,7 @@ fn showcase(args: &Args<'_>) -> Result<(), String> {
     run_command("ddm-render", &[&out_text, "--quick"])?;
     abuffer_chart::run(&out)?;
     run_command("culling-chart", &[&out_text, "--quick"])?;
-    run_command("stackings", &[&out_text, "--quick"])?;
+    run_command("stackings", &[&out_text, "--quick", "--accuracy"])?;
     run_command("fig9", &[&out_text, "--quick"])
 }
 

@@ -1,5 +1,5 @@
 //! `cargo xtask stackings [OUT_DIR] [--grains COUNT] [--frames K] [--obj PATH | --grain NAME]
-//! [--mesh-above PX] [--shake] [--quick]`: the multiscale renderer (`grain-renderer`) on a pile
+//! [--mesh-above PX] [--shake | --accuracy] [--quick]`: the multiscale renderer (`grain-renderer`) on a pile
 //! from `grain-scenes` — a backward dolly from a close view to the whole pile (paper Fig. 9),
 //! with `--shake` every grain moving and turning each frame (`grain_scenes::Shake`, uploaded
 //! per frame) — written as PNG frames, with the per-stage breakdown printed and written to
@@ -9,6 +9,12 @@
 //! SSIM loss ≤ 0.05) for the procedural grains; an OBJ grain has no measured table, so
 //! `--mesh-above` must say it (pixels of projected diameter). The point threshold is measured
 //! on the pile itself before the dolly (`grain_renderer::point_threshold`, same budget).
+//!
+//! With `--accuracy` the dolly runs again with a fresh renderer, each frame against every
+//! grain as a mesh 4×4 supersampled (`grain_renderer::frame_accuracy`): standard SSIM, ꟻLIP,
+//! mean error and popping per frame in `accuracy.csv`, the reference and the ꟻLIP map as
+//! `reference_KK.png` and `flip_KK.png`. `COUNT` may be a paper size (`1.6M`, `20M`); a count
+//! whose buffers exceed the adapter's limits is an error naming the limit.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -38,6 +44,7 @@ pub struct Options {
     frames: u32,
     mesh_above: Option<f32>,
     shake: bool,
+    accuracy: bool,
     size: (u32, u32),
 }
 
@@ -51,10 +58,15 @@ impl Options {
             out: args.out_dir(),
             obj: args.value("obj").map(PathBuf::from),
             grain: args.parse_value("grain", grain)?.unwrap_or("bean"),
-            count: args.parse_value("grains", positive::<usize>)?.unwrap_or(if quick { 5_000 } else { 20_000 }),
+            count: args.parse_value("grains", crate::bench_gpu::grain_count)?.unwrap_or(if quick {
+                5_000
+            } else {
+                20_000
+            }),
             frames: args.parse_value("frames", positive::<u32>)?.unwrap_or(if quick { 3 } else { 6 }),
             mesh_above: args.parse_value("mesh-above", pixels)?,
             shake: args.flag("shake"),
+            accuracy: args.flag("accuracy"),
             size: if quick { (480, 270) } else { (960, 540) },
         })
     }
@@ -305,6 +317,95 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         "wrote {} frames and stackings.csv into {} in {:.1} s",
         options.frames,
         options.out.display(),
+        started.elapsed().as_secs_f64()
+    );
+    if options.accuracy {
+        let cameras = (0..options.frames)
+            .map(|k| {
+                let camera = dolly(&shots, k, options.frames, options.size)?;
+                let distance = (camera.uniforms.eye.truncate() - shots[0].target).length();
+                Ok((camera, grain_diameter(&camera, outer, distance)))
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        accuracy(&gpu, &options, &mesh, &atlas, &grains, renderer_options, &cameras, &lighting)?;
+    }
+    Ok(())
+}
+
+/// The projected diameter (pixels) of a grain of scale 1 and outer radius `outer` at
+/// `distance` from the eye of `camera` (its focal length in pixels times `2·outer/distance`).
+fn grain_diameter(camera: &StackingCamera, outer: f32, distance: f32) -> f32 {
+    camera.split.projection.x * 2.0 * outer / distance
+}
+
+/// `--accuracy`: the dolly again with a fresh renderer, each frame against every grain as a
+/// mesh 4×4 supersampled (`grain_renderer::frame_accuracy`): `reference_KK.png`,
+/// `flip_KK.png` and `accuracy.csv`.
+#[allow(clippy::too_many_arguments)]
+fn accuracy(
+    gpu: &gpu_harness::Gpu,
+    options: &Options,
+    mesh: &grain_mesh::GrainMesh,
+    atlas: &ImpostorAtlas,
+    grains: &[GrainInstance],
+    renderer_options: RendererOptions,
+    cameras: &[(StackingCamera, f32)],
+    lighting: &ShadingUniforms,
+) -> Result<(), String> {
+    use grain_renderer::frame_accuracy::{measure_frames, spikes};
+    let started = Instant::now();
+    let renderer =
+        StackingRenderer::new(&gpu.device, &gpu.queue, mesh, atlas, renderer_options).map_err(|e| e.to_string())?;
+    let scene = renderer.upload(&gpu.device, grains).map_err(|e| e.to_string())?;
+    let truth = grain_renderer::mesh_reference::MeshReference::new(&gpu.device, mesh, grains, options.size)
+        .map_err(|e| e.to_string())?;
+    println!("  accuracy: each frame against every grain as a mesh, 4×4 supersampled");
+    let save = |name: String, image: &dyn Fn(&Path) -> image::ImageResult<()>| {
+        let path = options.out.join(name);
+        image(&path)
+            .map_err(|e| grain_renderer::RenderError::InvalidInput(format!("cannot write {}: {e}", path.display())))
+    };
+    let frames =
+        measure_frames(gpu, &renderer, &scene, &truth, cameras, lighting, TierSettings::default(), |k, f, images| {
+            println!(
+                "  frame {k} ({:.1} px grains): SSIM {:.4}, FLIP {:.4}, mean error {:.4}, popping {}; lists {:?}",
+                f.label,
+                f.ssim,
+                f.flip,
+                f.error,
+                f.popping().map_or_else(|| "-".to_owned(), |p| format!("{p:+.4}")),
+                f.lists
+            );
+            save(format!("reference_{k:02}.png"), &|p| images.reference.save(p))?;
+            save(format!("flip_{k:02}.png"), &|p| images.flip_map.save(p))
+        })
+        .map_err(|e| e.to_string())?;
+    let spiking = spikes(&frames);
+    let mut csv = String::from(
+        "frame,grain_diameter_px,mesh,impostor_occluder,impostor_rest,point,ssim,flip,mean_error,change,reference_change,popping,spike\n",
+    );
+    for (k, f) in frames.iter().enumerate() {
+        let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.6}"));
+        let _ = writeln!(
+            csv,
+            "{k},{:.3},{},{},{},{},{:.6},{:.6},{:.6},{},{},{},{}",
+            f.label,
+            f.lists[0],
+            f.lists[1],
+            f.lists[2],
+            f.lists[3],
+            f.ssim,
+            f.flip,
+            f.error,
+            opt(f.change),
+            opt(f.reference_change),
+            opt(f.popping()),
+            spiking.contains(&k)
+        );
+    }
+    write(&options.out.join("accuracy.csv"), &csv)?;
+    println!(
+        "  accuracy.csv, reference and FLIP images in {:.1} s; frames spiking (popping > half a full pop): {spiking:?}",
         started.elapsed().as_secs_f64()
     );
     Ok(())

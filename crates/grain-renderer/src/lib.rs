@@ -20,6 +20,8 @@
 //! - [`renderer`]: [`StackingRenderer`], every pass of a frame built once.
 //! - [`bench`](mod@bench): a frame timed stage by stage.
 //! - [`point_threshold`]: the point tier's threshold, measured against the impostor tier.
+//! - [`frame_accuracy`]: whole-frame SSIM and ꟻLIP along a camera path, and popping.
+//! - [`mesh_reference`]: the ground truth, every grain a mesh 4 × 4 supersampled.
 //! - [`mesh_tier`]: [`MeshTier`], the mesh list in one indirect draw.
 //! - [`impostor_tier`]: [`ImpostorTier`], its settings and counters.
 //! - [`impostor_raster`]: the impostor tier's raster path.
@@ -30,9 +32,11 @@
 
 pub mod bench;
 pub mod error;
+pub mod frame_accuracy;
 pub mod impostor_raster;
 pub mod impostor_tier;
 pub mod inputs;
+pub mod mesh_reference;
 pub mod mesh_tier;
 pub mod point_threshold;
 pub mod renderer;

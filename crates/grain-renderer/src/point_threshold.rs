@@ -15,16 +15,14 @@
 //! diameter; `None` when not even at the smallest.
 
 use glam::Vec3;
-use grain_impostor::accuracy::REFERENCE_SUPERSAMPLING;
 use grain_impostor::accuracy::{ImageError, compare_images};
 use grain_impostor::atlas::ImpostorAtlas;
-use grain_impostor::mesh_gbuffer::{GpuMesh, MeshGbufferPass, ScreenGbuffer};
-use grain_impostor::scene::{GrainInstance, ShadingUniforms};
-use grain_impostor::shading::ShadingPass;
+use grain_impostor::scene::GrainInstance;
 use grain_splitter::OccluderMapKind;
 
 use crate::error::RenderError;
 use crate::impostor_tier::{TierSettings, VisibilityKind};
+use crate::mesh_reference::MeshReference;
 use crate::renderer::{NO_POINT_TIER, RendererOptions, StackingCamera, StackingRenderer};
 
 /// The vertical field of view of the measurement.
@@ -104,25 +102,9 @@ pub fn measure(
     let impostors = StackingRenderer::new(device, queue, mesh, atlas, base)?;
     let points = StackingRenderer::new(device, queue, mesh, atlas, RendererOptions { point_below: 1e5, ..base })?;
     let impostor_scene = impostors.upload(device, grains)?;
-    let mesh_pass = MeshGbufferPass::new(device).map_err(|e| error(&e))?;
-    let shading = ShadingPass::new(device).map_err(|e| error(&e))?;
-    let gpu_mesh = GpuMesh::upload(device, mesh).map_err(|e| error(&e))?;
-    let centre = mesh.bounds().centre;
-    let placed: Vec<GrainInstance> = grains
-        .iter()
-        .map(|g| {
-            let rotation = glam::Quat::from_vec4(g.rotation);
-            GrainInstance::new(
-                g.centre_scale.truncate() - rotation * (g.centre_scale.w * centre),
-                g.centre_scale.w,
-                rotation,
-            )
-        })
-        .collect();
+    let truth = MeshReference::new(device, mesh, grains, size)?;
     let point_scene = points.upload(device, grains)?;
-    let lighting =
-        ShadingUniforms::new(Vec3::new(0.4, 1.0, 0.6), Vec3::splat(2.6), Vec3::splat(0.25), Vec3::splat(0.1))
-            .ok_or_else(|| RenderError::InvalidInput("zero light direction".into()))?;
+    let lighting = crate::renderer::pile_lighting();
     let focal = 0.5 * size.1 as f32 / (0.5 * MEASURE_FOV_Y).tan();
     let mut rows = Vec::with_capacity(diameters.len());
     for &diameter in diameters {
@@ -142,14 +124,7 @@ pub fn measure(
         };
         let impostor_image = render(&impostors, &impostor_scene)?;
         let point_image = render(&points, &point_scene)?;
-        let gbuffer = ScreenGbuffer::new(device, size).map_err(|e| error(&e))?;
-        mesh_pass
-            .render(device, queue, &gpu_mesh, &camera.uniforms, &placed, REFERENCE_SUPERSAMPLING, &gbuffer)
-            .map_err(|e| error(&e))?;
-        let target = shading.create_target(device, &gbuffer).map_err(|e| error(&e))?;
-        shading.shade(device, queue, &camera.uniforms, &lighting, &gbuffer, &target).map_err(|e| error(&e))?;
-        let reference = grain_impostor::shading::read_image(device, queue, &target).map_err(|e| error(&e))?;
-        let coverage = gbuffer.read(device, queue).map_err(|e| error(&e))?;
+        let (reference, coverage) = truth.render(device, queue, &camera, &lighting)?;
         let covered = |i: usize| coverage.normal_coverage[i].w > 0.0;
         let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
         for y in 0..size.1 {

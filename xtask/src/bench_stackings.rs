@@ -194,15 +194,12 @@ impl Row {
     fn measure(gpu: &gpu_harness::Gpu, renderer: &StackingRenderer, samples: &[StageTimes]) -> Result<Self, String> {
         let stage_ms = (0..Stage::ALL.len()).map(|s| median(samples.iter().map(|t| t.ms[s]).collect())).collect();
         let total = median(samples.iter().map(StageTimes::total).collect());
-        let counters = gpu
-            .read_buffer(renderer.splitter().counters(), size_of::<SplitCounters>() as u64)
-            .map_err(|e| e.to_string())?;
         let stats =
             gpu.read_buffer(renderer.impostor_tier().stats(), u64::from(TIER_STATS) * 4).map_err(|e| e.to_string())?;
         Ok(Self {
             stage_ms,
             total,
-            counters: bytemuck::pod_read_unaligned(&counters),
+            counters: renderer.read_counters(gpu).map_err(|e| e.to_string())?,
             stats: bytemuck::pod_read_unaligned(&stats),
         })
     }

@@ -29,7 +29,7 @@ use grain_renderer::renderer::NO_POINT_TIER;
 use grain_renderer::{RendererOptions, StackingCamera, StackingRenderer, Stage, TierSettings, VisibilityKind};
 use grain_scenes::{GrainRadii, Region, Stacking, StackingSpec};
 use grain_splitter::sweep::Shot;
-use grain_splitter::{OccluderMapKind, SplitCounters, TierThresholds};
+use grain_splitter::{OccluderMapKind, TierThresholds};
 
 use crate::cli::{Args, positive};
 use crate::impostor_cloud::{GRAINS, load_grain};
@@ -275,10 +275,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         }
         let times = time_frame(&gpu, &renderer, &scene, &camera, &lighting, TierSettings::default())
             .map_err(|e| e.to_string())?;
-        let counters: SplitCounters = bytemuck::pod_read_unaligned(
-            &gpu.read_buffer(renderer.splitter().counters(), size_of::<SplitCounters>() as u64)
-                .map_err(|e| e.to_string())?,
-        );
+        let counters = renderer.read_counters(&gpu).map_err(|e| e.to_string())?;
         let image = grain_impostor::shading::read_image(&gpu.device, &gpu.queue, renderer.image())
             .map_err(|e| e.to_string())?;
         let path = options.out.join(format!("stackings_{k:02}.png"));

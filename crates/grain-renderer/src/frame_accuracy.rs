@@ -23,7 +23,6 @@
 
 use gpu_harness::Gpu;
 use grain_impostor::scene::ShadingUniforms;
-use grain_splitter::SplitCounters;
 use image::RgbaImage;
 
 use crate::error::RenderError;
@@ -99,10 +98,7 @@ pub fn measure_frames(
         queue.submit([encoder.finish()]);
         let render = grain_impostor::shading::read_image(device, queue, renderer.image())
             .map_err(|e| RenderError::InvalidInput(e.to_string()))?;
-        let counters: SplitCounters = bytemuck::pod_read_unaligned(
-            &gpu.read_buffer(renderer.splitter().counters(), size_of::<SplitCounters>() as u64)
-                .map_err(|e| RenderError::InvalidInput(e.to_string()))?,
-        );
+        let counters = renderer.read_counters(gpu)?;
         let (reference, _) = truth.render(device, queue, camera, lighting)?;
         let ssim = image_metrics::ssim(&reference, &render).map_err(metric)?;
         let flip = image_metrics::flip(&reference, &render).map_err(metric)?;

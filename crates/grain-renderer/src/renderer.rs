@@ -10,8 +10,8 @@ use grain_impostor::mesh_gbuffer::ScreenGbuffer;
 use grain_impostor::scene::{CameraUniforms, GrainInstance, ShadingUniforms};
 use grain_impostor::shading::{ShadingBindings, ShadingPass};
 use grain_splitter::{
-    GrainSplitter, ListOrder, OccluderMapKind, SplitBindings, SplitCamera, SplitSettings, SplitterOptions,
-    TierThresholds,
+    GrainSplitter, ListOrder, OccluderMapKind, SplitBindings, SplitCamera, SplitCounters, SplitSettings,
+    SplitterOptions, TierThresholds,
 };
 use octahedral_map::{ImpostorSampler, ImpostorSamplingUniforms, SamplingMode, ViewSelection};
 
@@ -404,6 +404,13 @@ impl StackingRenderer {
                 Ok(())
             }
         }
+    }
+
+    /// Reads back the splitter's counters of the last submitted frame (waits for the GPU:
+    /// for measurements between frames, never inside one).
+    pub fn read_counters(&self, gpu: &gpu_harness::Gpu) -> Result<SplitCounters, RenderError> {
+        let bytes = gpu.read_buffer(self.splitter.counters(), size_of::<SplitCounters>() as u64).map_err(gpu_error)?;
+        Ok(bytemuck::pod_read_unaligned(&bytes))
     }
 
     /// The splitter (its counters, lists and settings).

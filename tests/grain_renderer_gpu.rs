@@ -167,6 +167,19 @@ fn tier_render_with(
     thresholds: TierThresholds,
     target: &ScreenGbuffer,
 ) -> (GbufferImage, [u32; TIER_STATS as usize], [u32; 4], Vec<u32>) {
+    tier_render_sampled(scene, kind, settings, culling, thresholds, 1, target)
+}
+
+/// [`tier_render_with`] with `samples × samples` visibility samples per pixel.
+fn tier_render_sampled(
+    scene: &Scene,
+    kind: VisibilityKind,
+    settings: TierSettings,
+    culling: bool,
+    thresholds: TierThresholds,
+    samples: u32,
+    target: &ScreenGbuffer,
+) -> (GbufferImage, [u32; TIER_STATS as usize], [u32; 4], Vec<u32>) {
     let gpu = gpu();
     let n = scene.grains.len() as u32;
     let bounds = scene.mesh.bounds();
@@ -182,7 +195,7 @@ fn tier_render_with(
     let centres: Vec<Vec4> = scene.grains.iter().map(|g| g.centre_scale).collect();
     let centre_buffer = GrainSplitter::upload_grains(&gpu.device, &centres).unwrap();
     let split_bindings = splitter.bind(&gpu.device, &centre_buffer).unwrap();
-    let tier = ImpostorTier::new(&gpu.device, SIZE, kind).unwrap();
+    let tier = ImpostorTier::with_samples(&gpu.device, SIZE, kind, samples).unwrap();
     let instances = scene.instances();
     let inputs = ListInputs {
         instances: &instances,
@@ -283,11 +296,14 @@ fn the_raster_path_draws_the_compute_paths_image_up_to_rounding_and_ties() {
     let beans = scene(7, grain_mesh::CoffeeBean::default().mesh().unwrap());
     let mut compared = 0;
     for (name, scene) in [("beans", &beans), ("balls", &balls)] {
-        for &kind in &kinds() {
+        for (kind, samples) in kinds().into_iter().flat_map(|kind| [(kind, 1), (kind, 2)]) {
             let render = |path| {
                 let target = ScreenGbuffer::new(&gpu().device, SIZE).unwrap();
                 let settings = TierSettings { composite: false, path, ..TierSettings::default() };
-                tier_render(scene, kind, settings, true, &target)
+                let every_grain_an_impostor = TierThresholds::new(1e-3, 1e6, 1.0).unwrap();
+                let (image, stats, culled, _) =
+                    tier_render_sampled(scene, kind, settings, true, every_grain_an_impostor, samples, &target);
+                (image, stats, culled)
             };
             let (compute, compute_stats, _) = render(ImpostorPath::Compute);
             let (raster, raster_stats, _) = render(ImpostorPath::Raster);
@@ -301,7 +317,7 @@ fn the_raster_path_draws_the_compute_paths_image_up_to_rounding_and_ties() {
                 let (a, b) = (compute.normal_coverage[i].w > 0.0, raster.normal_coverage[i].w > 0.0);
                 if same {
                     equal += 1;
-                } else if a && b {
+                } else if a && b && compute.normal_coverage[i].w == raster.normal_coverage[i].w {
                     let (da, db) = (compute.depth[i], raster.depth[i]);
                     assert!(
                         (da - db).abs() <= REROUNDING * da.abs().max(db.abs()),
@@ -313,8 +329,16 @@ fn the_raster_path_draws_the_compute_paths_image_up_to_rounding_and_ties() {
                 }
             }
             let covered_pixels = covered(&compute);
+            // Coverage is the covered fraction of the pixel's samples.
+            let samples_per_pixel = (samples * samples) as f32;
+            let fractional = compute.normal_coverage.iter().filter(|n| n.w > 0.0 && n.w < 1.0).count();
+            assert!(
+                compute.normal_coverage.iter().all(|n| (n.w * samples_per_pixel).fract() == 0.0),
+                "coverage in steps of 1/{samples_per_pixel}"
+            );
+            assert_eq!(fractional > 0, samples > 1, "{fractional} pixels of fractional coverage");
             println!(
-                "{name}, {kind:?}: {equal} of {pixels} pixels equal, {near_ties} near ties, {coverage_flips} coverage flips; \
+                "{name}, {kind:?}, {samples}×{samples} samples: {equal} of {pixels} pixels equal, {near_ties} near ties, {coverage_flips} coverage flips; \
                  fragments shaded {:?} against compute evaluations {:?} (early-Z skips {:?})",
                 &raster_stats[..2],
                 &compute_stats[..2],
@@ -331,7 +355,7 @@ fn the_raster_path_draws_the_compute_paths_image_up_to_rounding_and_ties() {
             compared += 1;
         }
     }
-    assert_eq!(compared, 2 * kinds().len());
+    assert_eq!(compared, 4 * kinds().len());
 }
 
 #[test]
@@ -395,7 +419,7 @@ fn culling_and_early_z_change_no_pixel_of_a_frame_and_the_mesh_tier_is_the_mesh_
         ShadingUniforms::new(Vec3::new(0.3, 1.0, 0.5), Vec3::splat(2.5), Vec3::splat(0.2), Vec3::new(0.1, 0.1, 0.15))
             .unwrap();
     // Diameters here span about 10 to 30 pixels: meshes above 18.
-    let render = |mesh_above: f32, culling: bool, early_z: bool| {
+    let render_with = |mesh_above: f32, culling: bool, early_z: bool, samples: u32| {
         let options = RendererOptions {
             size: SIZE,
             capacity: scene.grains.len() as u32,
@@ -405,6 +429,7 @@ fn culling_and_early_z_change_no_pixel_of_a_frame_and_the_mesh_tier_is_the_mesh_
             occluder_map: OccluderMapKind::Auto,
             visibility: VisibilityKind::Auto,
             culling,
+            samples,
         };
         let renderer = StackingRenderer::new(&gpu.device, &gpu.queue, &scene.mesh, &scene.atlas, options).unwrap();
         let bindings = renderer.upload(&gpu.device, &scene.grains).unwrap();
@@ -420,6 +445,12 @@ fn culling_and_early_z_change_no_pixel_of_a_frame_and_the_mesh_tier_is_the_mesh_
         let image = grain_impostor::shading::read_image(&gpu.device, &gpu.queue, renderer.image()).unwrap();
         (renderer.gbuffer().read(&gpu.device, &gpu.queue).unwrap(), image, counters)
     };
+    let render = |mesh_above: f32, culling: bool, early_z: bool| render_with(mesh_above, culling, early_z, 1);
+    // With 2 × 2 visibility samples per pixel too: every sample is a full visibility test.
+    let (plain, plain_image, _) = render_with(18.0, false, false, 2);
+    let (culled, culled_image, counters) = render_with(18.0, true, true, 2);
+    assert!(counters.culled[1] + counters.culled[2] > 0, "grains are culled");
+    assert!(culled == plain && culled_image == plain_image, "2×2 samples: culling or early-Z changed the frame");
     let (plain, plain_image, plain_counters) = render(18.0, false, false);
     println!("no culling, no early-Z: lists {:?}", plain_counters.count);
     assert!(plain_counters.count[0] > 0 && plain_counters.count[1] + plain_counters.count[2] > 0, "both tiers draw");
@@ -498,6 +529,7 @@ fn updating_only_the_moved_grains_renders_the_moved_scene() {
         occluder_map: OccluderMapKind::Auto,
         visibility: VisibilityKind::Auto,
         culling: false,
+        samples: 1,
     };
     let renderer = StackingRenderer::new(&gpu.device, &gpu.queue, &scene.mesh, &scene.atlas, options).unwrap();
     let frame = |bindings: &grain_renderer::SceneBindings| {
@@ -561,6 +593,7 @@ fn the_multiscale_dolly_is_measured_per_frame_and_no_tier_switch_spikes() {
         occluder_map: OccluderMapKind::Auto,
         visibility: VisibilityKind::Auto,
         culling: true,
+        samples: 1,
     };
     let lighting = grain_renderer::renderer::pile_lighting();
     let truth = MeshReference::new(&gpu.device, &scene.mesh, &scene.grains, SIZE).unwrap();
@@ -572,19 +605,23 @@ fn the_multiscale_dolly_is_measured_per_frame_and_no_tier_switch_spikes() {
         let eye = scene.target + direction * distance;
         (StackingCamera::perspective(eye, scene.target, 0.7, SIZE, (1e-3 * distance, 500.0)).unwrap(), diameter)
     };
-    let run = |diameters: Vec<f32>| {
+    let run_with = |diameters: Vec<f32>, samples: u32| {
+        let options = RendererOptions { samples, ..options };
         let renderer = StackingRenderer::new(&gpu.device, &gpu.queue, &scene.mesh, &scene.atlas, options).unwrap();
         let bindings = renderer.upload(&gpu.device, &scene.grains).unwrap();
         let cameras: Vec<_> = diameters.into_iter().map(camera).collect();
         let settings = TierSettings::default();
         measure_frames(gpu, &renderer, &bindings, &truth, &cameras, &lighting, settings, |_, _, _| Ok(())).unwrap()
     };
+    let run = |diameters: Vec<f32>| run_with(diameters, 1);
+    let diameters: Vec<f32> = (0..7).map(|k| 200.0 * 0.01f32.powf(k as f32 / 6.0)).collect();
+    let dolly_2x2 = run_with(diameters.clone(), 2);
     println!("meshes above {:.1} px, points below {:.1} px", thresholds.mesh_above(), thresholds.point_below());
-    let dolly = run((0..7).map(|k| 200.0 * 0.01f32.powf(k as f32 / 6.0)).collect());
-    for f in &dolly {
+    let dolly = run(diameters);
+    for (f, g) in dolly.iter().zip(&dolly_2x2) {
         println!(
-            "  {:6.1} px: lists {:?}, SSIM {:.4}, FLIP {:.4}, mean error {:.4}",
-            f.label, f.lists, f.ssim, f.flip, f.error
+            "  {:6.1} px: lists {:?}, SSIM {:.4}, FLIP {:.4}, mean error {:.4}; 2×2 samples: SSIM {:.4}, FLIP {:.4}, mean error {:.4}",
+            f.label, f.lists, f.ssim, f.flip, f.error, g.ssim, g.flip, g.error
         );
     }
     // Every tier is drawn somewhere along the dolly.
@@ -594,7 +631,7 @@ fn the_multiscale_dolly_is_measured_per_frame_and_no_tier_switch_spikes() {
     assert!(dolly.iter().any(|f| f.lists[1] + f.lists[2] > 0), "impostors are drawn on the dolly");
     // Pins against regressions (measured on lavapipe 2026-12-02, not bounds from a property):
     // whole-frame SSIM ≥ 0.8 and mean ꟻLIP ≤ 0.2 at every frame.
-    for f in &dolly {
+    for f in dolly.iter().chain(&dolly_2x2) {
         assert!(f.ssim >= 0.8 && f.flip <= 0.2, "{:.1} px: SSIM {:.4}, FLIP {:.4}", f.label, f.ssim, f.flip);
     }
     let mut switched = 0;
@@ -631,6 +668,8 @@ fn errors_name_what_is_wrong_and_no_tier_buffer_is_mappable() {
     }
     let e = ImpostorTier::new(&gpu.device, (0, 10), VisibilityKind::Auto).err().unwrap().to_string();
     assert!(e.contains("size"), "{e}");
+    let e = ImpostorTier::with_samples(&gpu.device, SIZE, VisibilityKind::Auto, 5).err().unwrap().to_string();
+    assert!(e.contains("samples") && e.contains("1 to 4"), "{e}");
     let options = RendererOptions {
         size: SIZE,
         capacity: 4,
@@ -640,6 +679,7 @@ fn errors_name_what_is_wrong_and_no_tier_buffer_is_mappable() {
         occluder_map: OccluderMapKind::Auto,
         visibility: VisibilityKind::Auto,
         culling: true,
+        samples: 1,
     };
     let renderer = StackingRenderer::new(&gpu.device, &gpu.queue, &scene.mesh, &scene.atlas, options).unwrap();
     let e = renderer.upload(&gpu.device, &scene.grains).err().unwrap().to_string();

@@ -1,5 +1,5 @@
 //! `cargo xtask bench-gpu SUBJECT [OUT_DIR] [--grains LIST] [--frames N]`; subject `stackings`
-//! (which also takes `--scene NAME`, `--obj PATH`, `--mesh-above PX`)
+//! (which also takes `--scene NAME`, `--obj PATH`, `--mesh-above PX`, `--samples S`)
 //! is [`crate::bench_stackings`]. `culling`: GPU time of the
 //! occluder map and the splitter (`grain_splitter::bench`) on piles of coffee beans and of
 //! balls from `grain-scenes` at 1920×1080, in two shots (the whole pile; close, most grains outside the
@@ -75,7 +75,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     if args.subject() == "stackings" {
         return crate::bench_stackings::run(args, args.parse_value("grains", grain_counts)?);
     }
-    for flag in ["scene", "obj", "mesh-above"] {
+    for flag in ["scene", "obj", "mesh-above", "samples"] {
         if args.value(flag).is_some() {
             return Err(format!("bench-gpu culling: --{flag} applies to `bench-gpu stackings` only"));
         }

@@ -1,10 +1,11 @@
 //! `cargo xtask bench-gpu stackings [OUT_DIR] [--grains LIST] [--frames N] [--scene NAME |
-//! --obj PATH --mesh-above PX]`: the multiscale renderer (`grain-renderer`) stage by stage over
+//! --obj PATH --mesh-above PX] [--samples S]`: the multiscale renderer (`grain-renderer`) stage by stage over
 //! a backward dolly of 5 frames at 1920×1080, on piles of coffee beans and of sand grains
 //! (`rock`; `--scene` picks one procedural grain, `--obj` any OBJ grain, whose mesh threshold
 //! `--mesh-above` must give), for each visibility buffer the adapter has (64-bit, 32-bit) and
 //! each impostor path: compute with the software early-Z of the double draw on and off, and
-//! raster (sprites, hardware depth test). Per row (one frame of the dolly) the median of `N`
+//! raster (sprites, hardware depth test), with `S × S` visibility samples per pixel
+//! (`--samples`, 1 by default). Per row (one frame of the dolly) the median of `N`
 //! timings of each stage (GPU timestamps at stage boundaries on a GPU, wall clock on a software
 //! adapter), grains per list, culled grains, and the impostor tier's atlas evaluations and
 //! early-Z skips per pixel; writes `stackings.csv` into `OUT_DIR` (default
@@ -29,7 +30,7 @@ use grain_splitter::{OccluderMapKind, SplitCounters};
 
 use crate::cli::{Args, positive};
 use crate::impostor_cloud::{GRAINS, load_grain};
-use crate::stackings::{bake_atlas, dolly, mesh_threshold, pile_instances, pixels};
+use crate::stackings::{bake_atlas, dolly, mesh_threshold, pile_instances, pixels, samples_per_side};
 
 const SIZE: (u32, u32) = (1920, 1080);
 const DOLLY_FRAMES: u32 = 5;
@@ -79,6 +80,7 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
         vec![20_000, 200_000, 1_600_000, 20_000_000]
     });
     let repeats = args.parse_value("frames", positive::<u32>)?.unwrap_or(DEFAULT_REPEATS);
+    let samples = args.parse_value("samples", samples_per_side)?.unwrap_or(1);
     let out = args.out_dir();
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let mut kinds = vec![VisibilityKind::TwoPass32];
@@ -91,7 +93,7 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
         SIZE.0,
         SIZE.1
     );
-    let mut csv = String::from("adapter,timing,scene,grains,frame,distance,visibility,path,early_z,");
+    let mut csv = String::from("adapter,timing,scene,grains,samples,frame,distance,visibility,path,early_z,");
     for stage in Stage::ALL {
         let _ = write!(csv, "{}_ms,", stage.name());
     }
@@ -122,6 +124,7 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
                         occluder_map: OccluderMapKind::Auto,
                         visibility,
                         culling: true,
+                        samples,
                     };
                     StackingRenderer::new(&gpu.device, &gpu.queue, mesh, &atlas, options)
                 })
@@ -148,24 +151,24 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
                         let camera = dolly(&shots, k, DOLLY_FRAMES, SIZE)?;
                         // One untimed frame: the two-phase history and the hysteresis settle.
                         time_frame(&gpu, renderer, &scene, &camera, &lighting, tier).map_err(|e| e.to_string())?;
-                        let mut samples: Vec<StageTimes> = Vec::new();
+                        let mut timings: Vec<StageTimes> = Vec::new();
                         for _ in 0..repeats {
-                            samples.push(
+                            timings.push(
                                 time_frame(&gpu, renderer, &scene, &camera, &lighting, tier)
                                     .map_err(|e| e.to_string())?,
                             );
                         }
-                        let row = Row::measure(&gpu, renderer, &samples)?;
+                        let row = Row::measure(&gpu, renderer, &timings)?;
                         let distance = (camera.uniforms.eye.truncate() - shots[0].target).length();
                         let path_name = match path {
                             ImpostorPath::Compute => "compute",
                             ImpostorPath::Raster => "raster",
                         };
                         println!("    {visibility:?} {path_name} early-Z {early_z} frame {k}: {}", row.describe());
-                        let timing = format!("{:?}", samples[0].source);
+                        let timing = format!("{:?}", timings[0].source);
                         let _ = write!(
                             csv,
-                            "{adapter},{timing},{name},{count},{k},{distance:.3},{visibility:?},{path_name},{early_z},"
+                            "{adapter},{timing},{name},{count},{samples},{k},{distance:.3},{visibility:?},{path_name},{early_z},"
                         );
                         row.write_csv(&mut csv);
                     }

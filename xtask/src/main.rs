@@ -107,7 +107,14 @@ pub const COMMANDS: &[Command] = &[
     },
     Command {
         name: "bench-gpu",
-        flags: &[value("grains", "LIST"), value("frames", "N"), value("scene", "NAME"), OBJ, value("mesh-above", "PX")],
+        flags: &[
+            value("grains", "LIST"),
+            value("frames", "N"),
+            value("scene", "NAME"),
+            OBJ,
+            value("mesh-above", "PX"),
+            value("samples", "S"),
+        ],
         exclusive: &[("obj", "scene")],
         positional: Positional::SubjectThenOutDir(&["culling", "stackings"]),
         run: bench_gpu::run,
@@ -200,6 +207,7 @@ pub const COMMANDS: &[Command] = &[
             value("mesh-above", "PX"),
             switch("shake"),
             switch("accuracy"),
+            value("samples", "S"),
             QUICK,
         ],
         exclusive: &[("obj", "grain"), ("shake", "accuracy")],

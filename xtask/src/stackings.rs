@@ -1,5 +1,5 @@
 //! `cargo xtask stackings [OUT_DIR] [--grains COUNT] [--frames K] [--obj PATH | --grain NAME]
-//! [--mesh-above PX] [--shake | --accuracy] [--quick]`: the multiscale renderer (`grain-renderer`) on a pile
+//! [--mesh-above PX] [--shake | --accuracy] [--samples S] [--quick]`: the multiscale renderer (`grain-renderer`) on a pile
 //! from `grain-scenes` — a backward dolly from a close view to the whole pile (paper Fig. 9),
 //! with `--shake` every grain moving and turning each frame (`grain_scenes::Shake`, uploaded
 //! per frame) — written as PNG frames, with the per-stage breakdown printed and written to
@@ -13,7 +13,8 @@
 //! With `--accuracy` the dolly runs again with a fresh renderer, each frame against every
 //! grain as a mesh 4×4 supersampled (`grain_renderer::frame_accuracy`): standard SSIM, ꟻLIP,
 //! mean error and popping per frame in `accuracy.csv`, the reference and the ꟻLIP map as
-//! `reference_KK.png` and `flip_KK.png`. `COUNT` may be a paper size (`1.6M`, `20M`); a count
+//! `reference_KK.png` and `flip_KK.png`. `--samples S` gives the impostor and point tiers
+//! `S × S` visibility samples per pixel (fractional silhouettes; 1 by default). `COUNT` may be a paper size (`1.6M`, `20M`); a count
 //! whose buffers exceed the adapter's limits is an error naming the limit.
 
 use std::fmt::Write as _;
@@ -45,6 +46,7 @@ pub struct Options {
     mesh_above: Option<f32>,
     shake: bool,
     accuracy: bool,
+    samples: u32,
     size: (u32, u32),
 }
 
@@ -67,6 +69,7 @@ impl Options {
             mesh_above: args.parse_value("mesh-above", pixels)?,
             shake: args.flag("shake"),
             accuracy: args.flag("accuracy"),
+            samples: args.parse_value("samples", samples_per_side)?.unwrap_or(1),
             size: if quick { (480, 270) } else { (960, 540) },
         })
     }
@@ -162,6 +165,15 @@ pub(crate) fn mesh_threshold(given: Option<f32>, obj: Option<&Path>, name: &str)
     }
 }
 
+/// Visibility samples per pixel side (`--samples`): 1 to `TIER_MAX_SAMPLES`.
+pub(crate) fn samples_per_side(text: &str) -> Result<u32, String> {
+    let max = grain_renderer::tier_layout::TIER_MAX_SAMPLES;
+    text.parse::<u32>()
+        .ok()
+        .filter(|s| (1..=max).contains(s))
+        .ok_or_else(|| format!("`{text}` is not a number of samples per pixel side from 1 to {max}"))
+}
+
 /// A positive number of pixels (`--mesh-above`).
 pub(crate) fn pixels(text: &str) -> Result<f32, String> {
     text.parse::<f32>()
@@ -232,6 +244,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         occluder_map: OccluderMapKind::Auto,
         visibility: VisibilityKind::Auto,
         culling: true,
+        samples: options.samples,
     };
     let renderer =
         StackingRenderer::new(&gpu.device, &gpu.queue, &mesh, &atlas, renderer_options).map_err(|e| e.to_string())?;

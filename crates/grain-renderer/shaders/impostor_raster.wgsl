@@ -52,7 +52,8 @@ fn tier_raster_vertex(@builtin(vertex_index) vertex: u32, @builtin(instance_inde
 fn tier_raster_fragment(in: TierRasterVertex) -> TierRasterFragment {
     // Counted as the compute path counts its evaluated pixels: one atlas evaluation each.
     atomicAdd(&stats[tier_pass.slot], 1u);
-    let hit = cloud_hit(in.position.xy, instances[in.grain]);
+    // The target is the sample grid: s × s fragments per pixel.
+    let hit = cloud_hit(in.position.xy / f32(tier_samples()), instances[in.grain]);
     if !hit.covered {
         discard;
     }
@@ -68,10 +69,13 @@ fn tier_raster_merge(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= size.x || id.y >= size.y {
         return;
     }
-    let owner = textureLoad(raster_owner, vec2<i32>(id.xy), 0).r;
-    if owner == TIER_NONE {
-        return;
+    let s = tier_samples();
+    for (var k = 0u; k < s * s; k++) {
+        let q = vec2<i32>(id.xy * s + vec2<u32>(k % s, k / s));
+        let owner = textureLoad(raster_owner, q, 0).r;
+        if owner != TIER_NONE {
+            let depth = textureLoad(raster_depth, q, 0) * tier.raster.y;
+            tier_offer(tier_sample_index(id.xy, k), depth, owner);
+        }
     }
-    let depth = textureLoad(raster_depth, vec2<i32>(id.xy), 0) * tier.raster.y;
-    tier_offer(id.y * size.x + id.x, depth, owner);
 }

@@ -51,6 +51,26 @@ fn tier_size() -> vec2<u32> {
     return vec2<u32>(camera.viewport.xy);
 }
 
+// Samples per pixel side (TierUniforms.counts.z): the visibility buffer holds s × s samples
+// per pixel, at the centres of the pixel's s × s sub-squares (s = 1: the pixel centre).
+fn tier_samples() -> u32 {
+    return max(tier.counts.z, 1u);
+}
+
+// Visibility-buffer index of sample k (row-major within the pixel) of pixel p: row-major in
+// the (s·width) × (s·height) sample grid.
+fn tier_sample_index(p: vec2<u32>, k: u32) -> u32 {
+    let s = tier_samples();
+    let q = p * s + vec2<u32>(k % s, k / s);
+    return q.y * (tier_size().x * s) + q.x;
+}
+
+// Screen position (pixels) of sample k of pixel p.
+fn tier_sample_position(p: vec2<u32>, k: u32) -> vec2<f32> {
+    let s = tier_samples();
+    return vec2<f32>(p) + (vec2<f32>(f32(k % s), f32(k / s)) + 0.5) / f32(s);
+}
+
 // The grain of element `e` of this pass's list, or TIER_NONE past its end.
 fn tier_element_grain(e: u32) -> u32 {
     let list = tier_pass.list;
@@ -75,18 +95,23 @@ fn tier_nearest_depth(grain: GrainInstance) -> f32 {
     return (centre - reach) - TIER_DEPTH_SLACK * (abs(centre) + reach + length(grain.centre_scale.xyz));
 }
 
-// One pixel of one grain: the early-Z test, then the atlas, then the visibility buffer.
-// Returns (evaluated, skipped).
+// The samples of one pixel of one grain: per sample the early-Z test, then the atlas, then
+// the visibility buffer. Returns (evaluated, skipped) samples.
 fn tier_splat_pixel(x: u32, y: u32, g: u32, grain: GrainInstance, nearest: f32) -> vec2<u32> {
-    let i = y * tier_size().x + x;
-    if tier_pass.early_z != 0u && tier_stored_depth(i) < nearest {
-        return vec2<u32>(0u, 1u);
+    var counted = vec2<u32>(0u);
+    for (var k = 0u; k < tier_samples() * tier_samples(); k++) {
+        let i = tier_sample_index(vec2<u32>(x, y), k);
+        if tier_pass.early_z != 0u && tier_stored_depth(i) < nearest {
+            counted.y += 1u;
+            continue;
+        }
+        let hit = cloud_hit(tier_sample_position(vec2<u32>(x, y), k), grain);
+        if hit.covered {
+            tier_offer(i, hit.depth, g);
+        }
+        counted.x += 1u;
     }
-    let hit = cloud_hit(vec2<f32>(f32(x) + 0.5, f32(y) + 0.5), grain);
-    if hit.covered {
-        tier_offer(i, hit.depth, g);
-    }
-    return vec2<u32>(1u, 0u);
+    return counted;
 }
 
 fn tier_count(counted: vec2<u32>) {
@@ -129,7 +154,9 @@ fn tier_clear(@builtin(global_invocation_id) id: vec3<u32>) {
     if (tier.counts.y & TIER_COMPOSITE) != 0u {
         depth = textureLoad(mesh_depth, vec2<i32>(id.xy), 0).r;
     }
-    tier_clear_pixel(id.y * size.x + id.x, depth);
+    for (var k = 0u; k < tier_samples() * tier_samples(); k++) {
+        tier_clear_pixel(tier_sample_index(id.xy, k), depth);
+    }
 }
 
 // Element index of a dispatch of ELEMENT_WORKGROUP invocations per workgroup (the splitter's
@@ -184,6 +211,11 @@ fn tier_splat_large(
     tier_count(counted);
 }
 
+// Resolves pixel p from its s × s samples as the mesh reference's supersampling reduces
+// (gbuffer_reduce.wgsl): coverage is the covered fraction; normal (normalised sum, a single
+// sample's own), albedo, material and depth are means over the covered samples. In composite
+// mode the samples the mesh tier won count as covered and the pixel keeps the mesh tier's
+// values when they are at least half of its samples (its attributes cannot be read here).
 @compute @workgroup_size(8, 8)
 fn tier_resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = tier_size();
@@ -191,14 +223,44 @@ fn tier_resolve(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let p = vec2<i32>(id.xy);
-    let i = id.y * size.x + id.x;
-    let g = tier_winner(i);
-    if g < TIER_MESH && (g & TIER_POINT_BIT) != 0u {
-        tier_resolve_point(p, i);
-        return;
+    let composite = (tier.counts.y & TIER_COMPOSITE) != 0u;
+    let n = tier_samples() * tier_samples();
+    var normal_sum = vec3<f32>(0.0);
+    var albedo_sum = vec3<f32>(0.0);
+    var material_sum = vec2<f32>(0.0);
+    var depth_sum = 0.0;
+    var covered = 0u;
+    var meshes = 0u;
+    var impostors = 0u;
+    var points = 0u;
+    let pixel = id.y * size.x + id.x;
+    let point = tier_point_average(pixel);
+    for (var k = 0u; k < n; k++) {
+        let i = tier_sample_index(id.xy, k);
+        let g = tier_winner(i);
+        let is_point = g < TIER_MESH && (g & TIER_POINT_BIT) != 0u;
+        let is_impostor = !is_point && g < tier.counts.x;
+        meshes += select(0u, 1u, g == TIER_MESH);
+        if is_impostor {
+            let surface = cloud_surface(tier_sample_position(id.xy, k), instances[g]);
+            normal_sum += surface.normal;
+            albedo_sum += surface.albedo;
+            material_sum += surface.material;
+            depth_sum += surface.depth;
+            impostors += 1u;
+            covered += 1u;
+        }
+        if is_point && point.valid {
+            normal_sum += point.surface.normal;
+            albedo_sum += point.surface.albedo;
+            material_sum += point.surface.material;
+            depth_sum += tier_stored_depth(i);
+            points += 1u;
+            covered += 1u;
+        }
     }
-    if g >= tier.counts.x {
-        if (tier.counts.y & TIER_COMPOSITE) == 0u {
+    if covered == 0u || (composite && 2u * meshes >= n) {
+        if !composite && covered == 0u {
             textureStore(out_normal_coverage, p, vec4<f32>(0.0));
             textureStore(out_albedo, p, vec4<f32>(0.0));
             textureStore(out_material, p, vec4<f32>(0.0));
@@ -206,10 +268,21 @@ fn tier_resolve(@builtin(global_invocation_id) id: vec3<u32>) {
         }
         return;
     }
-    let surface = cloud_surface(vec2<f32>(id.xy) + 0.5, instances[g]);
-    textureStore(out_normal_coverage, p, vec4<f32>(surface.normal, 1.0));
-    textureStore(out_albedo, p, vec4<f32>(surface.albedo, 1.0));
-    textureStore(out_material, p, vec4<f32>(surface.material, 0.0, 0.0));
-    textureStore(out_depth, p, vec4<f32>(surface.depth, 0.0, 0.0, 0.0));
-    atomicAdd(&stats[4u], 1u);
+    let count = f32(covered);
+    var normal = normal_sum;
+    if covered > 1u {
+        let length_squared = dot(normal, normal);
+        normal = select(vec3<f32>(0.0, 0.0, 1.0), normal * inverseSqrt(length_squared), length_squared > 1e-12);
+    }
+    let coverage = f32(covered + select(0u, meshes, composite)) / f32(n);
+    textureStore(out_normal_coverage, p, vec4<f32>(normal, coverage));
+    textureStore(out_albedo, p, vec4<f32>(albedo_sum / count, 1.0));
+    textureStore(out_material, p, vec4<f32>(material_sum / count, 0.0, 0.0));
+    textureStore(out_depth, p, vec4<f32>(depth_sum / count, 0.0, 0.0, 0.0));
+    if impostors != 0u {
+        atomicAdd(&stats[4u], 1u);
+    }
+    if points != 0u {
+        atomicAdd(&stats[5u], 1u);
+    }
 }

@@ -82,7 +82,9 @@ fn tier_point_splat(
         for (var dx = -reach; dx <= reach; dx++) {
             let p = tier_disc_pixel(point, dx, dy);
             if p.x >= 0 {
-                tier_offer(u32(p.y) * tier_size().x + u32(p.x), point.depth, g | TIER_POINT_BIT);
+                for (var k = 0u; k < tier_samples() * tier_samples(); k++) {
+                    tier_offer(tier_sample_index(vec2<u32>(p), k), point.depth, g | TIER_POINT_BIT);
+                }
             }
         }
     }
@@ -129,12 +131,19 @@ fn tier_point_accumulate(
             if p.x < 0 {
                 continue;
             }
-            let i = u32(p.y) * tier_size().x + u32(p.x);
-            let winner = tier_winner(i);
-            if winner >= TIER_MESH || (winner & TIER_POINT_BIT) == 0u || point.depth > tier_stored_depth(i) + thickness {
+            // The first of the pixel's samples a point grain won (they all take the same depth).
+            var won = TIER_NONE;
+            for (var k = 0u; k < tier_samples() * tier_samples(); k++) {
+                let i = tier_sample_index(vec2<u32>(p), k);
+                let winner = tier_winner(i);
+                if won == TIER_NONE && winner < TIER_MESH && (winner & TIER_POINT_BIT) != 0u {
+                    won = i;
+                }
+            }
+            if won == TIER_NONE || point.depth > tier_stored_depth(won) + thickness {
                 continue;
             }
-            let base = i * TIER_POINT_SUMS;
+            let base = (u32(p.y) * tier_size().x + u32(p.x)) * TIER_POINT_SUMS;
             atomicAdd(&point_sums[base], 1u);
             atomicAdd(&point_sums[base + 1u], tier_fixed(surface.albedo.r, TIER_POINT_SCALE));
             atomicAdd(&point_sums[base + 2u], tier_fixed(surface.albedo.g, TIER_POINT_SCALE));
@@ -151,18 +160,23 @@ fn tier_point_sum(i: u32, k: u32, weight: f32) -> f32 {
     return f32(atomicLoad(&point_sums[i * TIER_POINT_SUMS + k])) / (weight * TIER_POINT_SCALE);
 }
 
-// Resolves pixel i whose winner is a point grain: the accumulated average.
-fn tier_resolve_point(p: vec2<i32>, i: u32) {
+// The accumulated average of the point grains of pixel i (row-major pixel index); invalid
+// where none was accumulated. Its depth is left 0: the resolve takes each sample's.
+struct TierPointAverage {
+    valid: bool,
+    surface: CloudSurface,
+}
+
+fn tier_point_average(i: u32) -> TierPointAverage {
+    var out: TierPointAverage;
     let weight = f32(atomicLoad(&point_sums[i * TIER_POINT_SUMS]));
-    if !(weight > 0.0) {
-        return;
+    out.valid = weight > 0.0;
+    if !out.valid {
+        return out;
     }
-    let albedo = vec3<f32>(tier_point_sum(i, 1u, weight), tier_point_sum(i, 2u, weight), tier_point_sum(i, 3u, weight));
+    out.surface.albedo = vec3<f32>(tier_point_sum(i, 1u, weight), tier_point_sum(i, 2u, weight), tier_point_sum(i, 3u, weight));
     let encoded = vec3<f32>(tier_point_sum(i, 4u, weight), tier_point_sum(i, 5u, weight), tier_point_sum(i, 6u, weight)) * 2.0 - 1.0;
-    let normal = select(vec3<f32>(0.0, 0.0, 1.0), normalize(encoded), dot(encoded, encoded) > 1e-12);
-    textureStore(out_normal_coverage, p, vec4<f32>(normal, 1.0));
-    textureStore(out_albedo, p, vec4<f32>(albedo, 1.0));
-    textureStore(out_material, p, vec4<f32>(tier_point_sum(i, 7u, weight), 0.0, 0.0, 0.0));
-    textureStore(out_depth, p, vec4<f32>(tier_stored_depth(i), 0.0, 0.0, 0.0));
-    atomicAdd(&stats[5u], 1u);
+    out.surface.normal = select(vec3<f32>(0.0, 0.0, 1.0), normalize(encoded), dot(encoded, encoded) > 1e-12);
+    out.surface.material = vec2<f32>(tier_point_sum(i, 7u, weight), 0.0);
+    return out;
 }

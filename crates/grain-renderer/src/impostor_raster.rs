@@ -62,18 +62,24 @@ pub(crate) struct RasterPath {
 
 impl RasterPath {
     /// Builds the sprite pipeline (group 0: the tier's `layout`) and the merge pipeline
-    /// (group 1: the raster targets) from the tier's shader `module`.
+    /// (group 1: the raster targets, `samples × samples` texels per pixel) from the tier's
+    /// shader `module`.
     pub(crate) fn new(
         device: &wgpu::Device,
         module: &wgpu::ShaderModule,
         layout: &wgpu::BindGroupLayout,
         size: (u32, u32),
+        samples: u32,
     ) -> Self {
         let texture = |label: &str, format: wgpu::TextureFormat| {
             device
                 .create_texture(&wgpu::TextureDescriptor {
                     label: Some(label),
-                    size: wgpu::Extent3d { width: size.0, height: size.1, depth_or_array_layers: 1 },
+                    size: wgpu::Extent3d {
+                        width: size.0 * samples,
+                        height: size.1 * samples,
+                        depth_or_array_layers: 1,
+                    },
                     mip_level_count: 1,
                     sample_count: 1,
                     dimension: wgpu::TextureDimension::D2,

@@ -38,6 +38,20 @@
 //! centre). A skipped pixel could not have won, so the images are identical with and without
 //! it (a test); [`ImpostorTier::stats`] counts evaluated and skipped pixels per list.
 //!
+//! # Silhouettes
+//!
+//! A pixel covered or not at its centre aliases along every silhouette, where the mesh
+//! reference (4 × 4 supersampled) has fractional coverage and mixed colours. With
+//! [`ImpostorTier::with_samples`] the visibility buffer holds `s × s` samples per pixel, each
+//! tested at its own position (the atlas still filtered at the pixel's level of detail); the
+//! resolve reduces them as the reference's supersampling does — coverage the covered
+//! fraction, attributes the means over the covered samples — so silhouettes get fractional
+//! coverage and mixed attributes. Every sample is a full visibility test, so culling and the
+//! early-Z (per sample) still change nothing, and `s = 1` is the single-sample tier exactly.
+//! In composite mode a pixel where the mesh tier won at least half of the samples keeps the
+//! mesh's values (they cannot be read back there); otherwise its samples count as covered.
+//! The cost is `s²` atlas evaluations per covered pixel in the splats and the resolve.
+//!
 //! # Points (Fig. 2 ④)
 //!
 //! The point list's grains enter the same visibility buffer as small discs — the pixels whose
@@ -66,7 +80,7 @@ use crate::error::RenderError;
 use crate::impostor_raster::{RasterPath, raster_depth_scale};
 use crate::inputs::ListInputs;
 use crate::shaders::{impostor_tier_32_shader, impostor_tier_64_shader, int64_capabilities};
-use crate::tier_layout::{TIER_ARGUMENT_WORDS, TIER_DRAW_ARGUMENTS};
+use crate::tier_layout::{TIER_ARGUMENT_WORDS, TIER_DRAW_ARGUMENTS, TIER_MAX_SAMPLES};
 pub use crate::tier_layout::{
     TIER_COMPOSITE, TIER_DEPTH_SLACK, TIER_MESH, TIER_NONE, TIER_POINT_BIT, TIER_POINT_SCALE, TIER_POINT_SUMS,
     TIER_REACH, TIER_SMALL_PIXELS, TIER_STATS, TierPass, TierUniforms,
@@ -151,6 +165,7 @@ struct Pipelines {
 /// frame.
 pub struct ImpostorTier {
     size: (u32, u32),
+    samples: u32,
     kind: VisibilityKind,
     layout: wgpu::BindGroupLayout,
     clear_layout: wgpu::BindGroupLayout,
@@ -224,11 +239,28 @@ impl ImpostorTier {
     }
 
     /// Validates the shader with naga, builds the pipelines and the buffers for a
-    /// `size` viewport.
+    /// `size` viewport, one visibility sample per pixel.
     pub fn new(device: &wgpu::Device, size: (u32, u32), visibility: VisibilityKind) -> Result<Self, RenderError> {
+        Self::with_samples(device, size, visibility, 1)
+    }
+
+    /// [`ImpostorTier::new`] with `samples × samples` visibility samples per pixel (1 to
+    /// [`TIER_MAX_SAMPLES`]; module docs, "Silhouettes").
+    pub fn with_samples(
+        device: &wgpu::Device,
+        size: (u32, u32),
+        visibility: VisibilityKind,
+        samples: u32,
+    ) -> Result<Self, RenderError> {
         let (width, height) = size;
         if width == 0 || height == 0 {
             return Err(RenderError::InvalidSetting { field: "size", reason: format!("{size:?}: must not be empty") });
+        }
+        if !(1..=TIER_MAX_SAMPLES).contains(&samples) {
+            return Err(RenderError::InvalidSetting {
+                field: "samples",
+                reason: format!("{samples}: must be 1 to {TIER_MAX_SAMPLES} per pixel side"),
+            });
         }
         let has_64 = Self::supports_atomic64(device);
         let kind = match visibility {
@@ -242,11 +274,12 @@ impl ImpostorTier {
         let limits = device.limits();
         let storage_limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
         let pixels = u64::from(width) * u64::from(height);
+        let sample_count = pixels * u64::from(samples * samples);
         let word = if kind == VisibilityKind::Atomic64 { 8 } else { 4 };
-        if pixels * word > storage_limit {
+        if sample_count * word > storage_limit {
             return Err(RenderError::TooLarge {
                 what: "visibility buffer bytes",
-                requested: pixels * word,
+                requested: sample_count * word,
                 limit: storage_limit,
             });
         }
@@ -349,10 +382,11 @@ impl ImpostorTier {
         let uniform = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
         let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
         let pass_stride = limits.min_uniform_buffer_offset_alignment.max(16);
-        let owner_bytes = if kind == VisibilityKind::TwoPass32 { pixels * 4 } else { 16 };
-        let raster = RasterPath::new(device, &module, &layout, size);
+        let owner_bytes = if kind == VisibilityKind::TwoPass32 { sample_count * 4 } else { 16 };
+        let raster = RasterPath::new(device, &module, &layout, size, samples);
         Ok(Self {
             size,
+            samples,
             kind,
             layout,
             clear_layout,
@@ -365,7 +399,7 @@ impl ImpostorTier {
             tier: buffer("tier settings", size_of::<TierUniforms>() as u64, uniform),
             passes: buffer("tier passes", u64::from(PASS_ENTRIES * pass_stride), uniform),
             pass_stride,
-            visibility: buffer("tier visibility", pixels * word, storage),
+            visibility: buffer("tier visibility", sample_count * word, storage),
             owner: buffer("tier owners", owner_bytes, storage),
             stats: buffer("tier stats", u64::from(TIER_STATS) * 4, storage),
             arguments: buffer(
@@ -376,6 +410,11 @@ impl ImpostorTier {
             point_sums: buffer("point tier sums", sum_bytes, storage),
             raster,
         })
+    }
+
+    /// Visibility samples per pixel side.
+    pub fn samples(&self) -> u32 {
+        self.samples
     }
 
     /// The visibility buffer kind (never `Auto`).
@@ -512,7 +551,7 @@ impl ImpostorTier {
         let flags = if settings.composite { TIER_COMPOSITE } else { 0 };
         let (depth_scale, inverse_scale) = raster_depth_scale(frame.camera)?;
         let tier = TierUniforms {
-            counts: UVec4::new(frame.instance_count, flags, 0, 0),
+            counts: UVec4::new(frame.instance_count, flags, self.samples, 0),
             lists: UVec4::new(lists[0], lists[1], lists[2], 0),
             raster: Vec4::new(depth_scale, inverse_scale, 0.0, 0.0),
         };

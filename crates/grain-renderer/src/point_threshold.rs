@@ -98,6 +98,7 @@ pub fn measure(
         occluder_map: OccluderMapKind::Auto,
         visibility: VisibilityKind::Auto,
         culling: false,
+        samples: 1,
     };
     let impostors = StackingRenderer::new(device, queue, mesh, atlas, base)?;
     let points = StackingRenderer::new(device, queue, mesh, atlas, RendererOptions { point_below: 1e5, ..base })?;

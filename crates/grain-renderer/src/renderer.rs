@@ -53,6 +53,10 @@ pub struct RendererOptions {
     pub visibility: VisibilityKind,
     /// Frustum, cone, Hi-Z and two-phase culling (all conservative: off only to compare).
     pub culling: bool,
+    /// Visibility samples per pixel side of the impostor and point tiers (1: a pixel is
+    /// covered or not at its centre; 2: fractional silhouettes, 4× the atlas evaluations;
+    /// `crate::impostor_tier`, "Silhouettes").
+    pub samples: u32,
 }
 
 /// One frame's camera, as the splitter and the tiers see it (the same matrices).
@@ -202,7 +206,7 @@ impl StackingRenderer {
             },
         )
         .map_err(gpu_error)?;
-        let impostor_tier = ImpostorTier::new(device, options.size, options.visibility)?;
+        let impostor_tier = ImpostorTier::with_samples(device, options.size, options.visibility, options.samples)?;
         let shading = ShadingPass::new(device).map_err(gpu_error)?;
         let gbuffer = ScreenGbuffer::new(device, options.size).map_err(gpu_error)?;
         let image = shading.create_target(device, &gbuffer).map_err(gpu_error)?;

@@ -32,6 +32,9 @@ pub const TIER_REACH: f32 = std::f32::consts::SQRT_2 * 1.000_001;
 /// is `2⁻²⁴` of them).
 pub const TIER_DEPTH_SLACK: f32 = 1.0 / 4096.0;
 
+/// The most visibility samples per pixel side ([`ImpostorTier::with_samples`](crate::ImpostorTier::with_samples)).
+pub const TIER_MAX_SAMPLES: u32 = 4;
+
 /// Words of [`ImpostorTier`](crate::ImpostorTier)'s argument buffer: per impostor list,
 /// the dispatch of its large grains (3 words), then per impostor list the raster path's
 /// `draw_indirect` arguments (4 words: 6 vertices, one instance per element).
@@ -58,7 +61,7 @@ pub(crate) const TIER_CONSTANTS: &[GpuConst] = &[
 gpu_struct! {
     /// Per-frame settings of the tier.
     pub struct TierUniforms {
-        /// `(instance count, flags, 0, 0)`.
+        /// `(instance count, flags, samples per pixel side, 0)`.
         pub counts: UVec4,
         /// `(first list, second list, 0, 0)`: the splitter's list indices drawn in order.
         pub lists: UVec4,

@@ -549,7 +549,7 @@ fn updating_only_the_moved_grains_renders_the_moved_scene() {
         g.rotation = (Quat::from_vec4(g.rotation) * Quat::from_rotation_y(0.7)).into();
         changes.push((i, *g));
     }
-    assert_eq!(renderer.update_changed(&gpu.queue, &bindings, &changes).unwrap(), 2, "two runs of indices");
+    assert_eq!(renderer.update_changed(&gpu.queue, &bindings, 0, &changes).unwrap(), 2, "two runs of indices");
     let updated = frame(&bindings);
     let fresh = frame(&renderer.upload(&gpu.device, &moved).unwrap());
     let differing = (0..before.depth.len()).filter(|&i| before.depth[i] != updated.depth[i]).count();
@@ -558,12 +558,12 @@ fn updating_only_the_moved_grains_renders_the_moved_scene() {
     assert!(updated == fresh, "the updated scene renders as a fresh upload of it");
     // Out of order, or past the scene: errors naming the indices.
     let swapped = [changes[1], changes[0]];
-    let error = renderer.update_changed(&gpu.queue, &bindings, &swapped).unwrap_err().to_string();
+    let error = renderer.update_changed(&gpu.queue, &bindings, 0, &swapped).unwrap_err().to_string();
     assert!(error.contains("increasing index order: 99 after 120"), "{error}");
     let past = [(scene.grains.len() as u32, moved[0])];
-    let error = renderer.update_changed(&gpu.queue, &bindings, &past).unwrap_err().to_string();
+    let error = renderer.update_changed(&gpu.queue, &bindings, 0, &past).unwrap_err().to_string();
     assert!(error.contains("grain 125 for a scene of 125 grains"), "{error}");
-    let error = renderer.update_range(&gpu.queue, &bindings, 124, &moved[..2]).unwrap_err().to_string();
+    let error = renderer.update_range(&gpu.queue, &bindings, 0, 124, &moved[..2]).unwrap_err().to_string();
     assert!(error.contains("grains 124..126 for a scene of 125 grains"), "{error}");
 }
 
@@ -652,6 +652,82 @@ fn the_multiscale_dolly_is_measured_per_frame_and_no_tier_switch_spikes() {
         switched += 1;
     }
     assert_eq!(switched, 2);
+}
+
+/// A scene of two grain types (beans and balls, interleaved) renders, pixel for pixel, the
+/// nearer of the two one-type renders: each type is split, culled and drawn on its own, the
+/// meshes of both share one depth test, and each impostor tier composites over what is there.
+#[test]
+fn two_grain_types_in_one_scene_keep_the_nearer_surface_of_each_pixel() {
+    use grain_renderer::{GrainType, RendererOptions, StackingCamera, StackingRenderer};
+    let gpu = gpu();
+    let beans = scene(5, grain_mesh::CoffeeBean::default().mesh().unwrap());
+    let mut balls = scene(5, grain_mesh::Ball::default().mesh().unwrap());
+    // Smaller balls between the beans: half a bean spacing along each axis, 0.4 of their size.
+    let shift = Vec3::splat(0.8 * beans.atlas.outer_radius);
+    for g in &mut balls.grains {
+        g.centre_scale = (g.centre_scale.truncate() + shift).extend(0.4 * g.centre_scale.w);
+    }
+    // Far enough that most grains are impostors (below 18 px).
+    let eye = beans.target + (beans.eye - beans.target) * 1.6;
+    let camera = StackingCamera::perspective(eye, beans.target, 0.7, SIZE, (0.05, 500.0)).unwrap();
+    let lighting = grain_renderer::renderer::pile_lighting();
+    let options = RendererOptions {
+        size: SIZE,
+        capacity: 125,
+        mesh_above: 18.0,
+        point_below: grain_renderer::renderer::NO_POINT_TIER,
+        band: 1.0,
+        occluder_map: OccluderMapKind::Auto,
+        visibility: VisibilityKind::Auto,
+        culling: true,
+        samples: 1,
+    };
+    let render = |types: &[&Scene]| {
+        let kinds: Vec<GrainType<'_>> = types
+            .iter()
+            .map(|s| GrainType { mesh: &s.mesh, atlas: &s.atlas, mesh_above: 18.0, point_below: 1e-6 })
+            .collect();
+        let renderer = StackingRenderer::with_types(&gpu.device, &gpu.queue, &kinds, options).unwrap();
+        let grains: Vec<&[GrainInstance]> = types.iter().map(|s| s.grains.as_slice()).collect();
+        let bindings = renderer.upload_types(&gpu.device, &grains).unwrap();
+        for _ in 0..2 {
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            renderer.encode(&gpu.queue, &mut encoder, &bindings, &camera, &lighting, TierSettings::default()).unwrap();
+            gpu.queue.submit([encoder.finish()]);
+        }
+        let counters = renderer.read_counters(gpu).unwrap();
+        (renderer.gbuffer().read(&gpu.device, &gpu.queue).unwrap(), counters)
+    };
+    let (only_beans, bean_counters) = render(&[&beans]);
+    let (only_balls, ball_counters) = render(&[&balls]);
+    let (both, counters) = render(&[&beans, &balls]);
+    for list in 0..4 {
+        assert_eq!(counters.count[list], bean_counters.count[list] + ball_counters.count[list], "list {list}");
+    }
+    assert!(counters.count[0] > 0 && counters.count[1] + counters.count[2] > 0, "meshes and impostors drawn");
+    let texel = |g: &GbufferImage, i: usize| (g.normal_coverage[i], g.albedo[i], g.material[i], g.depth[i]);
+    let (mut from_beans, mut from_balls, mut ties) = (0, 0, 0);
+    for i in 0..both.depth.len() {
+        let (a, b) = (only_beans.depth[i], only_balls.depth[i]);
+        if a == b && a.is_finite() {
+            ties += 1;
+            continue;
+        }
+        let expected = if a <= b { texel(&only_beans, i) } else { texel(&only_balls, i) };
+        assert_eq!(texel(&both, i), expected, "pixel {i}: depths {a} (beans) and {b} (balls)");
+        if a < b {
+            from_beans += 1;
+        } else if b < a {
+            from_balls += 1;
+        }
+    }
+    println!(
+        "lists {:?} (beans {:?}, balls {:?}); {from_beans} pixels show beans, {from_balls} balls, {ties} exact ties",
+        counters.count, bean_counters.count, ball_counters.count
+    );
+    assert!(from_beans > 500 && from_balls > 500, "both types are seen");
+    assert!(ties * 1000 <= both.depth.len(), "{ties} exact ties");
 }
 
 /// Bad input is an error naming what is wrong, and no buffer of the tier can be mapped (a

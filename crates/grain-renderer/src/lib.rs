@@ -18,6 +18,8 @@
 //! # Modules
 //!
 //! - [`renderer`]: [`StackingRenderer`], every pass of a frame built once.
+//! - [`grain_type`]: one grain type's passes ([`GrainType`]); a scene may mix several.
+//! - [`options`]: what a renderer is built for, [`RendererOptions`].
 //! - [`bench`](mod@bench): a frame timed stage by stage.
 //! - [`point_threshold`]: the point tier's threshold, measured against the impostor tier.
 //! - [`frame_accuracy`]: whole-frame SSIM and ꟻLIP along a camera path, and popping.
@@ -33,17 +35,20 @@
 pub mod bench;
 pub mod error;
 pub mod frame_accuracy;
+pub mod grain_type;
 pub mod impostor_raster;
 pub mod impostor_tier;
 pub mod inputs;
 pub mod mesh_reference;
 pub mod mesh_tier;
+pub mod options;
 pub mod point_threshold;
 pub mod renderer;
 pub mod shaders;
 pub mod tier_layout;
 
 pub use error::RenderError;
+pub use grain_type::{GrainType, TypeRenderer};
 pub use impostor_tier::{
     ImpostorPath, ImpostorTier, TierBindings, TierFrame, TierPass, TierSettings, TierUniforms, VisibilityKind,
 };

@@ -15,6 +15,15 @@ use crate::inputs::ListInputs;
 use crate::shaders::mesh_tier_shader;
 use crate::tier_layout::MeshTierUniforms;
 
+/// Which layer of a frame a mesh tier draws ([`MeshTier::encode_layer`]).
+#[derive(Clone, Copy)]
+pub enum MeshLayer<'a> {
+    /// The first grain type: clears the G-buffer and the depth buffer.
+    First,
+    /// A further grain type, over the first's G-buffer contents and depth buffer.
+    Over(&'a MeshTier),
+}
+
 /// The bind group of one set of inputs.
 pub struct MeshTierBindings {
     bind_group: wgpu::BindGroup,
@@ -148,6 +157,27 @@ impl MeshTier {
         camera: &CameraUniforms,
         gbuffer: &ScreenGbuffer,
     ) -> Result<(), RenderError> {
+        self.encode_layer(queue, encoder, bindings, camera, gbuffer, MeshLayer::First)
+    }
+
+    /// The raster depth buffer this tier clears (and another grain type's tier may draw
+    /// over: [`MeshLayer::Over`]).
+    pub fn depth(&self) -> &wgpu::TextureView {
+        &self.depth
+    }
+
+    /// [`MeshTier::encode`] as a layer of a scene of several grain types: the first clears
+    /// the G-buffer and its own depth buffer; each further type draws over both, testing
+    /// against the first's depth buffer (every type's meshes in one depth test).
+    pub fn encode_layer(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        bindings: &MeshTierBindings,
+        camera: &CameraUniforms,
+        gbuffer: &ScreenGbuffer,
+        layer: MeshLayer<'_>,
+    ) -> Result<(), RenderError> {
         if (gbuffer.width, gbuffer.height) != self.size {
             return Err(RenderError::InvalidInput(format!(
                 "the G-buffer is {}×{}, the mesh tier {:?}",
@@ -163,16 +193,32 @@ impl MeshTier {
             wgpu::Color::TRANSPARENT,
             wgpu::Color { r: f64::INFINITY, g: 0.0, b: 0.0, a: 0.0 },
         ];
+        let (depth, depth_load) = match layer {
+            MeshLayer::First => (&self.depth, wgpu::LoadOp::Clear(1.0)),
+            MeshLayer::Over(first) => {
+                if first.size != self.size {
+                    return Err(RenderError::InvalidInput(format!(
+                        "a mesh tier of {:?} over one of {:?}",
+                        self.size, first.size
+                    )));
+                }
+                (&first.depth, wgpu::LoadOp::Load)
+            }
+        };
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = gbuffer
             .views
             .iter()
             .zip(clears)
             .map(|(view, clear)| {
+                let load = match layer {
+                    MeshLayer::First => wgpu::LoadOp::Clear(clear),
+                    MeshLayer::Over(_) => wgpu::LoadOp::Load,
+                };
                 Some(wgpu::RenderPassColorAttachment {
                     view,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations { load, store: wgpu::StoreOp::Store },
                 })
             })
             .collect();
@@ -180,8 +226,8 @@ impl MeshTier {
             label: Some("mesh tier"),
             color_attachments: &attachments,
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &self.depth,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                view: depth,
+                depth_ops: Some(wgpu::Operations { load: depth_load, store: wgpu::StoreOp::Store }),
                 stencil_ops: None,
             }),
             ..Default::default()

@@ -204,6 +204,7 @@ pub const COMMANDS: &[Command] = &[
             value("frames", "K"),
             OBJ,
             value("grain", "NAME"),
+            value("mix", "NAME"),
             value("mesh-above", "PX"),
             switch("shake"),
             switch("accuracy"),

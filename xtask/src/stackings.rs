@@ -1,5 +1,5 @@
 //! `cargo xtask stackings [OUT_DIR] [--grains COUNT] [--frames K] [--obj PATH | --grain NAME]
-//! [--mesh-above PX] [--shake | --accuracy] [--samples S] [--quick]`: the multiscale renderer (`grain-renderer`) on a pile
+//! [--mix NAME] [--mesh-above PX] [--shake | --accuracy] [--samples S] [--quick]`: the multiscale renderer (`grain-renderer`) on a pile
 //! from `grain-scenes` — a backward dolly from a close view to the whole pile (paper Fig. 9),
 //! with `--shake` every grain moving and turning each frame (`grain_scenes::Shake`, uploaded
 //! per frame) — written as PNG frames, with the per-stage breakdown printed and written to
@@ -14,7 +14,10 @@
 //! grain as a mesh 4×4 supersampled (`grain_renderer::frame_accuracy`): standard SSIM, ꟻLIP,
 //! mean error and popping per frame in `accuracy.csv`, the reference and the ꟻLIP map as
 //! `reference_KK.png` and `flip_KK.png`. `--samples S` gives the impostor and point tiers
-//! `S × S` visibility samples per pixel (fractional silhouettes; 1 by default). `COUNT` may be a paper size (`1.6M`, `20M`); a count
+//! `S × S` visibility samples per pixel (fractional silhouettes; 1 by default). `--mix NAME`
+//! makes every other grain a second procedural type (`grain_renderer::GrainType`: its own
+//! atlas, measured mesh threshold and point threshold, scaled to the pile's outer radius; the
+//! pile's inner radius is the larger `r/R`, so every type's inner balls stay disjoint). `COUNT` may be a paper size (`1.6M`, `20M`); a count
 //! whose buffers exceed the adapter's limits is an error naming the limit.
 
 use std::fmt::Write as _;
@@ -27,7 +30,9 @@ use grain_impostor::bake::{BakeSettings, Baker, Progress};
 use grain_impostor::scene::{GrainInstance, ShadingUniforms};
 use grain_renderer::bench::time_frame;
 use grain_renderer::renderer::NO_POINT_TIER;
-use grain_renderer::{RendererOptions, StackingCamera, StackingRenderer, Stage, TierSettings, VisibilityKind};
+use grain_renderer::{
+    GrainType, RendererOptions, StackingCamera, StackingRenderer, Stage, TierSettings, VisibilityKind,
+};
 use grain_scenes::{GrainRadii, Region, Stacking, StackingSpec};
 use grain_splitter::sweep::Shot;
 use grain_splitter::{OccluderMapKind, TierThresholds};
@@ -41,6 +46,7 @@ pub struct Options {
     out: PathBuf,
     obj: Option<PathBuf>,
     grain: &'static str,
+    mix: Option<&'static str>,
     count: usize,
     frames: u32,
     mesh_above: Option<f32>,
@@ -60,6 +66,7 @@ impl Options {
             out: args.out_dir(),
             obj: args.value("obj").map(PathBuf::from),
             grain: args.parse_value("grain", grain)?.unwrap_or("bean"),
+            mix: args.parse_value("mix", grain)?,
             count: args.parse_value("grains", crate::bench_gpu::grain_count)?.unwrap_or(if quick {
                 5_000
             } else {
@@ -135,17 +142,6 @@ pub(crate) fn bake_atlas(gpu: &gpu_harness::Gpu, mesh: &grain_mesh::GrainMesh) -
     baker.bake(&gpu.device, &gpu.queue, mesh, &settings).map_err(|e| e.to_string())
 }
 
-/// A pile of `count` grains of `mesh` ([`pile_instances`]) and the grain's atlas
-/// ([`bake_atlas`]).
-pub(crate) fn scene(
-    gpu: &gpu_harness::Gpu,
-    count: usize,
-    mesh: &grain_mesh::GrainMesh,
-) -> Result<(Stacking, Vec<GrainInstance>, ImpostorAtlas), String> {
-    let (stacking, grains) = pile_instances(count, mesh)?;
-    Ok((stacking, grains, bake_atlas(gpu, mesh)?))
-}
-
 /// The mesh threshold (pixels of projected diameter): `given` (`--mesh-above`), else the
 /// measured impostor table's for a procedural grain (SSIM loss ≤ 0.05); an OBJ grain has no
 /// measured table, so it must be given.
@@ -186,69 +182,129 @@ fn write(path: &Path, text: &str) -> Result<(), String> {
     std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
+/// One grain type of the pile: every `types`-th grain from `first`, scaled so that its outer
+/// radius is the pile's.
+struct PileType {
+    name: String,
+    mesh: grain_mesh::GrainMesh,
+    atlas: ImpostorAtlas,
+    mesh_above: f32,
+    point_below: f32,
+    /// The pile's outer radius over this mesh's.
+    scale: f32,
+    grains: Vec<GrainInstance>,
+}
+
+/// The grains of `stacking` at `indices`, scaled by `scale`.
+fn instances(stacking: &Stacking, indices: impl Iterator<Item = usize>, scale: f32) -> Vec<GrainInstance> {
+    let (centres, rotations) = (stacking.centre_scale(), stacking.rotation());
+    indices
+        .map(|i| GrainInstance::new(centres[i].truncate(), centres[i].w * scale, Quat::from_vec4(rotations[i])))
+        .collect()
+}
+
 /// Runs the command.
 pub fn run(args: &Args<'_>) -> Result<(), String> {
     let options = Options::from_args(args)?;
-    let (name, mesh) = load_grain(options.obj.as_deref(), options.grain)?;
-    let bounds = mesh.bounds();
-    let (inner, outer) = (bounds.occluder_radius(), bounds.outer_radius);
-    let mesh_above = mesh_threshold(options.mesh_above, options.obj.as_deref(), &name)?;
+    if options.accuracy && options.mix.is_some() {
+        return Err("stackings: --accuracy compares one grain type with its meshes, not a --mix scene".into());
+    }
+    let mut loaded = vec![load_grain(options.obj.as_deref(), options.grain)?];
+    if let Some(mix) = options.mix {
+        loaded.push(load_grain(None, mix)?);
+    }
     std::fs::create_dir_all(&options.out).map_err(|e| format!("cannot create {}: {e}", options.out.display()))?;
     let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
+    let outer = loaded[0].1.bounds().outer_radius;
+    // Inner balls stay disjoint for every type: the pile's inner radius is the largest r/R.
+    let ratio = loaded.iter().map(|(_, m)| m.bounds().occluder_radius() / m.bounds().outer_radius).fold(0.0, f32::max);
+    let started = Instant::now();
+    let stacking = pile(options.count, (ratio * outer).max(1e-6 * outer), outer)?;
+    let region = stacking.bounds();
+    let shots = Shot::fig15(region.min, region.max);
+    let mut types = Vec::new();
+    for (k, (name, mesh)) in loaded.into_iter().enumerate() {
+        let mesh_above = mesh_threshold(
+            if k == 0 { options.mesh_above } else { None },
+            options.obj.as_deref().filter(|_| k == 0),
+            &name,
+        )?;
+        let scale = outer / mesh.bounds().outer_radius;
+        let atlas = bake_atlas(&gpu, &mesh)?;
+        println!(
+            "stackings: `{name}` (r/R = {:.2}), meshes above {mesh_above:.1} px",
+            mesh.bounds().occluder_radius() / mesh.bounds().outer_radius
+        );
+        // The point threshold, measured on the pile made all of this type
+        // (grain_renderer::point_threshold).
+        let whole = instances(&stacking, 0..stacking.len(), scale);
+        let measured = grain_renderer::point_threshold::measure(
+            &gpu.device,
+            &gpu.queue,
+            &mesh,
+            &atlas,
+            &whole,
+            (shots[0].target, shots[0].eye - shots[0].target),
+            options.size,
+            &POINT_DIAMETERS,
+            POINT_BUDGET,
+        )
+        .map_err(|e| e.to_string())?;
+        for row in &measured.rows {
+            println!(
+                "  against the mesh (4×4 supersampled) at {:.1} px: SSIM loss points {:.4}, impostors {:.4}; RMSE points {:.4}, impostors {:.4} ({} px)",
+                row.diameter,
+                1.0 - row.points.ssim,
+                1.0 - row.impostors.ssim,
+                row.points.rmse,
+                row.impostors.rmse,
+                row.pixels
+            );
+        }
+        println!("  point threshold: {:?} px (points' SSIM loss ≤ impostors' + {POINT_BUDGET})", measured.threshold);
+        types.push(PileType {
+            name,
+            mesh,
+            atlas,
+            mesh_above,
+            point_below: measured.threshold.unwrap_or(NO_POINT_TIER),
+            scale,
+            grains: Vec::new(),
+        });
+    }
+    let count = types.len();
+    for (k, t) in types.iter_mut().enumerate() {
+        t.grains = instances(&stacking, (k..stacking.len()).step_by(count), t.scale);
+    }
     println!(
-        "stackings: {} grains of `{name}` (r/R = {:.2}), {}×{}, {} frames, meshes above {mesh_above:.1} px, on {}",
-        options.count,
-        inner / outer,
+        "stackings: {} grains ({}), {}×{}, {} frames, on {}; scene, atlases and point thresholds in {:.1} s",
+        stacking.len(),
+        types.iter().map(|t| format!("{} {}", t.grains.len(), t.name)).collect::<Vec<_>>().join(", "),
         options.size.0,
         options.size.1,
         options.frames,
-        gpu.describe()
+        gpu.describe(),
+        started.elapsed().as_secs_f64()
     );
-    let started = Instant::now();
-    let (stacking, grains, atlas) = scene(&gpu, options.count, &mesh)?;
-    println!("  scene and atlas (n = 8, p = 64) in {:.1} s", started.elapsed().as_secs_f64());
-    let region = stacking.bounds();
-    let shots = Shot::fig15(region.min, region.max);
-    // The point threshold, measured on this pile (grain_renderer::point_threshold).
-    let measured = grain_renderer::point_threshold::measure(
-        &gpu.device,
-        &gpu.queue,
-        &mesh,
-        &atlas,
-        &grains,
-        (shots[0].target, shots[0].eye - shots[0].target),
-        options.size,
-        &POINT_DIAMETERS,
-        POINT_BUDGET,
-    )
-    .map_err(|e| e.to_string())?;
-    for row in &measured.rows {
-        println!(
-            "  against the mesh (4×4 supersampled) at {:.1} px: SSIM loss points {:.4}, impostors {:.4}; RMSE points {:.4}, impostors {:.4} ({} px)",
-            row.diameter,
-            1.0 - row.points.ssim,
-            1.0 - row.impostors.ssim,
-            row.points.rmse,
-            row.impostors.rmse,
-            row.pixels
-        );
-    }
-    let point_below = measured.threshold.unwrap_or(NO_POINT_TIER);
-    println!("  point threshold: {:?} px (points' SSIM loss ≤ impostors' + {POINT_BUDGET})", measured.threshold);
     let renderer_options = RendererOptions {
         size: options.size,
-        capacity: grains.len() as u32,
-        mesh_above,
-        point_below,
+        capacity: types.iter().map(|t| t.grains.len() as u32).max().unwrap_or(1),
+        mesh_above: types[0].mesh_above,
+        point_below: types[0].point_below,
         band: 1.1,
         occluder_map: OccluderMapKind::Auto,
         visibility: VisibilityKind::Auto,
         culling: true,
         samples: options.samples,
     };
-    let renderer =
-        StackingRenderer::new(&gpu.device, &gpu.queue, &mesh, &atlas, renderer_options).map_err(|e| e.to_string())?;
-    let scene = renderer.upload(&gpu.device, &grains).map_err(|e| e.to_string())?;
+    let grain_types: Vec<GrainType<'_>> = types
+        .iter()
+        .map(|t| GrainType { mesh: &t.mesh, atlas: &t.atlas, mesh_above: t.mesh_above, point_below: t.point_below })
+        .collect();
+    let renderer = StackingRenderer::with_types(&gpu.device, &gpu.queue, &grain_types, renderer_options)
+        .map_err(|e| e.to_string())?;
+    let per_type: Vec<&[GrainInstance]> = types.iter().map(|t| t.grains.as_slice()).collect();
+    let scene = renderer.upload_types(&gpu.device, &per_type).map_err(|e| e.to_string())?;
     // Within the amplitude that keeps the inner balls apart (`Stacking::max_amplitude`).
     let shake = options
         .shake
@@ -274,15 +330,19 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         if let Some(shake) = &shake {
             let started = Instant::now();
             shake.pose_at(&stacking, k as f32 / 24.0, &mut centre_scale, &mut rotation).map_err(|e| e.to_string())?;
-            let moved: Vec<GrainInstance> = centre_scale
-                .iter()
-                .zip(&rotation)
-                .map(|(c, q)| GrainInstance::new(c.truncate(), c.w, Quat::from_vec4(*q)))
-                .collect();
-            renderer.update(&gpu.queue, &scene, &moved).map_err(|e| e.to_string())?;
+            for (t, grain_type) in types.iter().enumerate() {
+                let moved: Vec<GrainInstance> = (t..centre_scale.len())
+                    .step_by(count)
+                    .map(|i| {
+                        let c = centre_scale[i];
+                        GrainInstance::new(c.truncate(), c.w * grain_type.scale, Quat::from_vec4(rotation[i]))
+                    })
+                    .collect();
+                renderer.update_range(&gpu.queue, &scene, t, 0, &moved).map_err(|e| e.to_string())?;
+            }
             println!(
                 "  frame {k}: {} grains posed and uploaded in {:.1} ms",
-                moved.len(),
+                centre_scale.len(),
                 started.elapsed().as_secs_f64() * 1e3
             );
         }
@@ -337,7 +397,8 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
                 Ok((camera, grain_diameter(&camera, outer, distance)))
             })
             .collect::<Result<Vec<_>, String>>()?;
-        accuracy(&gpu, &options, &mesh, &atlas, &grains, renderer_options, &cameras, &lighting)?;
+        let t = &types[0];
+        accuracy(&gpu, &options, &t.mesh, &t.atlas, &t.grains, renderer_options, &cameras, &lighting)?;
     }
     Ok(())
 }

@@ -126,12 +126,7 @@ pub(crate) fn pile_instances(
     let bounds = mesh.bounds();
     let (inner, outer) = (bounds.occluder_radius(), bounds.outer_radius);
     let stacking = pile(count, inner.max(1e-6 * outer), outer)?;
-    let grains = stacking
-        .centre_scale()
-        .iter()
-        .zip(stacking.rotation())
-        .map(|(c, q)| GrainInstance::new(c.truncate(), c.w, Quat::from_vec4(*q)))
-        .collect();
+    let grains = instances(&stacking, 0..stacking.len(), 1.0);
     Ok((stacking, grains))
 }
 

@@ -206,6 +206,7 @@ pub const COMMANDS: &[Command] = &[
             value("grain", "NAME"),
             value("mix", "NAME"),
             value("mesh-above", "PX"),
+            value("point-below", "PX"),
             switch("shake"),
             switch("accuracy"),
             value("samples", "S"),

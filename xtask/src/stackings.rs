@@ -1,5 +1,5 @@
 //! `cargo xtask stackings [OUT_DIR] [--grains COUNT] [--frames K] [--obj PATH | --grain NAME]
-//! [--mix NAME] [--mesh-above PX] [--shake | --accuracy] [--samples S] [--quick]`: the multiscale renderer (`grain-renderer`) on a pile
+//! [--mix NAME] [--mesh-above PX] [--point-below PX] [--shake | --accuracy] [--samples S] [--quick]`: the multiscale renderer (`grain-renderer`) on a pile
 //! from `grain-scenes` — a backward dolly from a close view to the whole pile (paper Fig. 9),
 //! with `--shake` every grain moving and turning each frame (`grain_scenes::Shake`, uploaded
 //! per frame) — written as PNG frames, with the per-stage breakdown printed and written to
@@ -8,7 +8,8 @@
 //! The mesh threshold is the measured impostor table's (`TierThresholds::from_impostor_table`,
 //! SSIM loss ≤ 0.05) for the procedural grains; an OBJ grain has no measured table, so
 //! `--mesh-above` must say it (pixels of projected diameter). The point threshold is measured
-//! on the pile itself before the dolly (`grain_renderer::point_threshold`, same budget).
+//! on the pile itself before the dolly (`grain_renderer::point_threshold`, same budget), unless
+//! `--point-below` gives it.
 //!
 //! With `--accuracy` the dolly runs again with a fresh renderer, each frame against every
 //! grain as a mesh 4×4 supersampled (`grain_renderer::frame_accuracy`): standard SSIM, ꟻLIP,
@@ -50,6 +51,7 @@ pub struct Options {
     count: usize,
     frames: u32,
     mesh_above: Option<f32>,
+    point_below: Option<f32>,
     shake: bool,
     accuracy: bool,
     samples: u32,
@@ -74,6 +76,7 @@ impl Options {
             }),
             frames: args.parse_value("frames", positive::<u32>)?.unwrap_or(if quick { 3 } else { 6 }),
             mesh_above: args.parse_value("mesh-above", pixels)?,
+            point_below: args.parse_value("point-below", pixels)?,
             shake: args.flag("shake"),
             accuracy: args.flag("accuracy"),
             samples: args.parse_value("samples", samples_per_side)?.unwrap_or(1),
@@ -198,6 +201,45 @@ fn instances(stacking: &Stacking, indices: impl Iterator<Item = usize>, scale: f
         .collect()
 }
 
+/// The point threshold, measured on `stacking` made all of one grain type (`mesh`, `atlas`,
+/// scaled by `scale`; `grain_renderer::point_threshold`), printed.
+fn measure_point_threshold(
+    gpu: &gpu_harness::Gpu,
+    options: &Options,
+    stacking: &Stacking,
+    shots: &[Shot; 3],
+    mesh: &grain_mesh::GrainMesh,
+    atlas: &ImpostorAtlas,
+    scale: f32,
+) -> Result<f32, String> {
+    let whole = instances(stacking, 0..stacking.len(), scale);
+    let measured = grain_renderer::point_threshold::measure(
+        &gpu.device,
+        &gpu.queue,
+        mesh,
+        atlas,
+        &whole,
+        (shots[0].target, shots[0].eye - shots[0].target),
+        options.size,
+        &POINT_DIAMETERS,
+        POINT_BUDGET,
+    )
+    .map_err(|e| e.to_string())?;
+    for row in &measured.rows {
+        println!(
+            "  against the mesh (4×4 supersampled) at {:.1} px: SSIM loss points {:.4}, impostors {:.4}; RMSE points {:.4}, impostors {:.4} ({} px)",
+            row.diameter,
+            1.0 - row.points.ssim,
+            1.0 - row.impostors.ssim,
+            row.points.rmse,
+            row.impostors.rmse,
+            row.pixels
+        );
+    }
+    println!("  point threshold: {:?} px (points' SSIM loss ≤ impostors' + {POINT_BUDGET})", measured.threshold);
+    Ok(measured.threshold.unwrap_or(NO_POINT_TIER))
+}
+
 /// Runs the command.
 pub fn run(args: &Args<'_>) -> Result<(), String> {
     let options = Options::from_args(args)?;
@@ -230,42 +272,14 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
             "stackings: `{name}` (r/R = {:.2}), meshes above {mesh_above:.1} px",
             mesh.bounds().occluder_radius() / mesh.bounds().outer_radius
         );
-        // The point threshold, measured on the pile made all of this type
-        // (grain_renderer::point_threshold).
-        let whole = instances(&stacking, 0..stacking.len(), scale);
-        let measured = grain_renderer::point_threshold::measure(
-            &gpu.device,
-            &gpu.queue,
-            &mesh,
-            &atlas,
-            &whole,
-            (shots[0].target, shots[0].eye - shots[0].target),
-            options.size,
-            &POINT_DIAMETERS,
-            POINT_BUDGET,
-        )
-        .map_err(|e| e.to_string())?;
-        for row in &measured.rows {
-            println!(
-                "  against the mesh (4×4 supersampled) at {:.1} px: SSIM loss points {:.4}, impostors {:.4}; RMSE points {:.4}, impostors {:.4} ({} px)",
-                row.diameter,
-                1.0 - row.points.ssim,
-                1.0 - row.impostors.ssim,
-                row.points.rmse,
-                row.impostors.rmse,
-                row.pixels
-            );
-        }
-        println!("  point threshold: {:?} px (points' SSIM loss ≤ impostors' + {POINT_BUDGET})", measured.threshold);
-        types.push(PileType {
-            name,
-            mesh,
-            atlas,
-            mesh_above,
-            point_below: measured.threshold.unwrap_or(NO_POINT_TIER),
-            scale,
-            grains: Vec::new(),
-        });
+        let point_below = match options.point_below {
+            Some(given) => {
+                println!("  point threshold: {given} px (given)");
+                given
+            }
+            None => measure_point_threshold(&gpu, &options, &stacking, &shots, &mesh, &atlas, scale)?,
+        };
+        types.push(PileType { name, mesh, atlas, mesh_above, point_below, scale, grains: Vec::new() });
     }
     let count = types.len();
     for (k, t) in types.iter_mut().enumerate() {

@@ -1,5 +1,6 @@
 //! `cargo xtask bench-gpu stackings [OUT_DIR] [--grains LIST] [--frames N] [--scene NAME |
-//! --obj PATH --mesh-above PX] [--samples S]`: the multiscale renderer (`grain-renderer`) stage by stage over
+//! --obj PATH --mesh-above PX] [--samples S]`: the multiscale renderer (`grain-renderer`) stage by stage
+//! (occluder map, split, meshes, impostor and point visibility, resolve, shading) over
 //! a backward dolly of 5 frames at 1920×1080, on piles of coffee beans and of sand grains
 //! (`rock`; `--scene` picks one procedural grain, `--obj` any OBJ grain, whose mesh threshold
 //! `--mesh-above` must give), for each visibility buffer the adapter has (64-bit, 32-bit) and

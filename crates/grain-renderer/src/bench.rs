@@ -14,7 +14,7 @@ use crate::renderer::{SceneBindings, StackingCamera, StackingRenderer, Stage};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StageTimes {
     /// Per stage.
-    pub ms: [f64; 4],
+    pub ms: [f64; Stage::ALL.len()],
     /// How they were measured.
     pub source: TimingSource,
 }
@@ -40,7 +40,7 @@ pub fn time_frame(
     settings: TierSettings,
 ) -> Result<StageTimes, RenderError> {
     let hardware = gpu.has_timestamps() && !gpu.is_software();
-    let mut ms = [0.0; 4];
+    let mut ms = [0.0; Stage::ALL.len()];
     if hardware {
         let count = 2 * Stage::ALL.len() as u32;
         let set = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {

@@ -197,15 +197,26 @@ impl TypeRenderer {
         Ok(TypeBindings { centres, instances, count, split, mesh, impostor })
     }
 
-    /// Records the split of this type's grains.
-    pub(crate) fn encode_split(
+    /// Records this type's occluder map (and Hi-Z pyramid).
+    pub(crate) fn encode_occluder_map(
         &self,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         bindings: &TypeBindings,
         camera: &SplitCamera,
     ) -> Result<(), RenderError> {
-        self.splitter.encode(queue, encoder, &bindings.split, camera, bindings.count, None).map_err(gpu_error)
+        self.splitter
+            .encode_occluder_map(queue, encoder, &bindings.split, camera, bindings.count, None)
+            .map_err(gpu_error)
+    }
+
+    /// Records the split of this type's grains (after its occluder map).
+    pub(crate) fn encode_split(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        bindings: &TypeBindings,
+    ) -> Result<(), RenderError> {
+        self.splitter.encode_split(encoder, &bindings.split, bindings.count, None).map_err(gpu_error)
     }
 
     /// Records this type's mesh tier as `layer` of the frame.
@@ -221,7 +232,8 @@ impl TypeRenderer {
         self.mesh_tier.encode_layer(queue, encoder, &bindings.mesh, camera, gbuffer, layer)
     }
 
-    /// Records this type's impostor and point tiers, composited over the G-buffer.
+    /// Records this type's impostor and point tiers' visibility (composited over the
+    /// G-buffer's depth).
     pub(crate) fn encode_impostors(
         &self,
         queue: &wgpu::Queue,
@@ -236,7 +248,17 @@ impl TypeRenderer {
             instance_count: bindings.count,
             settings: TierSettings { composite: true, ..settings },
         };
-        self.impostor_tier.encode(queue, encoder, &bindings.impostor, &frame, &self.atlas_binding())
+        self.impostor_tier.encode_visibility(queue, encoder, &bindings.impostor, &frame, &self.atlas_binding())
+    }
+
+    /// Records the resolve of this type's visibility buffer into the G-buffer.
+    pub(crate) fn encode_resolve(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        bindings: &TypeBindings,
+    ) -> Result<(), RenderError> {
+        self.impostor_tier.encode_resolve(encoder, &bindings.impostor);
+        Ok(())
     }
 
     /// The splitter (its counters, lists and settings).

@@ -504,11 +504,26 @@ impl ImpostorTier {
         Ok(TierBindings { splat, clear, resolve, arguments, indirect: inputs.indirect.clone() })
     }
 
-    /// Writes the frame's uniforms through `queue` and records the tier (one compute
-    /// pass): arguments, clear, the splats of [`LIST_IMPOSTOR_OCCLUDER`], [`LIST_IMPOSTOR_REST`]
-    /// and [`LIST_POINT`], the points' accumulation, and the resolve. Reads the splitter's lists of the same
-    /// submission; nothing is read back.
+    /// Writes the frame's uniforms through `queue` and records the tier:
+    /// [`ImpostorTier::encode_visibility`], then [`ImpostorTier::encode_resolve`]. Reads the
+    /// splitter's lists of the same submission; nothing is read back.
     pub fn encode(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        bindings: &TierBindings,
+        frame: &TierFrame<'_>,
+        atlas: &AtlasBinding<'_>,
+    ) -> Result<(), RenderError> {
+        self.encode_visibility(queue, encoder, bindings, frame, atlas)?;
+        self.encode_resolve(encoder, bindings);
+        Ok(())
+    }
+
+    /// Writes the frame's uniforms through `queue` and records the visibility buffer:
+    /// arguments, clear, the splats (or sprites) of [`LIST_IMPOSTOR_OCCLUDER`] and
+    /// [`LIST_IMPOSTOR_REST`], those of [`LIST_POINT`], and the points' accumulation.
+    pub fn encode_visibility(
         &self,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
@@ -588,7 +603,7 @@ impl ImpostorTier {
             self.raster.encode_draws(encoder, &bindings.splat, &self.arguments, [0, 2 * self.pass_stride], draws);
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("impostor tier: visibility and resolve"),
+            label: Some("impostor tier: visibility"),
             timestamp_writes: None,
         });
         let owner_passes: &[u32] = if self.kind == VisibilityKind::TwoPass32 { &[0, 1] } else { &[0] };
@@ -620,11 +635,21 @@ impl ImpostorTier {
         pass.set_pipeline(&self.pipelines.point_accumulate);
         let point_arguments = u64::from(LIST_POINT * INDIRECT_WORDS + INDIRECT_DISPATCH) * 4;
         pass.dispatch_workgroups_indirect(&bindings.indirect, point_arguments);
+        Ok(())
+    }
+
+    /// Records the resolve of the visibility buffer [`ImpostorTier::encode_visibility`] made
+    /// into the G-buffer (one compute pass, the uniforms of that frame).
+    pub fn encode_resolve(&self, encoder: &mut wgpu::CommandEncoder, bindings: &TierBindings) {
+        let pixel_groups = (self.size.0.div_ceil(PIXEL_TILE), self.size.1.div_ceil(PIXEL_TILE));
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("impostor tier: resolve"),
+            timestamp_writes: None,
+        });
         pass.set_bind_group(0, &bindings.splat, &[0]);
         pass.set_pipeline(&self.pipelines.resolve);
         pass.set_bind_group(1, &bindings.resolve, &[]);
         pass.dispatch_workgroups(pixel_groups.0, pixel_groups.1, 1);
-        Ok(())
     }
 
     /// Every buffer the tier owns, named. None can be mapped.

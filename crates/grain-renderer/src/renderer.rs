@@ -55,26 +55,34 @@ impl StackingCamera {
 /// The stages of a frame, in order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
-    /// Occluder map, culling, tiers, lists (`grain-splitter`).
+    /// The occluder map and occluder fusion's Hi-Z pyramid (`grain-splitter`).
+    OccluderMap,
+    /// Culling, tiers and lists (`grain-splitter`).
     Split,
     /// The mesh tier (clears the G-buffer).
     Meshes,
-    /// The impostor tier, composited over the meshes.
+    /// The impostor and point tiers' visibility: the splats (or raster sprites) of the
+    /// impostor lists and the points, and the points' accumulation.
     Impostors,
+    /// The visibility buffer resolved into the G-buffer, composited over the meshes.
+    Resolve,
     /// Deferred shading of the G-buffer.
     Shading,
 }
 
 impl Stage {
     /// Every stage, in the order a frame runs them.
-    pub const ALL: [Stage; 4] = [Stage::Split, Stage::Meshes, Stage::Impostors, Stage::Shading];
+    pub const ALL: [Stage; 6] =
+        [Stage::OccluderMap, Stage::Split, Stage::Meshes, Stage::Impostors, Stage::Resolve, Stage::Shading];
 
     /// Its name in tables and CSV.
     pub fn name(self) -> &'static str {
         match self {
+            Stage::OccluderMap => "occluder_map",
             Stage::Split => "split",
             Stage::Meshes => "meshes",
             Stage::Impostors => "impostors",
+            Stage::Resolve => "resolve",
             Stage::Shading => "shading",
         }
     }
@@ -280,7 +288,9 @@ impl StackingRenderer {
     /// Records one stage of a frame, for every grain type (for timing stages apart;
     /// [`StackingRenderer::encode`] records them all, in [`Stage::ALL`]'s order, which each
     /// stage needs): the meshes of every type over one depth buffer, then each type's
-    /// impostor tier over the G-buffer (`crate::grain_type`).
+    /// impostor tier over the G-buffer (`crate::grain_type`). With several types, each
+    /// type's visibility needs the previous types' resolved pixels, so [`Stage::Impostors`]
+    /// also records the resolves of all types but the last (and is timed with them).
     #[allow(clippy::too_many_arguments)]
     pub fn encode_stage(
         &self,
@@ -301,14 +311,24 @@ impl StackingRenderer {
         }
         let mut pairs = self.types.iter().zip(&scene.types);
         match stage {
-            Stage::Split => pairs.try_for_each(|(t, b)| t.encode_split(queue, encoder, b, &camera.split)),
+            Stage::OccluderMap => pairs.try_for_each(|(t, b)| t.encode_occluder_map(queue, encoder, b, &camera.split)),
+            Stage::Split => pairs.try_for_each(|(t, b)| t.encode_split(encoder, b)),
             Stage::Meshes => pairs.enumerate().try_for_each(|(k, (t, b))| {
                 let layer = if k == 0 { MeshLayer::First } else { MeshLayer::Over(self.types[0].mesh_tier()) };
                 t.encode_meshes(queue, encoder, b, &camera.uniforms, &self.gbuffer, layer)
             }),
-            Stage::Impostors => {
-                pairs.try_for_each(|(t, b)| t.encode_impostors(queue, encoder, b, &camera.uniforms, settings))
-            }
+            // Each type's visibility starts from the G-buffer's depth, the previous types'
+            // resolved pixels included: every resolve but the last type's runs in this stage.
+            Stage::Impostors => pairs.enumerate().try_for_each(|(k, (t, b))| {
+                if k > 0 {
+                    self.types[k - 1].encode_resolve(encoder, &scene.types[k - 1])?;
+                }
+                t.encode_impostors(queue, encoder, b, &camera.uniforms, settings)
+            }),
+            Stage::Resolve => match (self.types.last(), scene.types.last()) {
+                (Some(t), Some(b)) => t.encode_resolve(encoder, b),
+                _ => Ok(()),
+            },
             Stage::Shading => {
                 self.shading.encode(queue, encoder, &self.shading_bindings, &camera.uniforms, lighting);
                 Ok(())

@@ -9,7 +9,17 @@ extern crate alloc;
 extern crate std;
 
 mod descriptor;
+mod half;
+mod layout;
+mod octree;
+mod prefilter;
+mod sample;
 mod surface;
 
 pub use descriptor::{ATTRIBUTE_CHANNELS, Voxel};
+pub use half::{HALF_MAX, HALF_MIN_POSITIVE, f32_to_half, half_to_f32};
+pub use layout::{COMPACT_DISTANCE_RANGE, COMPACT_DISTANCE_STEPS, MAX_VOXEL_WORDS, RawVoxel, VoxelLayout};
+pub use octree::{BrickSize, BrickTree, BuildError, BuildOptions, Domain, MAX_LEVELS, Node};
+pub use prefilter::{HeightVariance, SurfaceStatistics, surface_statistics};
+pub use sample::{FRACTION_STEPS, PackedTree, RawSample, SPLIT_MASK, TreeUniforms, lerp, lerp_raw};
 pub use surface::{Cell, SdfSurface, SurfaceError, SurfaceSample, SurfaceSource, thin_shell_samples};

@@ -73,7 +73,7 @@ pub fn thin_shell_samples<S: SurfaceSource + ?Sized>(
     spacing: f32,
     out: &mut Vec<SurfaceSample>,
 ) {
-    if !(spacing > 0.0) || !spacing.is_finite() {
+    if !spacing.is_finite() || spacing <= 0.0 {
         return;
     }
     let extent = (cell.max - cell.min) / spacing;
@@ -87,16 +87,21 @@ pub fn thin_shell_samples<S: SurfaceSource + ?Sized>(
                     continue;
                 }
                 let d = source.distance(p);
-                if !(libm::fabsf(d) < 0.5 * spacing) {
+                if d.is_nan() || libm::fabsf(d) >= 0.5 * spacing {
                     continue;
                 }
                 let g = source.gradient(p);
                 let g2 = g.length_squared();
-                if !(g2 > 0.0) || !g2.is_finite() {
+                if !g2.is_finite() || g2 <= 0.0 {
                     continue;
                 }
                 let x = p - g * (d / g2);
-                out.push(SurfaceSample { position: x, normal: g / libm::sqrtf(g2), area, attribute: source.attribute(x) });
+                out.push(SurfaceSample {
+                    position: x,
+                    normal: g / libm::sqrtf(g2),
+                    area,
+                    attribute: source.attribute(x),
+                });
             }
         }
     }
@@ -143,7 +148,7 @@ where
     /// differences that give the gradient (world units; a small fraction of the finest
     /// voxel).
     pub fn new(distance: D, attribute: A, gradient_step: f32) -> Result<Self, SurfaceError> {
-        if !(gradient_step > 0.0) || !gradient_step.is_finite() {
+        if !gradient_step.is_finite() || gradient_step <= 0.0 {
             return Err(SurfaceError::GradientStep(gradient_step));
         }
         Ok(Self { distance, attribute, gradient_step })

@@ -1,0 +1,336 @@
+//! Sampling a packed octree (§5.2–5.3): trilinear within a level, linear across levels
+//! (quadrilinear), decoded before interpolation; and the nearest voxel as a baseline
+//! (Fig. 10a).
+//!
+//! # The same bits on the CPU and in WGSL
+//!
+//! Hardware filtering is low-precision and `f32` textures are not filterable without a
+//! feature, so interpolation is manual, from storage buffers, and written so that any
+//! conforming WGSL implementation computes the same bits as this code:
+//!
+//! - The query point goes to finest-voxel units once, `q = (p − origin) × (1 / voxel_size)`
+//!   (a subtraction and a product, nothing after); every later product is by a power of
+//!   two or is exact.
+//! - Interpolation fractions are quantised to `2⁻¹¹` (`t = ⌊f 2048⌋ / 2048`: at most 11
+//!   significant bits), the positional resolution 1/2048 of a voxel.
+//! - Every interpolation is [`lerp`]: `d = b − a` is split into its top 12 significant bits
+//!   `d_hi` (a bit mask) and the exact rest `d_lo = d − d_hi`; then
+//!   `(a + d_hi t) + d_lo t`. Both products are exact (≤ 23 bits), so a compiler that fuses
+//!   a multiply and an add into an `fma` (which WGSL allows) cannot change the result.
+//! - Decoding is exact ([`crate::layout`]); the scales that are not powers of two, and the
+//!   renormalisation of `n̄` (`sqrt` and division, not correctly rounded in WGSL), come after
+//!   the raw sample, which is what the differential test compares bit for bit.
+//!
+//! # Empty space
+//!
+//! Where the descent to level `L` ends at a node without a brick, level `L` contributes the
+//! voxel `h̄ = ±2 S_L'` (`L'` the node's level, `+` outside, `−` inside: a lower bound of
+//! the distance there, by the brick placement rule), with every other field zero.
+
+use alloc::vec::Vec;
+
+use glam::{UVec3, UVec4, Vec3, Vec4};
+use gpu_layout::gpu_struct;
+
+use crate::descriptor::{ATTRIBUTE_CHANNELS, Voxel};
+use crate::layout::{RawVoxel, VoxelLayout, level_scale};
+use crate::octree::{BrickTree, Node};
+
+/// Interpolation fractions are multiples of `1 / FRACTION_STEPS`.
+pub const FRACTION_STEPS: f32 = 2048.0;
+
+/// The mask that keeps the sign, the exponent and the top 11 explicit mantissa bits.
+pub const SPLIT_MASK: u32 = 0xffff_f000;
+
+gpu_struct! {
+    /// Describes a [`PackedTree`] to a shader.
+    pub struct TreeUniforms {
+        /// `(origin, 1 / voxel_size)`: the domain's lowest corner (world) and the inverse of
+        /// the finest voxel's side.
+        pub origin_inverse_size: Vec4,
+        /// `(voxel_size, 0, 0, 0)`.
+        pub voxel_size: Vec4,
+        /// `(levels, log2 n, layout index, words per voxel)`.
+        pub shape: UVec4,
+        /// `(node count, brick count, finest resolution, 0)`.
+        pub counts: UVec4,
+    }
+}
+
+/// A [`BrickTree`] in a GPU layout: the node pool and the brick pool as flat `u32`
+/// buffers, sampled exactly as the WGSL twin samples them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PackedTree {
+    layout: VoxelLayout,
+    uniforms: TreeUniforms,
+    nodes: Vec<Node>,
+    words: Vec<u32>,
+}
+
+/// What [`PackedTree::sample_raw`] returns: the blended raw voxel (finest-voxel units,
+/// codes for the attributes, an unnormalised `n̄`).
+pub type RawSample = RawVoxel;
+
+/// `a + (b − a) t` for `t` a multiple of 2⁻¹¹ in `[0, 1)`, immune to `fma` contraction (see
+/// the module documentation).
+#[inline]
+pub fn lerp(a: f32, b: f32, t: f32) -> f32 {
+    let d = b - a;
+    let hi = f32::from_bits(d.to_bits() & SPLIT_MASK);
+    let lo = d - hi;
+    (a + hi * t) + lo * t
+}
+
+fn lerp3(a: Vec3, b: Vec3, t: f32) -> Vec3 {
+    Vec3::new(lerp(a.x, b.x, t), lerp(a.y, b.y, t), lerp(a.z, b.z, t))
+}
+
+fn lerp_channels(a: [f32; ATTRIBUTE_CHANNELS], b: [f32; ATTRIBUTE_CHANNELS], t: f32) -> [f32; ATTRIBUTE_CHANNELS] {
+    core::array::from_fn(|c| lerp(a[c], b[c], t))
+}
+
+/// [`lerp`] of every field.
+pub fn lerp_raw(a: &RawVoxel, b: &RawVoxel, t: f32) -> RawVoxel {
+    RawVoxel {
+        distance: lerp(a.distance, b.distance, t),
+        distance_variance: lerp(a.distance_variance, b.distance_variance, t),
+        normal: lerp3(a.normal, b.normal, t),
+        slope_variance: lerp(a.slope_variance, b.slope_variance, t),
+        attribute: lerp_channels(a.attribute, b.attribute, t),
+        correlation: lerp_channels(a.correlation, b.correlation, t),
+    }
+}
+
+/// `(⌊x⌋, t)` with `t = ⌊(x − ⌊x⌋) 2048⌋ / 2048`.
+fn split_fraction(x: f32) -> (f32, f32) {
+    let i = libm::floorf(x);
+    (i, libm::floorf((x - i) * FRACTION_STEPS) * (1.0 / FRACTION_STEPS))
+}
+
+/// Where the descent to a level ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Found {
+    /// The brick of the node at the requested level, and the node's origin.
+    Brick(u32, UVec3),
+    /// A node without a brick at this level (`EMPTY` or `FULL`).
+    Empty(u32, u32),
+}
+
+impl PackedTree {
+    /// Packs `tree` in `layout`.
+    pub fn new(tree: &BrickTree, layout: VoxelLayout) -> Self {
+        let words_per_voxel = layout.words();
+        let mut words = Vec::with_capacity(tree.brick_count() * tree.brick_size().stored_voxels() * words_per_voxel);
+        for (b, &level) in tree.brick_levels().iter().enumerate() {
+            for voxel in tree.brick_voxels(b) {
+                words.extend_from_slice(&layout.encode(voxel, level)[..words_per_voxel]);
+            }
+        }
+        let origin = tree.origin();
+        let uniforms = TreeUniforms {
+            origin_inverse_size: origin.extend(1.0 / tree.voxel_size()),
+            voxel_size: Vec4::new(tree.voxel_size(), 0.0, 0.0, 0.0),
+            shape: UVec4::new(tree.levels(), tree.brick_size().log2(), layout.index(), words_per_voxel as u32),
+            counts: UVec4::new(tree.nodes().len() as u32, tree.brick_count() as u32, tree.resolution(), 0),
+        };
+        Self { layout, uniforms, nodes: tree.nodes().to_vec(), words }
+    }
+
+    /// The layout.
+    pub fn layout(&self) -> VoxelLayout {
+        self.layout
+    }
+
+    /// The uniforms of the WGSL twin.
+    pub fn uniforms(&self) -> TreeUniforms {
+        self.uniforms
+    }
+
+    /// The node pool (upload as `array<Node>`, or as `u32` pairs).
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// The brick pool: brick `b`'s `(n + 2)³` voxels, x fastest, each
+    /// [`VoxelLayout::words`] words.
+    pub fn words(&self) -> &[u32] {
+        &self.words
+    }
+
+    /// Bytes of the node and brick pools.
+    pub fn bytes(&self) -> usize {
+        8 * self.nodes.len() + 4 * self.words.len()
+    }
+
+    fn levels(&self) -> u32 {
+        self.uniforms.shape.x
+    }
+
+    fn brick_log2(&self) -> u32 {
+        self.uniforms.shape.y
+    }
+
+    /// `p` (world) in finest-voxel units.
+    pub fn tree_position(&self, p: Vec3) -> Vec3 {
+        (p - self.uniforms.origin_inverse_size.truncate()) * self.uniforms.origin_inverse_size.w
+    }
+
+    /// The finest voxel holding `q` (finest-voxel units), `None` outside the domain.
+    fn cell(&self, q: Vec3) -> Option<UVec3> {
+        let resolution = self.uniforms.counts.z as f32;
+        (q.cmpge(Vec3::ZERO).all() && q.cmplt(Vec3::splat(resolution)).all()).then(|| q.floor().as_uvec3())
+    }
+
+    /// Descends from the root towards the node of `level` holding the finest voxel `cell`.
+    fn find(&self, cell: UVec3, level: u32) -> Found {
+        let mut node_level = self.levels() - 1;
+        let mut index = 0_usize;
+        let mut origin = UVec3::ZERO;
+        while node_level > level {
+            let node = self.nodes[index];
+            if node.child == 0 {
+                return Found::Empty(node_level, node.brick);
+            }
+            let half = 1u32 << (self.brick_log2() + node_level - 1);
+            let bits = (cell - origin).cmpge(UVec3::splat(half));
+            let octant = u32::from(bits.x) | u32::from(bits.y) << 1 | u32::from(bits.z) << 2;
+            origin += UVec3::new(u32::from(bits.x), u32::from(bits.y), u32::from(bits.z)) * half;
+            index = (node.child + octant) as usize;
+            node_level -= 1;
+        }
+        let brick = self.nodes[index].brick;
+        if brick >= Node::FULL { Found::Empty(node_level, brick) } else { Found::Brick(brick, origin) }
+    }
+
+    fn stored_voxel(&self, brick: u32, index: UVec3, level: u32) -> RawVoxel {
+        let side = (1u32 << self.brick_log2()) + 2;
+        let w = self.layout.words();
+        let voxel = ((brick * side + index.z) * side + index.y) * side + index.x;
+        let first = voxel as usize * w;
+        self.layout.decode_raw(&self.words[first..first + w], level)
+    }
+
+    fn empty_voxel(level: u32, brick: u32) -> RawVoxel {
+        let bound = 2.0 * level_scale(level);
+        RawVoxel { distance: if brick == Node::FULL { -bound } else { bound }, ..RawVoxel::default() }
+    }
+
+    /// Trilinear interpolation at `level` of the point `q` (finest-voxel units) in the
+    /// finest voxel `cell`.
+    fn trilinear(&self, q: Vec3, cell: UVec3, level: u32) -> RawVoxel {
+        let (brick, origin) = match self.find(cell, level) {
+            Found::Brick(brick, origin) => (brick, origin),
+            Found::Empty(level, brick) => return Self::empty_voxel(level, brick),
+        };
+        self.trilinear_in_brick(q, brick, origin, level)
+    }
+
+    /// Trilinear interpolation at `level` in brick `brick` whose node's origin is `origin`
+    /// (`q` within half a voxel of the node, so that the apron covers it).
+    fn trilinear_in_brick(&self, q: Vec3, brick: u32, origin: UVec3, level: u32) -> RawVoxel {
+        let inverse = 1.0 / level_scale(level);
+        let local = (q * inverse - (origin >> level).as_vec3()) + 0.5;
+        let n = (1u32 << self.brick_log2()) as f32;
+        let (mut i0, mut t) = ([0_u32; 3], [0.0_f32; 3]);
+        for axis in 0..3 {
+            let (i, f) = split_fraction(local[axis]);
+            i0[axis] = i.clamp(0.0, n) as u32;
+            t[axis] = f;
+        }
+        let base = UVec3::from_array(i0);
+        let corner = |dx: u32, dy: u32, dz: u32| self.stored_voxel(brick, base + UVec3::new(dx, dy, dz), level);
+        let x00 = lerp_raw(&corner(0, 0, 0), &corner(1, 0, 0), t[0]);
+        let x10 = lerp_raw(&corner(0, 1, 0), &corner(1, 1, 0), t[0]);
+        let x01 = lerp_raw(&corner(0, 0, 1), &corner(1, 0, 1), t[0]);
+        let x11 = lerp_raw(&corner(0, 1, 1), &corner(1, 1, 1), t[0]);
+        let y0 = lerp_raw(&x00, &x10, t[1]);
+        let y1 = lerp_raw(&x01, &x11, t[1]);
+        lerp_raw(&y0, &y1, t[2])
+    }
+
+    /// The quadrilinear raw sample at `p` (world) and level of detail `lod` (in levels,
+    /// `log2(w / voxel_size)` for a cone of width `w`; clamped to `[0, levels − 1]`, NaN →
+    /// 0): trilinear at `⌊lod⌋` and `⌊lod⌋ + 1`, blended by the quantised fraction.
+    /// `None` outside the domain.
+    pub fn sample_raw(&self, p: Vec3, lod: f32) -> Option<RawSample> {
+        let q = self.tree_position(p);
+        let cell = self.cell(q)?;
+        let top = (self.levels() - 1) as f32;
+        let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top) };
+        let (level, mut t) = split_fraction(lod);
+        let fine = level as u32;
+        let coarse = (fine + 1).min(self.levels() - 1);
+        if coarse == fine {
+            t = 0.0;
+        }
+        let a = self.trilinear(q, cell, fine);
+        let b = self.trilinear(q, cell, coarse);
+        Some(lerp_raw(&a, &b, t))
+    }
+
+    /// The quadrilinear sample at `p` and `lod` (see [`sample_raw`](Self::sample_raw)) in
+    /// world units, `n̄` normalised.
+    pub fn sample(&self, p: Vec3, lod: f32) -> Option<Voxel> {
+        self.sample_raw(p, lod).map(|raw| self.finish(raw))
+    }
+
+    /// The nearest voxel of the nearest level (`round(lod)`), the baseline of Fig. 10a,
+    /// in world units.
+    pub fn sample_nearest(&self, p: Vec3, lod: f32) -> Option<Voxel> {
+        let q = self.tree_position(p);
+        let cell = self.cell(q)?;
+        let top = (self.levels() - 1) as f32;
+        let level = libm::floorf(if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top) } + 0.5) as u32;
+        let raw = match self.find(cell, level) {
+            Found::Empty(level, brick) => Self::empty_voxel(level, brick),
+            Found::Brick(brick, origin) => {
+                let index = (cell >> level) - (origin >> level) + 1;
+                self.stored_voxel(brick, index, level)
+            }
+        };
+        Some(self.finish(raw))
+    }
+
+    /// A raw sample in world units, `n̄` normalised.
+    pub fn finish(&self, raw: RawSample) -> Voxel {
+        raw.finish().scaled(self.uniforms.voxel_size.x)
+    }
+
+    /// The trilinear raw sample at `level` through a given brick: the seam test's access to
+    /// both sides of a brick border. `None` if `brick` is not a brick of `level` whose node
+    /// (of origin `origin`, finest-voxel units) lies within half a voxel of `p`.
+    pub fn sample_in_brick(&self, p: Vec3, level: u32, brick: u32, origin: UVec3) -> Option<RawSample> {
+        let q = self.tree_position(p);
+        let scale = level_scale(level);
+        let size = ((1u32 << self.brick_log2()) as f32) * scale;
+        let lo = origin.as_vec3() - 0.5 * scale;
+        let inside = q.cmpge(lo).all() && q.cmplt(lo + size + scale).all();
+        (inside && (brick as usize) < self.words.len() / self.layout.words())
+            .then(|| self.trilinear_in_brick(q, brick, origin, level))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lerp_is_exact_where_it_can_be_and_never_leaves_its_ends() {
+        assert_eq!(lerp(1.0, 3.0, 0.5), 2.0);
+        assert_eq!(lerp(-7.25, 9.5, 0.0), -7.25);
+        let mut state = 1_u32;
+        for _ in 0..100_000 {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let a = (state >> 8) as f32 * 1e-3 - 5000.0;
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let b = (state >> 8) as f32 * 1e-4;
+            let t = (state & 2047) as f32 / FRACTION_STEPS;
+            let r = lerp(a, b, t);
+            assert!(r >= a.min(b) && r <= a.max(b), "{a} {b} {t} → {r}");
+            // The split is exact, so the result is a + (b − a) t with two roundings at most.
+            let exact = f64::from(a) + (f64::from(b) - f64::from(a)) * f64::from(t);
+            let bound = 2.0 * f64::from(f32::EPSILON) * (f64::from(a.abs()) + f64::from(b.abs()));
+            assert!((f64::from(r) - exact).abs() <= bound);
+        }
+    }
+}

@@ -1,0 +1,214 @@
+//! Properties of built octrees: brick placement, the finest level's exactness, the
+//! 1-Lipschitz `h̄` of every level, seamless brick borders, the negative control of the
+//! volume variance, and sampling at voxel centres.
+
+use glam::{IVec3, UVec3, Vec3};
+use svo_brick::{
+    BrickSize, BrickTree, BuildError, BuildOptions, Domain, HeightVariance, Node, PackedTree, SdfSurface,
+    SurfaceSource, VoxelLayout,
+};
+
+const RADIUS: f32 = 0.61;
+
+/// A sphere of radius 0.61 in the unit cube around the origin, coloured by height.
+fn sphere() -> impl SurfaceSource {
+    SdfSurface::new(|p: Vec3| p.length() - RADIUS, |p: Vec3| [0.5 + 0.5 * p.z / RADIUS, 0.2, 0.8], 1e-4).unwrap()
+}
+
+fn domain() -> Domain {
+    Domain { origin: Vec3::splat(-1.0), size: 2.0 }
+}
+
+fn options(brick_size: BrickSize, levels: u32) -> BuildOptions {
+    BuildOptions { brick_size, levels, ..BuildOptions::default() }
+}
+
+#[test]
+fn bricks_cover_the_surface_and_nothing_far_from_it() {
+    let tree = BrickTree::build(&sphere(), domain(), options(BrickSize::Eight, 4)).unwrap();
+    assert_eq!(tree.resolution(), 64);
+    let n = tree.brick_size().side();
+    let mut per_level = [0_usize; 4];
+    for (b, (&level, &origin)) in tree.brick_levels().iter().zip(tree.brick_origins()).enumerate() {
+        per_level[level as usize] += 1;
+        let size = (n << level) as f32 * tree.voxel_size();
+        let centre = tree.world(origin.as_vec3()) + 0.5 * size;
+        let d = centre.length() - RADIUS;
+        // The placement rule, in world units.
+        assert!(d.abs() <= 0.5 * 3_f32.sqrt() * size + 2.0 * size / n as f32 + 1e-6, "brick {b} at {centre}");
+    }
+    println!("bricks per level (finest first): {per_level:?}, nodes {}", tree.nodes().len());
+    assert_eq!(per_level[3], 1);
+    // Every finest voxel crossed by the sphere lies in a finest brick: sample points on it.
+    let packed = PackedTree::new(&tree, VoxelLayout::Paper20);
+    let mut checked = 0;
+    for k in 0..2000 {
+        let (a, b) = (k as f32 * 0.61803, k as f32 * 0.1234 + 0.5);
+        let dir = Vec3::new(a.cos() * b.sin(), a.sin() * b.sin(), b.cos());
+        let raw = packed.sample_raw(dir * RADIUS, 0.0).unwrap();
+        assert!(raw.distance.abs() < 0.05, "{dir}: {raw:?}");
+        checked += 1;
+    }
+    assert_eq!(checked, 2000);
+    assert!(tree.nodes().iter().any(|n| n.brick == Node::FULL));
+    assert!(tree.nodes().iter().any(|n| n.brick == Node::EMPTY));
+}
+
+#[test]
+fn the_finest_level_is_the_source_itself() {
+    let source = sphere();
+    let tree = BrickTree::build(&source, domain(), options(BrickSize::Four, 4)).unwrap();
+    let mut compared = 0;
+    for (b, (&level, &origin)) in tree.brick_levels().iter().zip(tree.brick_origins()).enumerate() {
+        if level != 0 {
+            continue;
+        }
+        let side = tree.brick_size().stored_side();
+        for (i, voxel) in tree.brick_voxels(b).iter().enumerate() {
+            let index = UVec3::new(i as u32 % side, i as u32 / side % side, i as u32 / (side * side));
+            let centre = tree.world(origin.as_vec3() + index.as_vec3() - 0.5);
+            assert_eq!(voxel.distance, source.distance(centre) / tree.voxel_size());
+            assert_eq!(voxel.normal, source.gradient(centre));
+            assert_eq!((voxel.distance_variance, voxel.slope_variance, voxel.correlation), (0.0, 0.0, [0.0; 3]));
+            compared += 1;
+        }
+    }
+    assert!(compared > 10_000, "{compared}");
+}
+
+#[test]
+fn every_level_stays_one_lipschitz() {
+    let tree = BrickTree::build(&sphere(), domain(), options(BrickSize::Eight, 4)).unwrap();
+    let side = tree.brick_size().stored_side() as usize;
+    let mut pairs = 0;
+    for b in 0..tree.brick_count() {
+        let level = tree.brick_levels()[b];
+        let scale = (1u32 << level) as f32;
+        let voxels = tree.brick_voxels(b);
+        let at = |x: usize, y: usize, z: usize| voxels[(z * side + y) * side + x].distance;
+        for z in 0..side {
+            for y in 0..side {
+                for x in 0..side - 1 {
+                    for (a, c) in
+                        [(at(x, y, z), at(x + 1, y, z)), (at(y, x, z), at(y, x + 1, z)), (at(y, z, x), at(y, z, x + 1))]
+                    {
+                        // Neighbours S_L apart differ by at most S_L, up to f32 rounding of the means.
+                        assert!((a - c).abs() <= scale * (1.0 + 1e-5), "level {level}: {a} vs {c}");
+                        pairs += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(pairs > 100_000, "{pairs}");
+}
+
+#[test]
+fn brick_borders_interpolate_identically_through_both_bricks() {
+    let tree = BrickTree::build(&sphere(), domain(), options(BrickSize::Four, 4)).unwrap();
+    let n = tree.brick_size().side();
+    for layout in VoxelLayout::ALL {
+        let packed = PackedTree::new(&tree, layout);
+        let bricks: std::collections::HashMap<(u32, UVec3), u32> =
+            (0..tree.brick_count()).map(|b| ((tree.brick_levels()[b], tree.brick_origins()[b]), b as u32)).collect();
+        let mut compared = 0;
+        for (&(level, origin), &brick) in &bricks {
+            let size = n << level;
+            for axis in 0..3 {
+                let mut step = UVec3::ZERO;
+                step[axis] = size;
+                let Some(&neighbour) = bricks.get(&(level, origin + step)) else { continue };
+                let scale = (1u32 << level) as f32;
+                for k in 0..16 {
+                    // Points within half a voxel of the shared face, on both sides.
+                    let mut q =
+                        origin.as_vec3() + Vec3::new(0.37, 0.71, 0.13) * size as f32 * ((k % 4) as f32 + 0.5) / 4.0;
+                    q[axis] = (origin[axis] + size) as f32 + scale * (k as f32 / 16.0 - 0.5) * 0.99;
+                    let p = tree.world(q);
+                    let a = packed.sample_in_brick(p, level, brick, origin).unwrap();
+                    let b = packed.sample_in_brick(p, level, neighbour, origin + step).unwrap();
+                    assert_eq!(format!("{a:?}"), format!("{b:?}"), "{layout:?} level {level} at {q}");
+                    compared += 1;
+                }
+            }
+        }
+        assert!(compared > 1000, "{layout:?}: {compared}");
+        println!("{layout:?}: {compared} border points equal through both bricks");
+    }
+}
+
+#[test]
+fn the_volume_variance_counts_a_flat_planes_ramp_as_roughness() {
+    let plane = SdfSurface::new(|p: Vec3| p.z - 0.013, |_| [0.3; 3], 1e-4).unwrap();
+    for (model, expect_rough) in [(HeightVariance::SurfaceHeights, false), (HeightVariance::DistanceVolume, true)] {
+        let options = BuildOptions { height_variance: model, ..options(BrickSize::Four, 3) };
+        let tree = BrickTree::build(&plane, domain(), options).unwrap();
+        let mut checked = 0;
+        for b in 0..tree.brick_count() {
+            let level = tree.brick_levels()[b];
+            if level == 0 {
+                continue;
+            }
+            let s = (1u32 << level) as f32;
+            for voxel in tree.brick_voxels(b) {
+                if expect_rough {
+                    // The midpoint rule's variance of a ramp of slope 1 over q points: (S² − (S/q)²)/12.
+                    let q = (1u32 << level).min(4) as f32;
+                    let ramp = (s * s - (s / q) * (s / q)) / 12.0;
+                    assert!((voxel.distance_variance - ramp).abs() <= 1e-3 * ramp, "{voxel:?} vs {ramp}");
+                } else {
+                    assert!(voxel.distance_variance <= 1e-6 * s * s, "{voxel:?}");
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked > 1000);
+    }
+}
+
+#[test]
+fn sampling_a_voxel_centre_returns_that_voxel() {
+    let tree = BrickTree::build(&sphere(), domain(), options(BrickSize::Eight, 3)).unwrap();
+    for layout in VoxelLayout::ALL {
+        let packed = PackedTree::new(&tree, layout);
+        let side = tree.brick_size().stored_side();
+        let mut compared = 0;
+        for b in 0..tree.brick_count() {
+            let (level, origin) = (tree.brick_levels()[b], tree.brick_origins()[b]);
+            let scale = (1u32 << level) as f32;
+            for (i, voxel) in tree.brick_voxels(b).iter().enumerate().step_by(7) {
+                let index = IVec3::new(
+                    (i as u32 % side) as i32,
+                    (i as u32 / side % side) as i32,
+                    (i as u32 / (side * side)) as i32,
+                );
+                if index.min_element() < 1 || index.max_element() > side as i32 - 2 {
+                    continue; // apron voxels are another brick's interior
+                }
+                let q = origin.as_vec3() + (index.as_vec3() - 0.5) * scale;
+                let sample = packed.sample(tree.world(q), level as f32).unwrap();
+                let expected = layout.round_trip(voxel, level).scaled(tree.voxel_size());
+                assert_eq!(sample.distance, expected.distance);
+                assert_eq!(sample.attribute, expected.attribute);
+                assert!((sample.normal - expected.normal).length() < 1e-6);
+                compared += 1;
+            }
+        }
+        assert!(compared > 500, "{compared}");
+    }
+}
+
+#[test]
+fn bad_options_are_errors_naming_the_option() {
+    let error =
+        BrickTree::build(&sphere(), domain(), BuildOptions { levels: 0, ..BuildOptions::default() }).unwrap_err();
+    assert_eq!(error, BuildError::Option("levels", 0));
+    assert!(error.to_string().contains("`levels`"));
+    let error =
+        BrickTree::build(&sphere(), Domain { origin: Vec3::ZERO, size: -1.0 }, BuildOptions::default()).unwrap_err();
+    assert!(matches!(error, BuildError::Domain(_)));
+    let limited = BuildOptions { max_bricks: 3, ..BuildOptions::default() };
+    assert_eq!(BrickTree::build(&sphere(), domain(), limited).unwrap_err(), BuildError::TooManyBricks(3));
+    let nan = SdfSurface::new(|_: Vec3| f32::NAN, |_| [0.0; 3], 1e-3).unwrap();
+    assert!(matches!(BrickTree::build(&nan, domain(), BuildOptions::default()), Err(BuildError::Distance(_))));
+}

@@ -74,6 +74,7 @@ static MODULES: &[CrateModule] = &[
         crate_dir: "crates/smith-micro",
         library_files: &["wgsl/smith_micro.wgsl"],
     },
+    CrateModule { module: &svo_brick::WGSL, crate_dir: "crates/svo-brick", library_files: &["wgsl/svo_brick.wgsl"] },
     CrateModule {
         module: &ddm_tracer::WGSL,
         crate_dir: "crates/ddm-tracer",

@@ -68,7 +68,7 @@ impl VoxelLayout {
         4 * self.words()
     }
 
-    /// The layout's index on the GPU (`TreeUniforms::layout`).
+    /// The layout's index on the GPU (`OctreeUniforms::layout`).
     pub const fn index(self) -> u32 {
         match self {
             VoxelLayout::Paper20 => 0,
@@ -194,6 +194,11 @@ impl RawVoxel {
 /// `S_L = 2^L` as `f32` (exact).
 pub(crate) fn level_scale(level: u32) -> f32 {
     f32::from_bits((127 + level.min(127)) << 23)
+}
+
+/// `2^−L` as `f32`, built from its bits (a WGSL division need not be exact).
+pub(crate) fn level_inverse_scale(level: u32) -> f32 {
+    f32::from_bits((127 - level.min(126)) << 23)
 }
 
 fn unorm8(x: f32) -> u32 {

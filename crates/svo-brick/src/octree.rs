@@ -16,7 +16,7 @@
 //! A node gets a brick iff the surface may pass within two of its level's voxels of the
 //! node: `|d(centre)| ≤ (√3/2) n S_L + 2 S_L` (for a 1-Lipschitz distance, no surface point
 //! within that reach is missed). A brick node above level 0 has eight children; a node
-//! without a brick has none and is [`EMPTY`](Node::EMPTY) (outside) or [`FULL`](Node::FULL)
+//! without a brick has none and is [`EMPTY`](OctreeNode::EMPTY) (outside) or [`FULL`](OctreeNode::FULL)
 //! (inside).
 //!
 //! # Every voxel is a function of its position
@@ -90,15 +90,15 @@ pub const MAX_LEVELS: u32 = 15;
 
 gpu_struct! {
     /// A node of the octree's node pool (2 × `u32`, as GigaVoxels' node tiles).
-    pub struct Node {
+    pub struct OctreeNode {
         /// Index of the first of the eight children (`0`: none; the root is never a child).
         pub child: u32,
-        /// The brick's index, or [`Node::EMPTY`] / [`Node::FULL`].
+        /// The brick's index, or [`OctreeNode::EMPTY`] / [`OctreeNode::FULL`].
         pub brick: u32,
     }
 }
 
-impl Node {
+impl OctreeNode {
     /// No brick, outside the surface.
     pub const EMPTY: u32 = u32::MAX;
     /// No brick, inside the surface.
@@ -180,7 +180,7 @@ pub struct BrickTree {
     voxel_size: f32,
     brick_size: BrickSize,
     levels: u32,
-    nodes: Vec<Node>,
+    nodes: Vec<OctreeNode>,
     brick_levels: Vec<u32>,
     brick_origins: Vec<UVec3>,
     voxels: Vec<Voxel>,
@@ -210,7 +210,7 @@ impl BrickTree {
             voxel_size,
             brick_size: options.brick_size,
             levels,
-            nodes: alloc::vec![Node { child: 0, brick: Node::EMPTY }],
+            nodes: alloc::vec![OctreeNode { child: 0, brick: OctreeNode::EMPTY }],
             brick_levels: Vec::new(),
             brick_origins: Vec::new(),
             voxels: Vec::new(),
@@ -252,7 +252,7 @@ impl BrickTree {
             let d = world_distance / self.voxel_size;
             let reach = 0.5 * 3_f32.sqrt() * size as f32 + 2.0 * (1u32 << level) as f32;
             if libm::fabsf(d) > reach {
-                self.nodes[index].brick = if d > 0.0 { Node::EMPTY } else { Node::FULL };
+                self.nodes[index].brick = if d > 0.0 { OctreeNode::EMPTY } else { OctreeNode::FULL };
                 continue;
             }
             if self.brick_levels.len() as u32 >= max_bricks {
@@ -266,7 +266,7 @@ impl BrickTree {
                 self.nodes[index].child = child as u32;
                 let half = size / 2;
                 for octant in 0..8_u32 {
-                    self.nodes.push(Node { child: 0, brick: Node::EMPTY });
+                    self.nodes.push(OctreeNode { child: 0, brick: OctreeNode::EMPTY });
                     let offset = UVec3::new(octant & 1, (octant >> 1) & 1, octant >> 2) * half;
                     queue.push_back((child + octant as usize, level - 1, min + offset));
                 }
@@ -331,7 +331,7 @@ impl BrickTree {
     }
 
     /// The node pool (the root first).
-    pub fn nodes(&self) -> &[Node] {
+    pub fn nodes(&self) -> &[OctreeNode] {
         &self.nodes
     }
 

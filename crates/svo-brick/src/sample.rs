@@ -33,8 +33,8 @@ use glam::{UVec3, UVec4, Vec3, Vec4};
 use gpu_layout::gpu_struct;
 
 use crate::descriptor::{ATTRIBUTE_CHANNELS, Voxel};
-use crate::layout::{RawVoxel, VoxelLayout, level_scale};
-use crate::octree::{BrickTree, Node};
+use crate::layout::{RawVoxel, VoxelLayout, level_inverse_scale, level_scale};
+use crate::octree::{BrickTree, OctreeNode};
 
 /// Interpolation fractions are multiples of `1 / FRACTION_STEPS`.
 pub const FRACTION_STEPS: f32 = 2048.0;
@@ -44,7 +44,7 @@ pub const SPLIT_MASK: u32 = 0xffff_f000;
 
 gpu_struct! {
     /// Describes a [`PackedTree`] to a shader.
-    pub struct TreeUniforms {
+    pub struct OctreeUniforms {
         /// `(origin, 1 / voxel_size)`: the domain's lowest corner (world) and the inverse of
         /// the finest voxel's side.
         pub origin_inverse_size: Vec4,
@@ -62,8 +62,8 @@ gpu_struct! {
 #[derive(Clone, Debug, PartialEq)]
 pub struct PackedTree {
     layout: VoxelLayout,
-    uniforms: TreeUniforms,
-    nodes: Vec<Node>,
+    uniforms: OctreeUniforms,
+    nodes: Vec<OctreeNode>,
     words: Vec<u32>,
 }
 
@@ -127,7 +127,7 @@ impl PackedTree {
             }
         }
         let origin = tree.origin();
-        let uniforms = TreeUniforms {
+        let uniforms = OctreeUniforms {
             origin_inverse_size: origin.extend(1.0 / tree.voxel_size()),
             voxel_size: Vec4::new(tree.voxel_size(), 0.0, 0.0, 0.0),
             shape: UVec4::new(tree.levels(), tree.brick_size().log2(), layout.index(), words_per_voxel as u32),
@@ -142,12 +142,12 @@ impl PackedTree {
     }
 
     /// The uniforms of the WGSL twin.
-    pub fn uniforms(&self) -> TreeUniforms {
+    pub fn uniforms(&self) -> OctreeUniforms {
         self.uniforms
     }
 
-    /// The node pool (upload as `array<Node>`, or as `u32` pairs).
-    pub fn nodes(&self) -> &[Node] {
+    /// The node pool (upload as `array<OctreeNode>`, or as `u32` pairs).
+    pub fn nodes(&self) -> &[OctreeNode] {
         &self.nodes
     }
 
@@ -199,7 +199,7 @@ impl PackedTree {
             node_level -= 1;
         }
         let brick = self.nodes[index].brick;
-        if brick >= Node::FULL { Found::Empty(node_level, brick) } else { Found::Brick(brick, origin) }
+        if brick >= OctreeNode::FULL { Found::Empty(node_level, brick) } else { Found::Brick(brick, origin) }
     }
 
     fn stored_voxel(&self, brick: u32, index: UVec3, level: u32) -> RawVoxel {
@@ -212,7 +212,7 @@ impl PackedTree {
 
     fn empty_voxel(level: u32, brick: u32) -> RawVoxel {
         let bound = 2.0 * level_scale(level);
-        RawVoxel { distance: if brick == Node::FULL { -bound } else { bound }, ..RawVoxel::default() }
+        RawVoxel { distance: if brick == OctreeNode::FULL { -bound } else { bound }, ..RawVoxel::default() }
     }
 
     /// Trilinear interpolation at `level` of the point `q` (finest-voxel units) in the
@@ -228,7 +228,7 @@ impl PackedTree {
     /// Trilinear interpolation at `level` in brick `brick` whose node's origin is `origin`
     /// (`q` within half a voxel of the node, so that the apron covers it).
     fn trilinear_in_brick(&self, q: Vec3, brick: u32, origin: UVec3, level: u32) -> RawVoxel {
-        let inverse = 1.0 / level_scale(level);
+        let inverse = level_inverse_scale(level);
         let local = (q * inverse - (origin >> level).as_vec3()) + 0.5;
         let n = (1u32 << self.brick_log2()) as f32;
         let (mut i0, mut t) = ([0_u32; 3], [0.0_f32; 3]);
@@ -277,6 +277,11 @@ impl PackedTree {
     /// The nearest voxel of the nearest level (`round(lod)`), the baseline of Fig. 10a,
     /// in world units.
     pub fn sample_nearest(&self, p: Vec3, lod: f32) -> Option<Voxel> {
+        self.sample_nearest_raw(p, lod).map(|raw| self.finish(raw))
+    }
+
+    /// [`sample_nearest`](Self::sample_nearest) before [`finish`](Self::finish).
+    pub fn sample_nearest_raw(&self, p: Vec3, lod: f32) -> Option<RawSample> {
         let q = self.tree_position(p);
         let cell = self.cell(q)?;
         let top = (self.levels() - 1) as f32;
@@ -288,7 +293,7 @@ impl PackedTree {
                 self.stored_voxel(brick, index, level)
             }
         };
-        Some(self.finish(raw))
+        Some(raw)
     }
 
     /// A raw sample in world units, `n̄` normalised.

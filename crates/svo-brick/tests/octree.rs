@@ -4,7 +4,7 @@
 
 use glam::{IVec3, UVec3, Vec3};
 use svo_brick::{
-    BrickSize, BrickTree, BuildError, BuildOptions, Domain, HeightVariance, Node, PackedTree, SdfSurface,
+    BrickSize, BrickTree, BuildError, BuildOptions, Domain, HeightVariance, OctreeNode, PackedTree, SdfSurface,
     SurfaceSource, VoxelLayout,
 };
 
@@ -50,8 +50,8 @@ fn bricks_cover_the_surface_and_nothing_far_from_it() {
         checked += 1;
     }
     assert_eq!(checked, 2000);
-    assert!(tree.nodes().iter().any(|n| n.brick == Node::FULL));
-    assert!(tree.nodes().iter().any(|n| n.brick == Node::EMPTY));
+    assert!(tree.nodes().iter().any(|n| n.brick == OctreeNode::FULL));
+    assert!(tree.nodes().iter().any(|n| n.brick == OctreeNode::EMPTY));
 }
 
 #[test]

@@ -52,10 +52,41 @@ gpu_struct! {
         pub voxel_size: Vec4,
         /// `(levels, log2 n, layout index, words per voxel)`.
         pub shape: UVec4,
-        /// `(node count, brick count, finest resolution, 0)`.
+        /// `(node count, brick count, finest resolution, bricks per binding)`: brick `b`
+        /// lives in brick binding `b / bricks_per_binding` (see
+        /// [`PackedTree::brick_bindings`]).
         pub counts: UVec4,
     }
 }
+
+/// The brick pool is split over at most this many storage bindings.
+pub const MAX_BRICK_BINDINGS: usize = 4;
+
+/// Why a tree does not fit the GPU's bindings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PoolError {
+    /// The node pool alone exceeds one binding: its bytes and the limit.
+    Nodes(u64, u64),
+    /// The brick pool needs more than [`MAX_BRICK_BINDINGS`] bindings: its bytes and the
+    /// limit per binding.
+    Bricks(u64, u64),
+}
+
+impl core::fmt::Display for PoolError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            PoolError::Nodes(bytes, limit) => {
+                write!(f, "the node pool's {bytes} bytes exceed the storage binding limit of {limit} bytes")
+            }
+            PoolError::Bricks(bytes, limit) => write!(
+                f,
+                "the brick pool's {bytes} bytes need more than {MAX_BRICK_BINDINGS} storage bindings of {limit} bytes"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for PoolError {}
 
 /// A [`BrickTree`] in a GPU layout: the node pool and the brick pool as flat `u32`
 /// buffers, sampled exactly as the WGSL twin samples them.
@@ -117,7 +148,30 @@ enum Found {
 }
 
 impl PackedTree {
-    /// Packs `tree` in `layout`.
+    /// Packs `tree` in `layout` for bindings of at most `max_binding_bytes` each (the
+    /// adapter's `min(max_storage_buffer_binding_size, max_buffer_size)`): the brick pool
+    /// is split into up to [`MAX_BRICK_BINDINGS`] bindings of whole bricks.
+    pub fn with_binding_limit(
+        tree: &BrickTree,
+        layout: VoxelLayout,
+        max_binding_bytes: u64,
+    ) -> Result<Self, PoolError> {
+        let mut packed = Self::new(tree, layout);
+        let node_bytes = 8 * packed.nodes.len() as u64;
+        if node_bytes > max_binding_bytes {
+            return Err(PoolError::Nodes(node_bytes, max_binding_bytes));
+        }
+        let brick_bytes = 4 * (tree.brick_size().stored_voxels() * layout.words()) as u64;
+        let per_binding = (max_binding_bytes / brick_bytes).min(u64::from(u32::MAX)) as u32;
+        let bricks = tree.brick_count() as u64;
+        if per_binding == 0 || bricks.div_ceil(u64::from(per_binding)) > MAX_BRICK_BINDINGS as u64 {
+            return Err(PoolError::Bricks(bricks * brick_bytes, max_binding_bytes));
+        }
+        packed.uniforms.counts.w = per_binding;
+        Ok(packed)
+    }
+
+    /// Packs `tree` in `layout`, the brick pool in a single binding.
     pub fn new(tree: &BrickTree, layout: VoxelLayout) -> Self {
         let words_per_voxel = layout.words();
         let mut words = Vec::with_capacity(tree.brick_count() * tree.brick_size().stored_voxels() * words_per_voxel);
@@ -131,7 +185,7 @@ impl PackedTree {
             origin_inverse_size: origin.extend(1.0 / tree.voxel_size()),
             voxel_size: Vec4::new(tree.voxel_size(), 0.0, 0.0, 0.0),
             shape: UVec4::new(tree.levels(), tree.brick_size().log2(), layout.index(), words_per_voxel as u32),
-            counts: UVec4::new(tree.nodes().len() as u32, tree.brick_count() as u32, tree.resolution(), 0),
+            counts: UVec4::new(tree.nodes().len() as u32, tree.brick_count() as u32, tree.resolution(), u32::MAX),
         };
         Self { layout, uniforms, nodes: tree.nodes().to_vec(), words }
     }
@@ -155,6 +209,18 @@ impl PackedTree {
     /// [`VoxelLayout::words`] words.
     pub fn words(&self) -> &[u32] {
         &self.words
+    }
+
+    /// The brick pool as the WGSL twin binds it: [`MAX_BRICK_BINDINGS`] slices of whole
+    /// bricks for bindings 4, 5, 6, 7 (the unused ones a single zero word, since a binding
+    /// cannot be empty).
+    pub fn brick_bindings(&self) -> [&[u32]; MAX_BRICK_BINDINGS] {
+        const UNUSED: &[u32] = &[0];
+        let per = self.uniforms.counts.w as usize;
+        let brick_words = self.words.len() / (self.uniforms.counts.y as usize).max(1);
+        let chunk = per.saturating_mul(brick_words).max(1);
+        let mut chunks = self.words.chunks(chunk);
+        core::array::from_fn(|_| chunks.next().filter(|c| !c.is_empty()).unwrap_or(UNUSED))
     }
 
     /// Bytes of the node and brick pools.
@@ -202,6 +268,8 @@ impl PackedTree {
         if brick >= OctreeNode::FULL { Found::Empty(node_level, brick) } else { Found::Brick(brick, origin) }
     }
 
+    /// Decodes stored voxel `index` of brick `brick`. (The WGSL twin reads it from binding
+    /// `brick / bricks_per_binding`; here the pool is one buffer.)
     fn stored_voxel(&self, brick: u32, index: UVec3, level: u32) -> RawVoxel {
         let side = (1u32 << self.brick_log2()) + 2;
         let w = self.layout.words();

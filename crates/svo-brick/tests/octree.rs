@@ -212,3 +212,23 @@ fn bad_options_are_errors_naming_the_option() {
     let nan = SdfSurface::new(|_: Vec3| f32::NAN, |_| [0.0; 3], 1e-3).unwrap();
     assert!(matches!(BrickTree::build(&nan, domain(), BuildOptions::default()), Err(BuildError::Distance(_))));
 }
+
+#[test]
+fn pools_split_over_bindings_or_fail_naming_the_limit() {
+    let tree = BrickTree::build(&sphere(), domain(), options(BrickSize::Four, 3)).unwrap();
+    let brick_bytes = (4 * BrickSize::Four.stored_voxels() * VoxelLayout::Compact16.words()) as u64;
+    let bricks = tree.brick_count() as u64;
+    let split =
+        PackedTree::with_binding_limit(&tree, VoxelLayout::Compact16, brick_bytes * bricks.div_ceil(4)).unwrap();
+    let bindings = split.brick_bindings();
+    assert_eq!(bindings.iter().map(|b| b.len()).sum::<usize>(), split.words().len());
+    assert!(bindings.iter().all(|b| (b.len() as u64 * 4) <= brick_bytes * bricks.div_ceil(4)));
+    let whole = PackedTree::new(&tree, VoxelLayout::Compact16);
+    assert_eq!(whole.brick_bindings()[0].len(), whole.words().len());
+    assert_eq!(whole.brick_bindings()[1], &[0]);
+    let error = PackedTree::with_binding_limit(&tree, VoxelLayout::Compact16, brick_bytes * (bricks / 5)).unwrap_err();
+    assert!(matches!(error, svo_brick::PoolError::Bricks(..)));
+    assert!(error.to_string().contains("storage bindings"), "{error}");
+    let error = PackedTree::with_binding_limit(&tree, VoxelLayout::Compact16, 8).unwrap_err();
+    assert!(matches!(error, svo_brick::PoolError::Nodes(..)));
+}

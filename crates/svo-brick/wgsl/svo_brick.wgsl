@@ -7,9 +7,11 @@
 // (src/wgsl.rs lists them). Every function mirrors the Rust function named in its
 // comment and is compared with it bit for bit by tests/svo_brick_gpu.rs.
 //
-// The pools are read-only storage buffers at bindings 3 (nodes) and 4 (brick words) of
-// group 0 (svo_brick::PackedTree::nodes and ::words); the uniforms are a parameter, so a
-// shader may keep them in a uniform or a storage buffer.
+// The pools are read-only storage buffers of group 0: binding 3 the nodes
+// (svo_brick::PackedTree::nodes), bindings 4-7 the brick pool split into whole bricks
+// (PackedTree::brick_bindings; brick b in binding 4 + b / bricks_per_binding, the unused
+// ones a dummy word); the uniforms are a parameter, so a shader may keep them in a uniform
+// or a storage buffer.
 //
 // Bit-exactness on every conforming implementation: every product that feeds an addition
 // is exact (powers of two, or a 12-bit by 11-bit product in svo_lerp), so fusing a multiply
@@ -17,7 +19,10 @@
 // before svo_finish; NaN is detected by bit tests.
 
 @group(0) @binding(3) var<storage, read> svo_nodes: array<OctreeNode>;
-@group(0) @binding(4) var<storage, read> svo_bricks: array<u32>;
+@group(0) @binding(4) var<storage, read> svo_bricks0: array<u32>;
+@group(0) @binding(5) var<storage, read> svo_bricks1: array<u32>;
+@group(0) @binding(6) var<storage, read> svo_bricks2: array<u32>;
+@group(0) @binding(7) var<storage, read> svo_bricks3: array<u32>;
 
 // Rust: svo_brick::RawVoxel (h̄, σh² in finest voxels; n̄ octahedral, L1-normalised; ā as
 // mean_attribute, since `attribute` is a reserved word in WGSL;
@@ -90,28 +95,47 @@ fn svo_byte(word: u32, k: u32) -> f32 {
     return f32((word >> (8u * k)) & 0xffu);
 }
 
-// Rust: VoxelLayout::decode_raw, for the voxel whose first word is svo_bricks[first].
-fn svo_decode_raw(tree: OctreeUniforms, first: u32, level: u32) -> SvoRawVoxel {
+// Word k of binding `binding` of the brick pool.
+fn svo_brick_word(binding: u32, k: u32) -> u32 {
+    switch binding {
+        case 0u: { return svo_bricks0[k]; }
+        case 1u: { return svo_bricks1[k]; }
+        case 2u: { return svo_bricks2[k]; }
+        default: { return svo_bricks3[k]; }
+    }
+}
+
+// The words of one voxel: `first` in binding `binding` (Paper20 reads five, Compact16 four).
+fn svo_voxel_words(tree: OctreeUniforms, binding: u32, first: u32) -> array<u32, 5> {
+    var w: array<u32, 5>;
+    for (var k = 0u; k < tree.shape.w; k++) {
+        w[k] = svo_brick_word(binding, first + k);
+    }
+    return w;
+}
+
+// Rust: VoxelLayout::decode_raw.
+fn svo_decode_raw(tree: OctreeUniforms, w: array<u32, 5>, level: u32) -> SvoRawVoxel {
     var r: SvoRawVoxel;
     if tree.shape.z == SVO_LAYOUT_PAPER20 {
-        let w1 = svo_bricks[first + 1u];
-        let w3 = svo_bricks[first + 3u];
-        let w4 = svo_bricks[first + 4u];
-        r.distance = bitcast<f32>(svo_bricks[first]);
+        let w1 = w[1];
+        let w3 = w[3];
+        let w4 = w[4];
+        r.distance = bitcast<f32>(w[0]);
         r.distance_variance = svo_half(w1);
-        r.normal = svo_octahedral_decode(svo_bricks[first + 2u]);
+        r.normal = svo_octahedral_decode(w[2]);
         r.slope_variance = svo_half(w1 >> 16u);
         r.mean_attribute = vec3<f32>(svo_byte(w3, 0u), svo_byte(w3, 1u), svo_byte(w3, 2u));
         r.correlation = vec3<f32>(svo_byte(w3, 3u), svo_byte(w4, 0u), svo_byte(w4, 1u)) - 128.0;
     } else {
-        let w0 = svo_bricks[first];
-        let w2 = svo_bricks[first + 2u];
-        let w3 = svo_bricks[first + 3u];
+        let w0 = w[0];
+        let w2 = w[2];
+        let w3 = w[3];
         let scale = svo_level_scale(level);
         let step = scale * (1.0 / SVO_COMPACT_DISTANCE_STEPS);
         r.distance = (f32(w0 & 0xffffu) - 32768.0) * step;
         r.distance_variance = svo_half(w0 >> 16u) * (scale * scale);
-        r.normal = svo_octahedral_decode(svo_bricks[first + 1u]);
+        r.normal = svo_octahedral_decode(w[1]);
         r.slope_variance = svo_half(w2);
         r.mean_attribute = vec3<f32>(svo_byte(w2, 2u), svo_byte(w2, 3u), svo_byte(w3, 0u));
         r.correlation = vec3<f32>(svo_byte(w3, 1u), svo_byte(w3, 2u), svo_byte(w3, 3u)) - 128.0;
@@ -197,11 +221,13 @@ fn svo_empty_voxel(level: u32, flag: u32) -> SvoRawVoxel {
     return r;
 }
 
-// Rust: PackedTree::stored_voxel.
+// Rust: PackedTree::stored_voxel (brick b in binding b / bricks_per_binding).
 fn svo_stored_voxel(tree: OctreeUniforms, brick: u32, index: vec3<u32>, level: u32) -> SvoRawVoxel {
     let side = (1u << tree.shape.y) + 2u;
-    let voxel = ((brick * side + index.z) * side + index.y) * side + index.x;
-    return svo_decode_raw(tree, voxel * tree.shape.w, level);
+    let binding = brick / tree.counts.w;
+    let local = brick - binding * tree.counts.w;
+    let voxel = ((local * side + index.z) * side + index.y) * side + index.x;
+    return svo_decode_raw(tree, svo_voxel_words(tree, binding, voxel * tree.shape.w), level);
 }
 
 // Rust: PackedTree::trilinear_in_brick.

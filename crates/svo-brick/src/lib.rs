@@ -8,6 +8,7 @@ extern crate alloc;
 #[cfg(all(test, feature = "std"))]
 extern crate std;
 
+mod accuracy;
 mod descriptor;
 mod half;
 mod layout;
@@ -18,6 +19,7 @@ mod surface;
 #[cfg(feature = "wgsl")]
 mod wgsl;
 
+pub use accuracy::{DeviationError, InterpolationError, moment_correction_error};
 pub use descriptor::{ATTRIBUTE_CHANNELS, Voxel};
 pub use half::{HALF_MAX, HALF_MIN_POSITIVE, f32_to_half, half_to_f32};
 pub use layout::{COMPACT_DISTANCE_RANGE, COMPACT_DISTANCE_STEPS, MAX_VOXEL_WORDS, RawVoxel, VoxelLayout};

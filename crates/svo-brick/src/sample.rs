@@ -316,6 +316,104 @@ impl PackedTree {
         lerp_raw(&y0, &y1, t[2])
     }
 
+    /// Trilinear interpolation at `level` with the moment correction.
+    ///
+    /// Trilinear weights make the sample's footprint the mixture of the eight corner voxels'
+    /// footprints (weights `w_k`). By the law of total variance, the variance of that
+    /// mixture's micro-heights about the interpolated plane `(h̄(q), ∇h̄(q))` is the
+    /// interpolated variance `Σ w_k σ_k²` (all plain interpolation gives) plus what it
+    /// misses: the spread of the corners' own planes about the interpolated one,
+    ///
+    /// - the offsets `Σ w_k (h̄_k − h̄(q) − ∇h̄ · (c_k − q))² / |∇h̄|²` (zero for a linear
+    ///   field: a flat surface adds nothing),
+    /// - the tilts `Σ w_k |n̂_k − n̂|² S_L² / 12` (a plane tilted by `δ` over a box of side
+    ///   `S_L` has height variance `δ² S_L² / 12`),
+    ///
+    /// and `σn² += ½ Σ w_k |n̂_k − n̂|²` for the slopes. `∇h̄` is the gradient of the
+    /// trilinear interpolant (`|n̄|` is not stored). CPU only; measured by
+    /// [`moment_correction_error`](crate::moment_correction_error).
+    fn trilinear_moment_corrected(&self, q: Vec3, cell: UVec3, level: u32) -> RawVoxel {
+        let (brick, origin) = match self.find(cell, level) {
+            Found::Brick(brick, origin) => (brick, origin),
+            Found::Empty(level, brick) => return Self::empty_voxel(level, brick),
+        };
+        let plain = self.trilinear_in_brick(q, brick, origin, level);
+        let corners = self.corners(q, brick, origin, level);
+        let scale = level_scale(level);
+        let (_, t) = self.stencil(q, origin, level);
+        let mut gradient = Vec3::ZERO;
+        for axis in 0..3 {
+            let bit = 1 << axis;
+            for k in (0..8).filter(|k| k & bit == 0) {
+                // The edge's weight: the product of the other two axes' weights.
+                let w: f32 =
+                    (0..3).filter(|&a| a != axis).map(|a| if k >> a & 1 == 1 { t[a] } else { 1.0 - t[a] }).product();
+                gradient[axis] += w * (corners[k | bit].1.distance - corners[k].1.distance) / scale;
+            }
+        }
+        let slope = gradient.length();
+        if slope.is_nan() || slope <= 0.0 {
+            return plain;
+        }
+        let n_hat = gradient / slope;
+        let (mut offsets, mut tilts) = (0.0_f32, 0.0_f32);
+        for &(w, voxel, centre) in &corners {
+            let linear = plain.distance + gradient.dot(centre - q);
+            offsets += w * ((voxel.distance - linear) / slope).powi(2);
+            tilts += w * (voxel.normal.normalize_or_zero() - n_hat).length_squared();
+        }
+        RawVoxel {
+            distance_variance: plain.distance_variance + offsets + tilts * scale * scale / 12.0,
+            slope_variance: plain.slope_variance + 0.5 * tilts,
+            ..plain
+        }
+    }
+
+    /// The eight corners of the trilinear stencil at `q`: `(w_k, voxel, centre)` (centres in
+    /// finest-voxel units).
+    fn corners(&self, q: Vec3, brick: u32, origin: UVec3, level: u32) -> [(f32, RawVoxel, Vec3); 8] {
+        let (base, t) = self.stencil(q, origin, level);
+        let scale = level_scale(level);
+        core::array::from_fn(|k| {
+            let offset = UVec3::new(k as u32 & 1, (k as u32 >> 1) & 1, k as u32 >> 2);
+            let weight = (0..3).map(|a| if offset[a] == 1 { t[a] } else { 1.0 - t[a] }).product::<f32>();
+            // Stored index i is level voxel origin / S_L − 1 + i, centred at + ½.
+            let centre = ((origin >> level).as_vec3() + (base + offset).as_vec3() - 0.5) * scale;
+            (weight, self.stored_voxel(brick, base + offset, level), centre)
+        })
+    }
+
+    /// The stencil's first stored index and fractions at `q`.
+    fn stencil(&self, q: Vec3, origin: UVec3, level: u32) -> (UVec3, Vec3) {
+        let local = (q * level_inverse_scale(level) - (origin >> level).as_vec3()) + 0.5;
+        let n = (1u32 << self.brick_log2()) as f32;
+        let (mut base, mut t) = (UVec3::ZERO, Vec3::ZERO);
+        for axis in 0..3 {
+            let (i, f) = split_fraction(local[axis]);
+            base[axis] = i.clamp(0.0, n) as u32;
+            t[axis] = f;
+        }
+        (base, t)
+    }
+
+    /// The quadrilinear sample with the moment-corrected variances (see
+    /// `trilinear_moment_corrected`), world units; CPU only.
+    pub fn sample_moment_corrected(&self, p: Vec3, lod: f32) -> Option<Voxel> {
+        let q = self.tree_position(p);
+        let cell = self.cell(q)?;
+        let top = (self.levels() - 1) as f32;
+        let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top) };
+        let (level, mut t) = split_fraction(lod);
+        let fine = level as u32;
+        let coarse = (fine + 1).min(self.levels() - 1);
+        if coarse == fine {
+            t = 0.0;
+        }
+        let a = self.trilinear_moment_corrected(q, cell, fine);
+        let b = self.trilinear_moment_corrected(q, cell, coarse);
+        Some(self.finish(lerp_raw(&a, &b, t)))
+    }
+
     /// The quadrilinear raw sample at `p` (world) and level of detail `lod` (in levels,
     /// `log2(w / voxel_size)` for a cone of width `w`; clamped to `[0, levels − 1]`, NaN →
     /// 0): trilinear at `⌊lod⌋` and `⌊lod⌋ + 1`, blended by the quantised fraction.

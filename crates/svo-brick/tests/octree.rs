@@ -273,3 +273,30 @@ fn the_moment_correction_restores_the_variance_trilinear_interpolation_misses() 
         assert!(e.corrected_mixture.mean_absolute_relative < e.plain_mixture.mean_absolute_relative, "{e:?}");
     }
 }
+
+#[test]
+fn voxels_off_the_surface_take_the_attributes_of_their_nearest_surface() {
+    // The sphere's attribute is a = 0.5 + 0.5 z / R (|∇a| = 0.5 / R on the surface). Every
+    // voxel, with surface samples or dilated from the nearest voxel that has them (at most
+    // 2 voxels from its projection), must hold a mean attribute of the surface within
+    // 4√3 S_L of its closest surface point, so within 0.5 / R × 4√3 S_L of a there; a voxel
+    // that kept an undefined (zero) attribute would fail.
+    let tree = BrickTree::build(&sphere(), domain(), options(BrickSize::Eight, 4)).unwrap();
+    let side = tree.brick_size().stored_side();
+    let mut checked = 0;
+    for b in 0..tree.brick_count() {
+        let (level, origin) = (tree.brick_levels()[b], tree.brick_origins()[b]);
+        let scale = (1u32 << level) as f32;
+        for (i, voxel) in tree.brick_voxels(b).iter().enumerate() {
+            let index = UVec3::new(i as u32 % side, i as u32 / side % side, i as u32 / (side * side));
+            let centre = tree.world(origin.as_vec3() + (index.as_vec3() - 0.5) * scale);
+            let closest = centre.normalize() * RADIUS;
+            let expected = 0.5 + 0.5 * closest.z / RADIUS;
+            let bound = 0.5 / RADIUS * 4.0 * 3_f32.sqrt() * scale * tree.voxel_size();
+            assert!((voxel.attribute[0] - expected).abs() <= bound, "level {level} at {centre}: {voxel:?} vs {expected} ± {bound}");
+            assert!((voxel.attribute[1] - 0.2).abs() < 1e-5 && (voxel.attribute[2] - 0.8).abs() < 1e-5, "{voxel:?}");
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, tree.brick_count() * BrickSize::Eight.stored_voxels());
+}

@@ -137,11 +137,11 @@ pub fn moment_correction_error<S: SurfaceSource + ?Sized>(
         else {
             continue;
         };
-        let truths = [box_truth, mixture_truth].map(|s| f64::from(s.height_variance).sqrt());
+        let truths = [box_truth, mixture_truth].map(|s| libm::sqrt(f64::from(s.height_variance)));
         if truths.iter().any(|&s| s <= 1e-6) {
             continue;
         }
-        let estimates = [plain, corrected].map(|s| f64::from(s.distance_variance).sqrt() / unit);
+        let estimates = [plain, corrected].map(|s| libm::sqrt(f64::from(s.distance_variance)) / unit);
         accumulate(&mut sums[0], estimates[0], truths[0]);
         accumulate(&mut sums[1], estimates[1], truths[0]);
         accumulate(&mut sums[2], estimates[0], truths[1]);

@@ -250,7 +250,7 @@ impl BrickTree {
                 return Err(BuildError::Distance(centre));
             }
             let d = world_distance / self.voxel_size;
-            let reach = 0.5 * 3_f32.sqrt() * size as f32 + 2.0 * (1u32 << level) as f32;
+            let reach = 0.5 * libm::sqrtf(3.0) * size as f32 + 2.0 * (1u32 << level) as f32;
             if libm::fabsf(d) > reach {
                 self.nodes[index].brick = if d > 0.0 { OctreeNode::EMPTY } else { OctreeNode::FULL };
                 continue;

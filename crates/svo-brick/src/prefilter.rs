@@ -127,7 +127,7 @@ pub fn surface_statistics(
     };
     let attribute = a_sum.map(|a| a / w_sum);
     let mut correlation = [0.0_f32; ATTRIBUTE_CHANNELS];
-    let sigma = height_variance.sqrt() as f32;
+    let sigma = libm::sqrt(height_variance) as f32;
     if sigma > 0.0 {
         let (mut num, mut den) = ([0.0_f64; ATTRIBUTE_CHANNELS], 0.0_f64);
         for s in samples {

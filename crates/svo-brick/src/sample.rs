@@ -359,7 +359,8 @@ impl PackedTree {
         let (mut offsets, mut tilts) = (0.0_f32, 0.0_f32);
         for &(w, voxel, centre) in &corners {
             let linear = plain.distance + gradient.dot(centre - q);
-            offsets += w * ((voxel.distance - linear) / slope).powi(2);
+            let offset = (voxel.distance - linear) / slope;
+            offsets += w * offset * offset;
             tilts += w * (voxel.normal.normalize_or_zero() - n_hat).length_squared();
         }
         RawVoxel {

@@ -293,7 +293,10 @@ fn voxels_off_the_surface_take_the_attributes_of_their_nearest_surface() {
             let closest = centre.normalize() * RADIUS;
             let expected = 0.5 + 0.5 * closest.z / RADIUS;
             let bound = 0.5 / RADIUS * 4.0 * 3_f32.sqrt() * scale * tree.voxel_size();
-            assert!((voxel.attribute[0] - expected).abs() <= bound, "level {level} at {centre}: {voxel:?} vs {expected} ± {bound}");
+            assert!(
+                (voxel.attribute[0] - expected).abs() <= bound,
+                "level {level} at {centre}: {voxel:?} vs {expected} ± {bound}"
+            );
             assert!((voxel.attribute[1] - 0.2).abs() < 1e-5 && (voxel.attribute[2] - 0.8).abs() < 1e-5, "{voxel:?}");
             checked += 1;
         }

@@ -91,7 +91,7 @@
 #![no_std]
 
 extern crate alloc;
-#[cfg(all(test, feature = "std"))]
+#[cfg(feature = "std")]
 extern crate std;
 
 mod accuracy;

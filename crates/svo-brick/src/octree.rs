@@ -195,7 +195,7 @@ fn key(v: IVec3) -> u64 {
 
 impl BrickTree {
     /// Builds the octree of `source` over `domain` (see the module documentation).
-    pub fn build<S: SurfaceSource + ?Sized>(
+    pub fn build<S: SurfaceSource + Sync + ?Sized>(
         source: &S,
         domain: Domain,
         options: BuildOptions,
@@ -238,7 +238,7 @@ impl BrickTree {
     }
 
     /// Breadth-first: every node's brick or emptiness, children in tiles of eight.
-    fn place_bricks<S: SurfaceSource + ?Sized>(&mut self, source: &S, max_bricks: u32) -> Result<(), BuildError> {
+    fn place_bricks<S: SurfaceSource + Sync + ?Sized>(&mut self, source: &S, max_bricks: u32) -> Result<(), BuildError> {
         let n = self.brick_size.side();
         let mut queue = alloc::collections::VecDeque::new();
         queue.push_back((0_usize, self.levels - 1, UVec3::ZERO));
@@ -276,28 +276,27 @@ impl BrickTree {
     }
 
     /// The surface samples of every finest brick's cell, in finest-voxel units.
-    fn surface_samples<S: SurfaceSource + ?Sized>(&self, source: &S, per_voxel: u32) -> Vec<SurfaceSample> {
+    fn surface_samples<S: SurfaceSource + Sync + ?Sized>(&self, source: &S, per_voxel: u32) -> Vec<SurfaceSample> {
         let n = self.brick_size.side();
         let spacing = self.voxel_size / per_voxel as f32;
-        let (mut samples, mut world) = (Vec::new(), Vec::new());
-        for (b, &level) in self.brick_levels.iter().enumerate() {
-            if level != 0 {
-                continue;
-            }
-            let min = self.brick_origins[b];
+        let inverse_area = 1.0 / (self.voxel_size * self.voxel_size);
+        let finest: Vec<UVec3> =
+            self.brick_levels.iter().zip(&self.brick_origins).filter(|(l, _)| **l == 0).map(|(_, o)| *o).collect();
+        let per_brick = map_in_parallel(&finest, |&min, world| {
             let cell = Cell { min: self.world(min.as_vec3()), max: self.world((min + n).as_vec3()) };
             world.clear();
-            source.surface_samples(cell, spacing, &mut world);
-            let inverse_area = 1.0 / (self.voxel_size * self.voxel_size);
-            for s in &world {
+            source.surface_samples(cell, spacing, world);
+            let mut samples = Vec::new();
+            for s in world.iter() {
                 let position = (s.position - self.origin) / self.voxel_size;
                 let local = position - min.as_vec3();
                 if local.cmpge(Vec3::ZERO).all() && local.cmplt(Vec3::splat(n as f32)).all() && s.area > 0.0 {
                     samples.push(SurfaceSample { position, area: s.area * inverse_area, ..*s });
                 }
             }
-        }
-        samples
+            samples
+        });
+        per_brick.concat()
     }
 
     /// World position of a point in finest-voxel units.
@@ -424,7 +423,7 @@ struct VoxelContext<'a, S: ?Sized> {
     options: &'a BuildOptions,
 }
 
-impl<S: SurfaceSource + ?Sized> VoxelContext<'_, S> {
+impl<S: SurfaceSource + Sync + ?Sized> VoxelContext<'_, S> {
     fn scale(&self) -> f32 {
         (1u32 << self.level) as f32
     }
@@ -531,8 +530,40 @@ impl<S: SurfaceSource + ?Sized> VoxelContext<'_, S> {
     }
 }
 
+/// `items.map(f)`, each call with a scratch buffer; with `std`, on every available core
+/// (each voxel is a function of its position, so the result does not depend on the
+/// threads).
+fn map_in_parallel<T: Sync, R: Send>(items: &[T], f: impl Fn(&T, &mut Vec<SurfaceSample>) -> R + Sync) -> Vec<R> {
+    #[cfg(feature = "std")]
+    {
+        let threads = std::thread::available_parallelism().map_or(1, core::num::NonZero::get).min(items.len() / 512 + 1);
+        if threads > 1 {
+            let chunk = items.len().div_ceil(threads);
+            return std::thread::scope(|scope| {
+                let workers: Vec<_> = items
+                    .chunks(chunk)
+                    .map(|part| {
+                        let f = &f;
+                        scope.spawn(move || {
+                            let mut scratch = Vec::new();
+                            part.iter().map(|x| f(x, &mut scratch)).collect::<Vec<R>>()
+                        })
+                    })
+                    .collect();
+                let mut out = Vec::with_capacity(items.len());
+                for worker in workers {
+                    out.extend(worker.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)));
+                }
+                out
+            });
+        }
+    }
+    let mut scratch = Vec::new();
+    items.iter().map(|x| f(x, &mut scratch)).collect()
+}
+
 impl LevelTable {
-    fn build<S: SurfaceSource + ?Sized>(
+    fn build<S: SurfaceSource + Sync + ?Sized>(
         tree: &BrickTree,
         source: &S,
         samples: &[SurfaceSample],
@@ -558,8 +589,7 @@ impl LevelTable {
         positions.dedup();
         let context =
             VoxelContext { tree, source, bins: (level > 0).then(|| SampleBins::new(samples, level)), level, options };
-        let mut scratch = Vec::new();
-        let voxels = positions.iter().map(|&v| context.voxel(v, &mut scratch)).collect();
+        let voxels = map_in_parallel(&positions, |&v, scratch| context.voxel(v, scratch));
         Self { keys: positions.iter().map(|&v| key(v)).collect(), voxels }
     }
 

@@ -238,7 +238,11 @@ impl BrickTree {
     }
 
     /// Breadth-first: every node's brick or emptiness, children in tiles of eight.
-    fn place_bricks<S: SurfaceSource + Sync + ?Sized>(&mut self, source: &S, max_bricks: u32) -> Result<(), BuildError> {
+    fn place_bricks<S: SurfaceSource + Sync + ?Sized>(
+        &mut self,
+        source: &S,
+        max_bricks: u32,
+    ) -> Result<(), BuildError> {
         let n = self.brick_size.side();
         let mut queue = alloc::collections::VecDeque::new();
         queue.push_back((0_usize, self.levels - 1, UVec3::ZERO));
@@ -536,7 +540,8 @@ impl<S: SurfaceSource + Sync + ?Sized> VoxelContext<'_, S> {
 fn map_in_parallel<T: Sync, R: Send>(items: &[T], f: impl Fn(&T, &mut Vec<SurfaceSample>) -> R + Sync) -> Vec<R> {
     #[cfg(feature = "std")]
     {
-        let threads = std::thread::available_parallelism().map_or(1, core::num::NonZero::get).min(items.len() / 512 + 1);
+        let threads =
+            std::thread::available_parallelism().map_or(1, core::num::NonZero::get).min(items.len() / 512 + 1);
         if threads > 1 {
             let chunk = items.len().div_ceil(threads);
             return std::thread::scope(|scope| {

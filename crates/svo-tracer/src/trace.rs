@@ -1,0 +1,304 @@
+//! Algorithm 1: one cone through the octree, element by element, its coverage combined as
+//! an A-buffer mask (§5.3–5.4), with the paper's baselines as modes of the same loop.
+//!
+//! # Cone elements
+//!
+//! Element `d` is a cylinder centred at `z_d` on the axis, of radius `r_d = w(z_d)/2` and
+//! half-length `l_d = max(r_d, κ S₀)` (`S₀` the finest voxel): the paper's "length equals
+//! diameter" takes thousands of elements per voxel when the cone is thinner than a voxel,
+//! so the half-length is floored (GigaVoxels floors its step at ~0.66 voxel: `κ = 0.33`).
+//! Elements are contiguous, `z_{d+1} = z_d + 2 l_d`, from the cone's entry into the domain
+//! to its exit. The level of detail is `λ = log₂(w / S₀)` (clamped by the sampler).
+//!
+//! # Per element ([`Model::Masks`], Algorithm 1)
+//!
+//! The sample's plane `(h̄, n̄)`, with `n̄` in the footprint's frame (turned by π where a lens
+//! cone has crossed its axis), gives `(θ, v)` (`abuffer_mask::HalfPlane`), the table gives
+//! the mask `1_A`, and `L += L_d popcount(1_A ∖ α)/N`, `α ∪= 1_A`; the cone stops when `α` is
+//! full. The baselines:
+//!
+//! - [`Model::AlphaBlend`]: the same octree and elements, but the element's opacity is the
+//!   exact covered fraction of its footprint, composited front to back (eq. 12, the volume
+//!   model of GigaVoxels, Fig. 10b);
+//! - [`Model::Nearest`]: the nearest voxel of the nearest level, opaque where `h̄ ≤ 0`
+//!   (Fig. 10a, Carmack's SVO);
+//! - [`Model::SeparateFiltering`]: masks, but shading with `a_s = 0` and the lobe `σnp`
+//!   only (Fig. 11–12's naive filtering).
+//!
+//! # Shadows
+//!
+//! With a light, each of the first [`TraceSettings::shadow_cones`] elements that add
+//! coverage casts a shadow cone from `p_d + r_d n̂` towards the light's centre, starting at the
+//! element's width and widening linearly to the light's diameter at the light; it is traced
+//! like a pixel cone with its own mask, and `V̄(l) = 1 −` its coverage. Later elements reuse
+//! the last visibility.
+
+use abuffer_mask::{HalfPlane, Mask, MaskTable};
+use glam::Vec3;
+use svo_brick::{PackedTree, Voxel};
+
+use crate::camera::Cone;
+use crate::shading::{Filtering, Material, element_radiance, tangent_frame};
+
+/// How a cone combines its elements.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Model {
+    /// The paper's: A-buffer masks and correlated shading.
+    Masks,
+    /// α-blending of exact element opacities (eq. 12).
+    AlphaBlend,
+    /// Nearest voxel, 0/1 occupancy.
+    Nearest,
+    /// Masks with separately filtered colour and normals.
+    SeparateFiltering,
+}
+
+impl Model {
+    /// Every model.
+    pub const ALL: [Model; 4] = [Model::Masks, Model::AlphaBlend, Model::Nearest, Model::SeparateFiltering];
+
+    /// A short name for tables.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Model::Masks => "masks",
+            Model::AlphaBlend => "alpha-blend",
+            Model::Nearest => "nearest",
+            Model::SeparateFiltering => "separate",
+        }
+    }
+
+    fn filtering(self) -> Filtering {
+        if self == Model::SeparateFiltering { Filtering::Separate } else { Filtering::Correlated }
+    }
+}
+
+/// A spherical light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light {
+    /// The centre.
+    pub position: Vec3,
+    /// The radius (the shadow cones widen to its diameter).
+    pub radius: f32,
+    /// `Ē`, the radiance it delivers (no fall-off).
+    pub radiance: f32,
+}
+
+/// Everything a cone needs besides the octree.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceSettings {
+    /// The model.
+    pub model: Model,
+    /// `κ`: the elements' half-length floor in finest voxels.
+    pub min_half_length: f32,
+    /// At most this many elements per cone.
+    pub max_elements: u32,
+    /// Shadow cones per pixel cone (0: no shadows).
+    pub shadow_cones: u32,
+    /// The light.
+    pub light: Light,
+    /// The material.
+    pub material: Material,
+    /// The colour behind the geometry.
+    pub background: Vec3,
+}
+
+impl Default for TraceSettings {
+    fn default() -> Self {
+        Self {
+            model: Model::Masks,
+            min_half_length: 0.33,
+            max_elements: 4096,
+            shadow_cones: 0,
+            light: Light { position: Vec3::new(10.0, 20.0, 30.0), radius: 1.0, radiance: 3.0 },
+            material: Material::default(),
+            background: Vec3::ZERO,
+        }
+    }
+}
+
+/// What one cone returns.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ConeResult {
+    /// The pixel's radiance, background included.
+    pub radiance: Vec3,
+    /// The covered fraction of the footprint.
+    pub coverage: f32,
+    /// Elements sampled.
+    pub elements: u32,
+}
+
+/// `[z_enter, z_exit]` of the ray `origin + z direction` in the box `[lo, hi]`, `None` if it
+/// misses (slab test).
+pub fn box_interval(origin: Vec3, direction: Vec3, lo: Vec3, hi: Vec3) -> Option<(f32, f32)> {
+    let inverse = direction.recip();
+    let (a, b) = ((lo - origin) * inverse, (hi - origin) * inverse);
+    let (near, far) = (a.min(b), a.max(b));
+    let enter = near.max_element().max(0.0);
+    let exit = far.min_element();
+    (enter <= exit && exit.is_finite()).then_some((enter, exit))
+}
+
+/// The footprint's frame and width along one cone (a pixel's, or a shadow cone).
+struct ConeGeometry<'a> {
+    origin: Vec3,
+    direction: Vec3,
+    right: Vec3,
+    up: Vec3,
+    width: &'a dyn Fn(f32) -> f32,
+    crossed: &'a dyn Fn(f32) -> bool,
+}
+
+/// The coverage state of one cone.
+enum Coverage<const W: usize> {
+    Mask(Mask<W>),
+    Alpha(f32),
+}
+
+impl<const W: usize> Coverage<W> {
+    fn fraction(&self) -> f32 {
+        match self {
+            Coverage::Mask(mask) => mask.coverage(),
+            Coverage::Alpha(alpha) => *alpha,
+        }
+    }
+}
+
+/// The octree's domain in world units.
+fn domain(tree: &PackedTree) -> (Vec3, Vec3) {
+    let u = tree.uniforms();
+    let lo = u.origin_inverse_size.truncate();
+    (lo, lo + u.voxel_size.x * u.counts.z as f32)
+}
+
+/// Marches `cone`, calling `shade(voxel, z, new coverage)` for every element that adds
+/// coverage; returns the final coverage and the number of elements.
+fn march<const W: usize>(
+    tree: &PackedTree,
+    table: &MaskTable<W>,
+    cone: &ConeGeometry<'_>,
+    start: f32,
+    settings: &TraceSettings,
+    mut shade: impl FnMut(&Voxel, f32, f32),
+) -> (f32, u32) {
+    let (lo, hi) = domain(tree);
+    let Some((enter, exit)) = box_interval(cone.origin, cone.direction, lo, hi) else { return (0.0, 0) };
+    let voxel = tree.uniforms().voxel_size.x;
+    let floor = settings.min_half_length * voxel;
+    let half_length = |z: f32| (0.5 * (cone.width)(z)).max(floor);
+    let mut coverage =
+        if settings.model == Model::AlphaBlend { Coverage::Alpha(0.0) } else { Coverage::Mask(Mask::<W>::EMPTY) };
+    let mut z = enter.max(start) + half_length(enter.max(start));
+    let mut elements = 0;
+    while z - half_length(z) < exit && elements < settings.max_elements {
+        let width = (cone.width)(z);
+        let (r, l) = (0.5 * width, half_length(z));
+        let lod = libm::log2f((width / voxel).max(f32::MIN_POSITIVE));
+        let p = cone.origin + cone.direction * z;
+        let sample = if settings.model == Model::Nearest { tree.sample_nearest(p, lod) } else { tree.sample(p, lod) };
+        elements += 1;
+        let Some(sample) = sample else { break };
+        match &mut coverage {
+            Coverage::Mask(alpha) => {
+                let mask = if settings.model == Model::Nearest {
+                    if sample.distance <= 0.0 { Mask::FULL } else { Mask::EMPTY }
+                } else {
+                    let n = sample.normal;
+                    let sign = if (cone.crossed)(z) { -1.0 } else { 1.0 };
+                    let local = Vec3::new(sign * n.dot(cone.right), sign * n.dot(cone.up), n.dot(cone.direction));
+                    let plane = HalfPlane::from_cone_element(sample.distance, local, r, l);
+                    table.lookup(plane.theta, plane.v)
+                };
+                let added = mask.difference(*alpha).popcount();
+                if added > 0 {
+                    shade(&sample, z, added as f32 * (1.0 / Mask::<W>::SAMPLES as f32));
+                    *alpha = alpha.union(mask);
+                    if alpha.popcount() as usize >= Mask::<W>::SAMPLES {
+                        break;
+                    }
+                }
+            }
+            Coverage::Alpha(alpha) => {
+                let n = sample.normal;
+                let local = Vec3::new(n.dot(cone.right), n.dot(cone.up), n.dot(cone.direction));
+                let plane = HalfPlane::from_cone_element(sample.distance, local, r, l);
+                let opacity = plane.exact_coverage() as f32;
+                if opacity > 0.0 {
+                    let added = (1.0 - *alpha) * opacity;
+                    shade(&sample, z, added);
+                    *alpha += added;
+                    if *alpha >= 1.0 - 1.0 / 1024.0 {
+                        break;
+                    }
+                }
+            }
+        }
+        z += 2.0 * l;
+    }
+    (coverage.fraction(), elements)
+}
+
+/// The visibility of the light from `point` (world), for a shadow cone of starting width
+/// `width`: `1 −` the cone's coverage.
+pub fn light_visibility<const W: usize>(
+    tree: &PackedTree,
+    table: &MaskTable<W>,
+    point: Vec3,
+    width: f32,
+    settings: &TraceSettings,
+) -> f32 {
+    let to_light = settings.light.position - point;
+    let distance = to_light.length();
+    if !(distance > 0.0) {
+        return 1.0;
+    }
+    let direction = to_light / distance;
+    let (right, up) = tangent_frame(direction);
+    let diameter = 2.0 * settings.light.radius;
+    let widen = |t: f32| width + (diameter - width) * (t / distance).clamp(0.0, 1.0);
+    let never = |_: f32| false;
+    let geometry = ConeGeometry { origin: point, direction, right, up, width: &widen, crossed: &never };
+    let shadow_settings = TraceSettings { shadow_cones: 0, ..*settings };
+    let (coverage, _) = march(tree, table, &geometry, 0.0, &shadow_settings, |_, _, _| {});
+    1.0 - coverage
+}
+
+/// Traces one pixel cone (Algorithm 1, see the module documentation).
+pub fn trace_cone<const W: usize>(
+    tree: &PackedTree,
+    table: &MaskTable<W>,
+    cone: &Cone,
+    settings: &TraceSettings,
+) -> ConeResult {
+    let width = |z: f32| cone.width(z);
+    let crossed = |z: f32| cone.crossed(z);
+    let geometry = ConeGeometry {
+        origin: cone.origin,
+        direction: cone.direction,
+        right: cone.right,
+        up: cone.up,
+        width: &width,
+        crossed: &crossed,
+    };
+    let view = -cone.direction;
+    let (mut radiance, mut shadows, mut visibility) = (Vec3::ZERO, 0, 1.0);
+    let (coverage, elements) = march(tree, table, &geometry, 0.0, settings, |voxel, z, added| {
+        let p = cone.point(z);
+        let light = (settings.light.position - p).normalize_or_zero();
+        if shadows < settings.shadow_cones {
+            let r = 0.5 * cone.width(z);
+            visibility = light_visibility(tree, table, p + voxel.normal * r, 2.0 * r, settings);
+            shadows += 1;
+        }
+        let l_d = element_radiance(
+            voxel,
+            view,
+            light,
+            &settings.material,
+            settings.model.filtering(),
+            settings.light.radiance,
+            visibility,
+        );
+        radiance += l_d * added;
+    });
+    ConeResult { radiance: radiance + settings.background * (1.0 - coverage), coverage, elements }
+}

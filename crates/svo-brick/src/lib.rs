@@ -112,7 +112,8 @@ pub use layout::{COMPACT_DISTANCE_RANGE, COMPACT_DISTANCE_STEPS, MAX_VOXEL_WORDS
 pub use octree::{BrickSize, BrickTree, BuildError, BuildOptions, Domain, MAX_LEVELS, OctreeNode};
 pub use prefilter::{HeightVariance, SurfaceStatistics, surface_statistics};
 pub use sample::{
-    FRACTION_STEPS, MAX_BRICK_BINDINGS, OctreeUniforms, PackedTree, PoolError, RawSample, SPLIT_MASK, lerp, lerp_raw,
+    EmptyRegion, FRACTION_STEPS, MAX_BRICK_BINDINGS, OctreeUniforms, PackedTree, PoolError, RawSample, SPLIT_MASK,
+    lerp, lerp_raw,
 };
 pub use surface::{Cell, SdfSurface, SurfaceError, SurfaceSample, SurfaceSource, thin_shell_samples};
 #[cfg(feature = "wgsl")]

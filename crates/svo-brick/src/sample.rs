@@ -98,6 +98,19 @@ pub struct PackedTree {
     words: Vec<u32>,
 }
 
+/// A node without a brick ([`PackedTree::empty_region`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EmptyRegion {
+    /// The node's lowest corner (world).
+    pub min: Vec3,
+    /// Its highest corner.
+    pub max: Vec3,
+    /// Its level: samples at this level and finer are constant inside.
+    pub level: u32,
+    /// Whether it is inside the surface (`FULL`).
+    pub inside: bool,
+}
+
 /// What [`PackedTree::sample_raw`] returns: the blended raw voxel (finest-voxel units,
 /// codes for the attributes, an unnormalised `n̄`).
 pub type RawSample = RawVoxel;
@@ -143,8 +156,8 @@ fn split_fraction(x: f32) -> (f32, f32) {
 enum Found {
     /// The brick of the node at the requested level, and the node's origin.
     Brick(u32, UVec3),
-    /// A node without a brick at this level (`EMPTY` or `FULL`).
-    Empty(u32, u32),
+    /// A node without a brick at this level: its level, `EMPTY` or `FULL`, and its origin.
+    Empty(u32, u32, UVec3),
 }
 
 impl PackedTree {
@@ -255,7 +268,7 @@ impl PackedTree {
         while node_level > level {
             let node = self.nodes[index];
             if node.child == 0 {
-                return Found::Empty(node_level, node.brick);
+                return Found::Empty(node_level, node.brick, origin);
             }
             let half = 1u32 << (self.brick_log2() + node_level - 1);
             let bits = (cell - origin).cmpge(UVec3::splat(half));
@@ -265,7 +278,7 @@ impl PackedTree {
             node_level -= 1;
         }
         let brick = self.nodes[index].brick;
-        if brick >= OctreeNode::FULL { Found::Empty(node_level, brick) } else { Found::Brick(brick, origin) }
+        if brick >= OctreeNode::FULL { Found::Empty(node_level, brick, origin) } else { Found::Brick(brick, origin) }
     }
 
     /// Decodes stored voxel `index` of brick `brick`. (The WGSL twin reads it from binding
@@ -288,7 +301,7 @@ impl PackedTree {
     fn trilinear(&self, q: Vec3, cell: UVec3, level: u32) -> RawVoxel {
         let (brick, origin) = match self.find(cell, level) {
             Found::Brick(brick, origin) => (brick, origin),
-            Found::Empty(level, brick) => return Self::empty_voxel(level, brick),
+            Found::Empty(level, brick, _) => return Self::empty_voxel(level, brick),
         };
         self.trilinear_in_brick(q, brick, origin, level)
     }
@@ -335,7 +348,7 @@ impl PackedTree {
     fn trilinear_moment_corrected(&self, q: Vec3, cell: UVec3, level: u32) -> RawVoxel {
         let (brick, origin) = match self.find(cell, level) {
             Found::Brick(brick, origin) => (brick, origin),
-            Found::Empty(level, brick) => return Self::empty_voxel(level, brick),
+            Found::Empty(level, brick, _) => return Self::empty_voxel(level, brick),
         };
         let plain = self.trilinear_in_brick(q, brick, origin, level);
         let corners = self.corners(q, brick, origin, level);
@@ -454,13 +467,25 @@ impl PackedTree {
         let top = (self.levels() - 1) as f32;
         let level = libm::floorf(if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top) } + 0.5) as u32;
         let raw = match self.find(cell, level) {
-            Found::Empty(level, brick) => Self::empty_voxel(level, brick),
+            Found::Empty(level, brick, _) => Self::empty_voxel(level, brick),
             Found::Brick(brick, origin) => {
                 let index = (cell >> level) - (origin >> level) + 1;
                 self.stored_voxel(brick, index, level)
             }
         };
         Some(raw)
+    }
+
+    /// The node without a brick that the descent towards `level` ends in at `p` (world), if
+    /// any: the cube where every sample at levels `≤ level` is that node's constant voxel.
+    /// A tracer skips it to its exit (`None`: a brick, or outside the domain).
+    pub fn empty_region(&self, p: Vec3, level: u32) -> Option<EmptyRegion> {
+        let cell = self.cell(self.tree_position(p))?;
+        let Found::Empty(node_level, flag, origin) = self.find(cell, level.min(self.levels() - 1)) else { return None };
+        let size = self.uniforms.voxel_size.x;
+        let side = ((1u32 << self.brick_log2()) << node_level) as f32 * size;
+        let min = self.uniforms.origin_inverse_size.truncate() + origin.as_vec3() * size;
+        Some(EmptyRegion { min, max: min + side, level: node_level, inside: flag == OctreeNode::FULL })
     }
 
     /// A raw sample in world units, `n̄` normalised.

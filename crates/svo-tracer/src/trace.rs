@@ -6,7 +6,7 @@
 //! Element `d` is a cylinder centred at `z_d` on the axis, of radius `r_d = w(z_d)/2` and
 //! half-length `l_d = max(r_d, κ S₀)` (`S₀` the finest voxel): the paper's "length equals
 //! diameter" takes thousands of elements per voxel when the cone is thinner than a voxel,
-//! so the half-length is floored (GigaVoxels floors its step at ~0.66 voxel: `κ = 0.33`).
+//! so the half-length is floored (`GigaVoxels` floors its step at ~0.66 voxel: `κ = 0.33`).
 //! Elements are contiguous, `z_{d+1} = z_d + 2 l_d`, from the cone's entry into the domain
 //! to its exit. The level of detail is `λ = log₂(w / S₀)` (clamped by the sampler).
 //!
@@ -19,11 +19,22 @@
 //!
 //! - [`Model::AlphaBlend`]: the same octree and elements, but the element's opacity is the
 //!   exact covered fraction of its footprint, composited front to back (eq. 12, the volume
-//!   model of GigaVoxels, Fig. 10b);
+//!   model of `GigaVoxels`, Fig. 10b);
 //! - [`Model::Nearest`]: the nearest voxel of the nearest level, opaque where `h̄ ≤ 0`
 //!   (Fig. 10a, Carmack's SVO);
 //! - [`Model::SeparateFiltering`]: masks, but shading with `a_s = 0` and the lobe `σnp`
 //!   only (Fig. 11–12's naive filtering).
+//!
+//! # Empty-space skip (beyond the paper)
+//!
+//! An element whose sample has `h̄ > l_d + 2 r_d` covers nothing (the half-plane misses the
+//! footprint). The last sample proves a lower bound of the source's distance at its point
+//! (the sample minus [`error_bound`]'s interpolation error, or the sample itself in an
+//! empty node), and the distance is 1-Lipschitz, so later elements are skipped while that
+//! bound, less their own error bound and the distance travelled, stays above `l + 2r`; and
+//! elements inside an empty node (at levels it answers for) are skipped to its exit. A
+//! skipped element still advances `z` by `2 l`, so the elements that are sampled, and the
+//! image, are the same bits with and without the skip (a test checks it).
 //!
 //! # Shadows
 //!
@@ -35,7 +46,7 @@
 
 use abuffer_mask::{HalfPlane, Mask, MaskTable};
 use glam::Vec3;
-use svo_brick::{PackedTree, Voxel};
+use svo_brick::{EmptyRegion, PackedTree, Voxel};
 
 use crate::camera::Cone;
 use crate::shading::{Filtering, Material, element_radiance, tangent_frame};
@@ -90,8 +101,12 @@ pub struct TraceSettings {
     pub model: Model,
     /// `κ`: the elements' half-length floor in finest voxels.
     pub min_half_length: f32,
-    /// At most this many elements per cone.
+    /// At most this many elements per cone (sampled or skipped, so that skipping never
+    /// changes where a cone stops).
     pub max_elements: u32,
+    /// Skip elements proven empty (see the module documentation); the image is the same
+    /// bits either way.
+    pub empty_space_skip: bool,
     /// Shadow cones per pixel cone (0: no shadows).
     pub shadow_cones: u32,
     /// The light.
@@ -108,6 +123,7 @@ impl Default for TraceSettings {
             model: Model::Masks,
             min_half_length: 0.33,
             max_elements: 4096,
+            empty_space_skip: true,
             shadow_cones: 0,
             light: Light { position: Vec3::new(10.0, 20.0, 30.0), radius: 1.0, radiance: 3.0 },
             material: Material::default(),
@@ -123,7 +139,7 @@ pub struct ConeResult {
     pub radiance: Vec3,
     /// The covered fraction of the footprint.
     pub coverage: f32,
-    /// Elements sampled.
+    /// Elements sampled (skipped ones not counted).
     pub elements: u32,
 }
 
@@ -170,6 +186,27 @@ fn domain(tree: &PackedTree) -> (Vec3, Vec3) {
     (lo, lo + u.voxel_size.x * u.counts.z as f32)
 }
 
+/// The finest level a sample at `lod` reads: `⌊lod⌋` (quadrilinear reads it and the next),
+/// or the nearest level for [`Model::Nearest`].
+fn sampled_level(lod: f32, top: u32, model: Model) -> u32 {
+    let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top as f32) };
+    let level = if model == Model::Nearest { libm::floorf(lod + 0.5) } else { libm::floorf(lod) };
+    (level as u32 + u32::from(model != Model::Nearest)).min(top)
+}
+
+/// `E(λ)`: how far a sample at `lod` may lie from the source's distance (world units). At
+/// level `L` a stored `h̄_k` is a mean of the distance over its cube, within `(√3/2) S_L` of
+/// the distance at its centre `c_k` (the distance is 1-Lipschitz); the trilinear weights
+/// keep `Σ w_k |c_k − p| ≤ √(Σ w_k |c_k − p|²) = √(Σ_axes t(1 − t)) S_L ≤ (√3/2) S_L`
+/// (Cauchy–Schwarz), so the interpolation is within `√3 S_L`, and the level blend within
+/// that of the coarser level `S_{⌊λ⌋+1}`. The nearest voxel's centre is within `(√3/2) S_L`
+/// of the point: `√3 S_L` too. 1.74 adds the layouts' quantisation (`2⁻¹¹ S_L`) and rounding.
+fn error_bound(lod: f32, top: u32, voxel: f32) -> f32 {
+    let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top as f32) };
+    let coarse = (libm::floorf(lod) as u32 + 1).min(top);
+    1.74 * (1u32 << coarse) as f32 * voxel
+}
+
 /// Marches `cone`, calling `shade(voxel, z, new coverage)` for every element that adds
 /// coverage; returns the final coverage and the number of elements.
 fn march<const W: usize>(
@@ -188,15 +225,41 @@ fn march<const W: usize>(
     let mut coverage =
         if settings.model == Model::AlphaBlend { Coverage::Alpha(0.0) } else { Coverage::Mask(Mask::<W>::EMPTY) };
     let mut z = enter.max(start) + half_length(enter.max(start));
-    let mut elements = 0;
-    while z - half_length(z) < exit && elements < settings.max_elements {
+    let (mut elements, mut steps) = (0, 0);
+    // What the last sample proves: a lower bound of the source's distance at its point, and
+    // the empty node it lay in.
+    let mut proof: Option<(f32, f32)> = None;
+    let mut region: Option<EmptyRegion> = None;
+    let top = tree.uniforms().shape.x - 1;
+    while z - half_length(z) < exit && steps < settings.max_elements {
+        steps += 1;
         let width = (cone.width)(z);
         let (r, l) = (0.5 * width, half_length(z));
         let lod = libm::log2f((width / voxel).max(f32::MIN_POSITIVE));
         let p = cone.origin + cone.direction * z;
+        let finest_sampled = sampled_level(lod, top, settings.model);
+        if settings.empty_space_skip {
+            let in_region =
+                region.is_some_and(|g| g.level >= finest_sampled && p.cmpge(g.min).all() && p.cmplt(g.max).all());
+            let far = proof.is_some_and(|(z0, lower)| lower - (z - z0) - error_bound(lod, top, voxel) > l + 2.0 * r);
+            if in_region || far {
+                z += 2.0 * l;
+                continue;
+            }
+        }
         let sample = if settings.model == Model::Nearest { tree.sample_nearest(p, lod) } else { tree.sample(p, lod) };
         elements += 1;
         let Some(sample) = sample else { break };
+        if settings.empty_space_skip {
+            region = None;
+            if sample.normal == Vec3::ZERO && sample.distance > 0.0 {
+                region = tree.empty_region(p, finest_sampled).filter(|g| !g.inside);
+            }
+            // Outside an empty node the distance is at least the sample (the placement
+            // rule); a brick sample is within error_bound of it.
+            let lower = if region.is_some() { sample.distance } else { sample.distance - error_bound(lod, top, voxel) };
+            proof = Some((z, lower));
+        }
         match &mut coverage {
             Coverage::Mask(alpha) => {
                 let mask = if settings.model == Model::Nearest {
@@ -248,7 +311,7 @@ pub fn light_visibility<const W: usize>(
 ) -> f32 {
     let to_light = settings.light.position - point;
     let distance = to_light.length();
-    if !(distance > 0.0) {
+    if distance.is_nan() || distance <= 0.0 {
         return 1.0;
     }
     let direction = to_light / distance;

@@ -37,7 +37,7 @@ fn masks_keep_silhouette_coverage_where_alpha_blending_saturates() {
     let camera = Camera::look_at(Vec3::new(0.0, 0.0, -3.0), Vec3::ZERO, Vec3::Y, 0.5, w, h).unwrap();
     for model in [Model::Masks, Model::AlphaBlend] {
         let settings = TraceSettings { model, ..TraceSettings::default() };
-        let (mut bias, mut count, mut worst) = (0.0_f64, 0, 0.0_f32);
+        let (mut bias, mut count, mut worst) = (0.0_f64, 0_u32, 0.0_f32);
         let (mut interior, mut elements) = (0.0_f64, 0u64);
         for y in 0..h {
             for x in 0..w {
@@ -56,13 +56,13 @@ fn masks_keep_silhouette_coverage_where_alpha_blending_saturates() {
         println!(
             "{}: {count} silhouette pixels, mean coverage bias {:+.4}, worst {:.3}; interior deficit {:.4}; {:.1} elements per pixel",
             model.name(),
-            bias / count as f64,
+            bias / f64::from(count),
             worst,
             interior,
             elements as f64 / f64::from(w * h)
         );
         assert!(count >= 100, "{count} silhouette pixels");
-        let bias = bias / count as f64;
+        let bias = bias / f64::from(count);
         match model {
             // The goal; the mask table's cells alone err by 0.009 on average.
             Model::Masks => assert!(bias.abs() <= 0.01 && worst <= 0.1, "bias {bias}, worst {worst}"),

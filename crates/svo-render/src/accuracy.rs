@@ -78,7 +78,7 @@ impl Dolly {
     pub fn validate(&self) -> Result<(), RenderError> {
         check(self.far > 0.0 && self.far.is_finite(), "Dolly::far", f64::from(self.far), "finite and positive")?;
         let octaves = self.octaves;
-        check(octaves >= 0.0 && octaves <= 20.0, "Dolly::octaves", f64::from(octaves), "in [0, 20]")?;
+        check((0.0..=20.0).contains(&octaves), "Dolly::octaves", f64::from(octaves), "in [0, 20]")?;
         check(self.views >= 1, "Dolly::views", f64::from(self.views), "at least 1")?;
         check(self.width >= 11, "Dolly::width", f64::from(self.width), "at least 11 (SSIM's window)")?;
         check(self.height >= 11, "Dolly::height", f64::from(self.height), "at least 11 (SSIM's window)")
@@ -292,7 +292,7 @@ impl AccuracyTable {
     }
 }
 
-/// Writes [`AccuracyTable::to_csv`] of `rows` to `path` (its folder must exist).
+/// Writes [`AccuracyTable::to_csv`] of `table` to `path` (its folder must exist).
 pub fn write_csv(table: &AccuracyTable, path: &Path) -> Result<(), RenderError> {
     std::fs::write(path, table.to_csv()).map_err(|source| RenderError::Io { path: path.to_path_buf(), source })
 }

@@ -143,7 +143,7 @@ pub fn bumpy_sphere(radius: f32, amplitude: f32, frequency: f32) -> Result<Scene
 ///
 /// The distance `(y − h(x, z)) / √(1 + 2 A² f²)` is 1-Lipschitz. `A ≤ 0.5`.
 pub fn bumpy_plane(amplitude: f32, frequency: f32) -> Result<Scene, RenderError> {
-    check(amplitude >= 0.0 && amplitude <= 0.5, "bumpy_plane::amplitude", f64::from(amplitude), "in [0, 0.5]")?;
+    check((0.0..=0.5).contains(&amplitude), "bumpy_plane::amplitude", f64::from(amplitude), "in [0, 0.5]")?;
     check(frequency > 0.0 && frequency.is_finite(), "bumpy_plane::frequency", f64::from(frequency), "> 0")?;
     let lipschitz = (1.0 + 2.0 * amplitude * amplitude * frequency * frequency).sqrt();
     let height = move |p: Vec3| (frequency * p.x).sin() * (frequency * p.z).sin();

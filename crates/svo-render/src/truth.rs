@@ -142,7 +142,7 @@ impl<S: SurfaceSource + Sync + ?Sized> TruthGeometry for SourceGeometry<'_, S> {
     }
 }
 
-/// The finest level of an octree, read with [`PackedTree::sample`] at LoD 0 (trilinear in
+/// The finest level of an octree, read with [`PackedTree::sample`] at level of detail 0 (trilinear in
 /// the finest voxels; the constant bound of empty nodes): the voxel truth.
 #[derive(Clone, Copy, Debug)]
 pub struct VoxelGeometry<'a> {

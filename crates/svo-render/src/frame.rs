@@ -178,4 +178,17 @@ mod tests {
         let broken = Frame { coverage: vec![], ..f };
         assert!(matches!(broken.check(), Err(RenderError::FrameSize { pixels: 0, .. })));
     }
+
+    #[test]
+    fn pngs_round_trip_and_bad_paths_name_the_file() {
+        let f = frame();
+        let path = std::env::temp_dir().join(format!("svo-render-frame-{}.png", std::process::id()));
+        f.write_png(&path, 1.0).unwrap();
+        let back = image::open(&path).unwrap().to_rgba8();
+        assert_eq!(back, f.to_rgba8(1.0));
+        let _ = std::fs::remove_file(&path);
+        let missing = Path::new("/nonexistent-folder-of-svo-render/frame.png");
+        let error = f.write_png(missing, 1.0).unwrap_err();
+        assert!(error.to_string().contains("nonexistent-folder-of-svo-render"), "{error}");
+    }
 }

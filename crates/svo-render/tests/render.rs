@@ -341,3 +341,20 @@ fn lens_and_shadows_of_the_truth_agree_with_the_cones() {
         }
     }
 }
+
+/// The parallel render is every pixel's `trace_cone`, bit for bit, in row-major order.
+#[test]
+fn the_parallel_render_is_the_tracer_pixel_by_pixel() {
+    let camera = Camera::look_at(Vec3::new(0.5, 0.3, -2.5), Vec3::ZERO, Vec3::Y, 0.6, 16, 12).unwrap();
+    let trace = TraceSettings { shadow_cones: 1, ..settings() };
+    let frame = cpu::render(sphere_tree(), table(), &camera, &trace);
+    assert_eq!((frame.width, frame.height, frame.pixels()), (16, 12, 192));
+    for y in 0..12 {
+        for x in 0..16 {
+            let r = svo_tracer::trace_cone(sphere_tree(), table(), &camera.pixel_cone(x, y), &trace);
+            let i = (y * 16 + x) as usize;
+            assert_eq!(frame.radiance[i].to_array().map(f32::to_bits), r.radiance.to_array().map(f32::to_bits));
+            assert_eq!((frame.coverage[i].to_bits(), frame.elements[i]), (r.coverage.to_bits(), r.elements));
+        }
+    }
+}

@@ -317,3 +317,51 @@ fn svo_finish(tree: OctreeUniforms, raw: SvoRawVoxel) -> SvoRawVoxel {
     r.correlation = raw.correlation * (1.0 / 127.0);
     return r;
 }
+
+// Rust: PackedTree::sample (svo_finish of svo_sample_raw).
+fn svo_sample(tree: OctreeUniforms, p: vec3<f32>, lod: f32) -> SvoSample {
+    var s = svo_sample_raw(tree, p, lod);
+    if s.inside {
+        s.voxel = svo_finish(tree, s.voxel);
+    }
+    return s;
+}
+
+// Rust: PackedTree::sample_nearest.
+fn svo_sample_nearest(tree: OctreeUniforms, p: vec3<f32>, lod: f32) -> SvoSample {
+    var s = svo_sample_nearest_raw(tree, p, lod);
+    if s.inside {
+        s.voxel = svo_finish(tree, s.voxel);
+    }
+    return s;
+}
+
+// Rust: svo_brick::EmptyRegion (found = false: Rust's None).
+struct SvoEmptyRegion {
+    min: vec3<f32>,
+    found: bool,
+    max: vec3<f32>,
+    level: u32,
+    inside: bool,
+}
+
+// Rust: PackedTree::empty_region.
+fn svo_empty_region(tree: OctreeUniforms, p: vec3<f32>, level: u32) -> SvoEmptyRegion {
+    var region: SvoEmptyRegion;
+    let q = svo_tree_position(tree, p);
+    if !svo_inside(tree, q) {
+        return region;
+    }
+    let found = svo_find(tree, vec3<u32>(floor(q)), min(level, tree.shape.x - 1u));
+    if found.flag == 0u {
+        return region;
+    }
+    let size = tree.voxel_size.x;
+    let side = f32((1u << tree.shape.y) << found.level) * size;
+    region.min = tree.origin_inverse_size.xyz + vec3<f32>(found.origin) * size;
+    region.max = region.min + side;
+    region.found = true;
+    region.level = found.level;
+    region.inside = found.flag == SVO_FULL;
+    return region;
+}

@@ -7,9 +7,15 @@
 extern crate std;
 
 mod camera;
+mod gpu;
 mod shading;
 mod trace;
+#[cfg(feature = "wgsl")]
+mod wgsl;
 
 pub use camera::{Camera, CameraError, Cone, Lens};
+pub use gpu::{GpuCamera, GpuTraceSettings};
 pub use shading::{Filtering, Material, element_radiance};
 pub use trace::{ConeResult, Light, Model, TraceSettings, box_interval, light_visibility, trace_cone};
+#[cfg(feature = "wgsl")]
+pub use wgsl::WGSL;

@@ -24,8 +24,9 @@
 //! # Empty space
 //!
 //! Where the descent to level `L` ends at a node without a brick, level `L` contributes the
-//! voxel `h̄ = ±2 S_L'` (`L'` the node's level, `+` outside, `−` inside: a lower bound of
-//! the distance there, by the brick placement rule), with every other field zero.
+//! voxel `h̄ = ±2 S_L'` ([`EMPTY_DISTANCE`](crate::EMPTY_DISTANCE); `L'` the node's level,
+//! `+` outside, `−` inside: a lower bound of the distance there, by the brick placement
+//! rule), with every other field zero.
 
 use alloc::vec::Vec;
 
@@ -34,7 +35,7 @@ use gpu_layout::gpu_struct;
 
 use crate::descriptor::{ATTRIBUTE_CHANNELS, Voxel};
 use crate::layout::{RawVoxel, VoxelLayout, level_inverse_scale, level_scale};
-use crate::octree::{BrickTree, OctreeNode};
+use crate::octree::{BrickTree, EMPTY_DISTANCE, OctreeNode};
 
 /// Interpolation fractions are multiples of `1 / FRACTION_STEPS`.
 pub const FRACTION_STEPS: f32 = 2048.0;
@@ -218,7 +219,7 @@ impl PackedTree {
         &self.nodes
     }
 
-    /// The brick pool: brick `b`'s `(n + 2)³` voxels, x fastest, each
+    /// The brick pool: brick `b`'s `(n + 1)³` voxels, x fastest, each
     /// [`VoxelLayout::words`] words.
     pub fn words(&self) -> &[u32] {
         &self.words
@@ -284,7 +285,7 @@ impl PackedTree {
     /// Decodes stored voxel `index` of brick `brick`. (The WGSL twin reads it from binding
     /// `brick / bricks_per_binding`; here the pool is one buffer.)
     fn stored_voxel(&self, brick: u32, index: UVec3, level: u32) -> RawVoxel {
-        let side = (1u32 << self.brick_log2()) + 2;
+        let side = (1u32 << self.brick_log2()) + 1;
         let w = self.layout.words();
         let voxel = ((brick * side + index.z) * side + index.y) * side + index.x;
         let first = voxel as usize * w;
@@ -292,7 +293,7 @@ impl PackedTree {
     }
 
     fn empty_voxel(level: u32, brick: u32) -> RawVoxel {
-        let bound = 2.0 * level_scale(level);
+        let bound = EMPTY_DISTANCE * level_scale(level);
         RawVoxel { distance: if brick == OctreeNode::FULL { -bound } else { bound }, ..RawVoxel::default() }
     }
 
@@ -307,15 +308,15 @@ impl PackedTree {
     }
 
     /// Trilinear interpolation at `level` in brick `brick` whose node's origin is `origin`
-    /// (`q` within half a voxel of the node, so that the apron covers it).
+    /// (`q` in the node).
     fn trilinear_in_brick(&self, q: Vec3, brick: u32, origin: UVec3, level: u32) -> RawVoxel {
         let inverse = level_inverse_scale(level);
-        let local = (q * inverse - (origin >> level).as_vec3()) + 0.5;
+        let local = q * inverse - (origin >> level).as_vec3();
         let n = (1u32 << self.brick_log2()) as f32;
         let (mut i0, mut t) = ([0_u32; 3], [0.0_f32; 3]);
         for axis in 0..3 {
             let (i, f) = split_fraction(local[axis]);
-            i0[axis] = i.clamp(0.0, n) as u32;
+            i0[axis] = i.clamp(0.0, n - 1.0) as u32;
             t[axis] = f;
         }
         let base = UVec3::from_array(i0);
@@ -391,20 +392,20 @@ impl PackedTree {
         core::array::from_fn(|k| {
             let offset = UVec3::new(k as u32 & 1, (k as u32 >> 1) & 1, k as u32 >> 2);
             let weight = (0..3).map(|a| if offset[a] == 1 { t[a] } else { 1.0 - t[a] }).product::<f32>();
-            // Stored index i is level voxel origin / S_L − 1 + i, centred at + ½.
-            let centre = ((origin >> level).as_vec3() + (base + offset).as_vec3() - 0.5) * scale;
+            // Stored index i is the level-L voxel origin / S_L + i, at that lattice point.
+            let centre = ((origin >> level).as_vec3() + (base + offset).as_vec3()) * scale;
             (weight, self.stored_voxel(brick, base + offset, level), centre)
         })
     }
 
     /// The stencil's first stored index and fractions at `q`.
     fn stencil(&self, q: Vec3, origin: UVec3, level: u32) -> (UVec3, Vec3) {
-        let local = (q * level_inverse_scale(level) - (origin >> level).as_vec3()) + 0.5;
+        let local = q * level_inverse_scale(level) - (origin >> level).as_vec3();
         let n = (1u32 << self.brick_log2()) as f32;
         let (mut base, mut t) = (UVec3::ZERO, Vec3::ZERO);
         for axis in 0..3 {
             let (i, f) = split_fraction(local[axis]);
-            base[axis] = i.clamp(0.0, n) as u32;
+            base[axis] = i.clamp(0.0, n - 1.0) as u32;
             t[axis] = f;
         }
         (base, t)
@@ -469,8 +470,9 @@ impl PackedTree {
         let raw = match self.find(cell, level) {
             Found::Empty(level, brick, _) => Self::empty_voxel(level, brick),
             Found::Brick(brick, origin) => {
-                let index = (cell >> level) - (origin >> level) + 1;
-                self.stored_voxel(brick, index, level)
+                // The nearest lattice point: ⌊q / S_L + ½⌋ (an exact product, then one add).
+                let nearest = (q * level_inverse_scale(level) + 0.5).floor().as_uvec3();
+                self.stored_voxel(brick, nearest - (origin >> level), level)
             }
         };
         Some(raw)
@@ -491,19 +493,6 @@ impl PackedTree {
     /// A raw sample in world units, `n̄` normalised.
     pub fn finish(&self, raw: RawSample) -> Voxel {
         raw.finish().scaled(self.uniforms.voxel_size.x)
-    }
-
-    /// The trilinear raw sample at `level` through a given brick: the seam test's access to
-    /// both sides of a brick border. `None` if `brick` is not a brick of `level` whose node
-    /// (of origin `origin`, finest-voxel units) lies within half a voxel of `p`.
-    pub fn sample_in_brick(&self, p: Vec3, level: u32, brick: u32, origin: UVec3) -> Option<RawSample> {
-        let q = self.tree_position(p);
-        let scale = level_scale(level);
-        let size = ((1u32 << self.brick_log2()) as f32) * scale;
-        let lo = origin.as_vec3() - 0.5 * scale;
-        let inside = q.cmpge(lo).all() && q.cmplt(lo + size + scale).all();
-        (inside && (brick as usize) < self.words.len() / self.layout.words())
-            .then(|| self.trilinear_in_brick(q, brick, origin, level))
     }
 }
 

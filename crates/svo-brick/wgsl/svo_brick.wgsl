@@ -216,14 +216,14 @@ fn svo_find(tree: OctreeUniforms, cell: vec3<u32>, level: u32) -> SvoFound {
 // Rust: PackedTree::empty_voxel.
 fn svo_empty_voxel(level: u32, flag: u32) -> SvoRawVoxel {
     var r: SvoRawVoxel;
-    let bound = 2.0 * svo_level_scale(level);
+    let bound = SVO_EMPTY_DISTANCE * svo_level_scale(level);
     r.distance = select(bound, -bound, flag == SVO_FULL);
     return r;
 }
 
 // Rust: PackedTree::stored_voxel (brick b in binding b / bricks_per_binding).
 fn svo_stored_voxel(tree: OctreeUniforms, brick: u32, index: vec3<u32>, level: u32) -> SvoRawVoxel {
-    let side = (1u << tree.shape.y) + 2u;
+    let side = (1u << tree.shape.y) + 1u;
     let binding = brick / tree.counts.w;
     let local = brick - binding * tree.counts.w;
     let voxel = ((local * side + index.z) * side + index.y) * side + index.x;
@@ -233,12 +233,12 @@ fn svo_stored_voxel(tree: OctreeUniforms, brick: u32, index: vec3<u32>, level: u
 // Rust: PackedTree::trilinear_in_brick.
 fn svo_trilinear_in_brick(tree: OctreeUniforms, q: vec3<f32>, brick: u32, origin: vec3<u32>, level: u32) -> SvoRawVoxel {
     let inverse = svo_level_inverse_scale(level);
-    let local = (q * inverse - vec3<f32>(origin >> vec3<u32>(level))) + 0.5;
+    let local = q * inverse - vec3<f32>(origin >> vec3<u32>(level));
     let n = f32(1u << tree.shape.y);
     let sx = svo_split_fraction(local.x);
     let sy = svo_split_fraction(local.y);
     let sz = svo_split_fraction(local.z);
-    let base = vec3<u32>(clamp(vec3<f32>(sx.x, sy.x, sz.x), vec3<f32>(0.0), vec3<f32>(n)));
+    let base = vec3<u32>(clamp(vec3<f32>(sx.x, sy.x, sz.x), vec3<f32>(0.0), vec3<f32>(n - 1.0)));
     let t = vec3<f32>(sx.y, sy.y, sz.y);
     let x00 = svo_lerp_raw(svo_stored_voxel(tree, brick, base, level), svo_stored_voxel(tree, brick, base + vec3<u32>(1u, 0u, 0u), level), t.x);
     let x10 = svo_lerp_raw(svo_stored_voxel(tree, brick, base + vec3<u32>(0u, 1u, 0u), level), svo_stored_voxel(tree, brick, base + vec3<u32>(1u, 1u, 0u), level), t.x);
@@ -298,8 +298,8 @@ fn svo_sample_nearest_raw(tree: OctreeUniforms, p: vec3<f32>, lod: f32) -> SvoSa
     if found.flag != 0u {
         result.voxel = svo_empty_voxel(found.level, found.flag);
     } else {
-        let index = (cell >> vec3<u32>(level)) - (found.origin >> vec3<u32>(level)) + 1u;
-        result.voxel = svo_stored_voxel(tree, found.brick, index, level);
+        let nearest = vec3<u32>(floor(q * svo_level_inverse_scale(level) + 0.5));
+        result.voxel = svo_stored_voxel(tree, found.brick, nearest - (found.origin >> vec3<u32>(level)), level);
     }
     return result;
 }

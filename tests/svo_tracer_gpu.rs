@@ -30,7 +30,7 @@ fn pixel_cones_match_the_cpu_reference() {
     let lens = camera.with_lens(Lens { aperture: 0.08, focus: 2.4 }).unwrap();
     let source = shader_registry::test_kernel_source("svo_tracer_differential").unwrap_or_else(|e| panic!("{e}"));
     let pixels: Vec<UVec4> = (0..SIZE * SIZE).map(|k| UVec4::new(k % SIZE, k / SIZE, 0, 0)).collect();
-    let packed = PackedTree::new(&tree, VoxelLayout::Compact16);
+    let packed = PackedTree::new(&tree, VoxelLayout::Compact16Fine8);
     let mut storage: Vec<&[u8]> = vec![bytemuck::cast_slice(packed.nodes())];
     let bindings = packed.brick_bindings();
     storage.extend(bindings.iter().map(|b| bytemuck::cast_slice::<u32, u8>(b)));

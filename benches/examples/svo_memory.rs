@@ -152,7 +152,7 @@ fn run() -> Result<(), String> {
         Normalisation::Hypot.divisor(),
     );
     println!(
-        "{:>5} {:>7} {:>11} {:>11} {:>9} | {:>10} {:>10} {:>7} {:>7} | {:>10} {:>7} {:>7} | {:>8} {:>7}",
+        "{:>5} {:>7} {:>11} {:>11} {:>9} | {:>10} {:>10} {:>7} {:>7} | {:>10} {:>7} {:>7} | {:>10} {:>7} | {:>8} {:>7}",
         "res",
         "bricks",
         "stored vox",
@@ -164,6 +164,8 @@ fn run() -> Result<(), String> {
         "B/int",
         "c16 brk MB",
         "B/sto",
+        "B/int",
+        "f8 tot MB",
         "B/int",
         "build s",
         "pack s",
@@ -203,7 +205,7 @@ fn run() -> Result<(), String> {
         rows.push(Row { levels, bricks, nodes, per_level, bytes });
     }
     println!(
-        "(p20 = Paper20, c16 = Compact16; tot = node pool + brick pool; B/sto, B/int: total bytes per stored / interior voxel)"
+        "(p20 = Paper20, c16 = Compact16, f8 = Compact16Fine8; tot = node pool + brick pool; B/sto, B/int: total bytes per stored / interior voxel)"
     );
     if let Some(peak) = peak_resident_mb() {
         println!("peak resident memory of this process: {peak:.0} MB");

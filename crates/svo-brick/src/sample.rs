@@ -53,10 +53,14 @@ gpu_struct! {
         pub voxel_size: Vec4,
         /// `(levels, log2 n, layout index, words per voxel)`.
         pub shape: UVec4,
-        /// `(node count, brick count, finest resolution, bricks per binding)`: brick `b`
-        /// lives in brick binding `b / bricks_per_binding` (see
-        /// [`PackedTree::brick_bindings`]).
+        /// `(node count, brick count, finest resolution, 0)`.
         pub counts: UVec4,
+        /// `(words per finest-level voxel, the first finest-level brick, words per brick
+        /// binding, 0)`: bricks before the first finest one take `shape.w` words per voxel,
+        /// the rest the finest level's (the build places bricks breadth-first, so the finest
+        /// level's come last); the pool's word `k` lives in binding `k / words per binding`
+        /// (see [`PackedTree::brick_bindings`]).
+        pub pools: UVec4,
     }
 }
 
@@ -164,7 +168,9 @@ enum Found {
 impl PackedTree {
     /// Packs `tree` in `layout` for bindings of at most `max_binding_bytes` each (the
     /// adapter's `min(max_storage_buffer_binding_size, max_buffer_size)`): the brick pool
-    /// is split into up to [`MAX_BRICK_BINDINGS`] bindings of whole bricks.
+    /// is split into up to [`MAX_BRICK_BINDINGS`] bindings of whole bricks (a multiple of the
+    /// largest brick's words, so that no brick straddles two bindings: the finest level's
+    /// bricks are half as large in `Compact16Fine8`).
     pub fn with_binding_limit(
         tree: &BrickTree,
         layout: VoxelLayout,
@@ -175,33 +181,52 @@ impl PackedTree {
         if node_bytes > max_binding_bytes {
             return Err(PoolError::Nodes(node_bytes, max_binding_bytes));
         }
-        let brick_bytes = 4 * (tree.brick_size().stored_voxels() * layout.words()) as u64;
-        let per_binding = (max_binding_bytes / brick_bytes).min(u64::from(u32::MAX)) as u32;
-        let bricks = tree.brick_count() as u64;
-        if per_binding == 0 || bricks.div_ceil(u64::from(per_binding)) > MAX_BRICK_BINDINGS as u64 {
-            return Err(PoolError::Bricks(bricks * brick_bytes, max_binding_bytes));
+        let brick_words = (tree.brick_size().stored_voxels() * layout.words()) as u64;
+        let per_binding =
+            (max_binding_bytes / 4 / brick_words * brick_words).min(u64::from(u32::MAX) / brick_words * brick_words);
+        let words = packed.words.len() as u64;
+        if per_binding == 0 || words.div_ceil(per_binding) > MAX_BRICK_BINDINGS as u64 {
+            return Err(PoolError::Bricks(4 * words, max_binding_bytes));
         }
-        packed.uniforms.counts.w = per_binding;
+        packed.uniforms.pools.z = per_binding as u32;
         Ok(packed)
     }
 
     /// Packs `tree` in `layout`, the brick pool in a single binding.
     pub fn new(tree: &BrickTree, layout: VoxelLayout) -> Self {
-        let words_per_voxel = layout.words();
-        let mut words = Vec::with_capacity(tree.brick_count() * tree.brick_size().stored_voxels() * words_per_voxel);
+        let stored = tree.brick_size().stored_voxels();
+        let mut words = Vec::with_capacity(tree.brick_count() * stored * layout.words());
+        let mut first_fine = tree.brick_count() as u32;
         for (b, &level) in tree.brick_levels().iter().enumerate() {
+            if level == 0 {
+                first_fine = first_fine.min(b as u32);
+            }
+            let w = layout.words_at(level);
             for voxel in tree.brick_voxels(b) {
-                words.extend_from_slice(&layout.encode(voxel, level)[..words_per_voxel]);
+                words.extend_from_slice(&layout.encode(voxel, level)[..w]);
             }
         }
         let origin = tree.origin();
         let uniforms = OctreeUniforms {
             origin_inverse_size: origin.extend(1.0 / tree.voxel_size()),
             voxel_size: Vec4::new(tree.voxel_size(), 0.0, 0.0, 0.0),
-            shape: UVec4::new(tree.levels(), tree.brick_size().log2(), layout.index(), words_per_voxel as u32),
-            counts: UVec4::new(tree.nodes().len() as u32, tree.brick_count() as u32, tree.resolution(), u32::MAX),
+            shape: UVec4::new(tree.levels(), tree.brick_size().log2(), layout.index(), layout.words() as u32),
+            counts: UVec4::new(tree.nodes().len() as u32, tree.brick_count() as u32, tree.resolution(), 0),
+            pools: UVec4::new(layout.words_at(0) as u32, first_fine, u32::MAX, 0),
         };
         Self { layout, uniforms, nodes: tree.nodes().to_vec(), words }
+    }
+
+    /// The first word of brick `brick` in the pool.
+    fn brick_offset(&self, brick: u32) -> usize {
+        let stored = ((1usize << self.brick_log2()) + 1).pow(3);
+        let (coarse, fine) = (self.uniforms.shape.w as usize, self.uniforms.pools.x as usize);
+        let first_fine = self.uniforms.pools.y;
+        if brick < first_fine {
+            brick as usize * stored * coarse
+        } else {
+            first_fine as usize * stored * coarse + (brick - first_fine) as usize * stored * fine
+        }
     }
 
     /// The layout.
@@ -220,7 +245,7 @@ impl PackedTree {
     }
 
     /// The brick pool: brick `b`'s `(n + 1)³` voxels, x fastest, each
-    /// [`VoxelLayout::words`] words.
+    /// [`VoxelLayout::words_at`] its level words.
     pub fn words(&self) -> &[u32] {
         &self.words
     }
@@ -230,9 +255,7 @@ impl PackedTree {
     /// cannot be empty).
     pub fn brick_bindings(&self) -> [&[u32]; MAX_BRICK_BINDINGS] {
         const UNUSED: &[u32] = &[0];
-        let per = self.uniforms.counts.w as usize;
-        let brick_words = self.words.len() / (self.uniforms.counts.y as usize).max(1);
-        let chunk = per.saturating_mul(brick_words).max(1);
+        let chunk = (self.uniforms.pools.z as usize).max(1);
         let mut chunks = self.words.chunks(chunk);
         core::array::from_fn(|_| chunks.next().filter(|c| !c.is_empty()).unwrap_or(UNUSED))
     }
@@ -282,13 +305,13 @@ impl PackedTree {
         if brick >= OctreeNode::FULL { Found::Empty(node_level, brick, origin) } else { Found::Brick(brick, origin) }
     }
 
-    /// Decodes stored voxel `index` of brick `brick`. (The WGSL twin reads it from binding
-    /// `brick / bricks_per_binding`; here the pool is one buffer.)
+    /// Decodes stored voxel `index` of brick `brick` (of level `level`). (The WGSL twin reads
+    /// its words from binding `word / words_per_binding`; here the pool is one buffer.)
     fn stored_voxel(&self, brick: u32, index: UVec3, level: u32) -> RawVoxel {
         let side = (1u32 << self.brick_log2()) + 1;
-        let w = self.layout.words();
-        let voxel = ((brick * side + index.z) * side + index.y) * side + index.x;
-        let first = voxel as usize * w;
+        let w = self.layout.words_at(level);
+        let voxel = (index.z * side + index.y) * side + index.x;
+        let first = self.brick_offset(brick) + voxel as usize * w;
         self.layout.decode_raw(&self.words[first..first + w], level)
     }
 

@@ -33,6 +33,7 @@ pub const WGSL: WgslModule = WgslModule {
         gpu_const!("SVO_FULL": u32 = OctreeNode::FULL),
         gpu_const!("SVO_LAYOUT_PAPER20": u32 = crate::VoxelLayout::Paper20.index()),
         gpu_const!("SVO_LAYOUT_COMPACT16": u32 = crate::VoxelLayout::Compact16.index()),
+        gpu_const!("SVO_LAYOUT_COMPACT16_FINE8": u32 = crate::VoxelLayout::Compact16Fine8.index()),
     ],
 };
 
@@ -43,6 +44,6 @@ mod tests {
     #[test]
     fn gpu_structs_have_their_wgsl_sizes() {
         assert_eq!(size_of::<OctreeNode>(), 8);
-        assert_eq!(size_of::<OctreeUniforms>(), 64);
+        assert_eq!(size_of::<OctreeUniforms>(), 80);
     }
 }

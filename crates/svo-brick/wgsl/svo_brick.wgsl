@@ -9,7 +9,7 @@
 //
 // The pools are read-only storage buffers of group 0: binding 3 the nodes
 // (svo_brick::PackedTree::nodes), bindings 4-7 the brick pool split into whole bricks
-// (PackedTree::brick_bindings; brick b in binding 4 + b / bricks_per_binding, the unused
+// (PackedTree::brick_bindings; word k in binding 4 + k / words per binding, the unused
 // ones a dummy word); the uniforms are a parameter, so a shader may keep them in a uniform
 // or a storage buffer.
 //
@@ -82,8 +82,15 @@ fn svo_sign(x: f32) -> f32 {
 
 // Rust: layout::octahedral_decode.
 fn svo_octahedral_decode(word: u32) -> vec3<f32> {
-    let u = (f32(word & 0xffffu) - 32768.0) * (1.0 / 32768.0);
-    let v = (f32(word >> 16u) - 32768.0) * (1.0 / 32768.0);
+    return svo_octahedral_decode_bits(word & 0xffffu, word >> 16u, 16u);
+}
+
+// Rust: layout::octahedral_decode_bits.
+fn svo_octahedral_decode_bits(code_u: u32, code_v: u32, bits: u32) -> vec3<f32> {
+    let half = f32(1u << (bits - 1u));
+    let step = bitcast<f32>((128u - bits) << 23u);
+    let u = (f32(code_u) - half) * step;
+    let v = (f32(code_v) - half) * step;
     let z = 1.0 - abs(u) - abs(v);
     if z >= 0.0 {
         return vec3<f32>(u, v, z);
@@ -105,11 +112,13 @@ fn svo_brick_word(binding: u32, k: u32) -> u32 {
     }
 }
 
-// The words of one voxel: `first` in binding `binding` (Paper20 reads five, Compact16 four).
-fn svo_voxel_words(tree: OctreeUniforms, binding: u32, first: u32) -> array<u32, 5> {
+// The `count` words of one voxel from word `first` of the pool.
+fn svo_voxel_words(tree: OctreeUniforms, first: u32, count: u32) -> array<u32, 5> {
+    let binding = first / tree.pools.z;
+    let local = first - binding * tree.pools.z;
     var w: array<u32, 5>;
-    for (var k = 0u; k < tree.shape.w; k++) {
-        w[k] = svo_brick_word(binding, first + k);
+    for (var k = 0u; k < count; k++) {
+        w[k] = svo_brick_word(binding, local + k);
     }
     return w;
 }
@@ -117,6 +126,12 @@ fn svo_voxel_words(tree: OctreeUniforms, binding: u32, first: u32) -> array<u32,
 // Rust: VoxelLayout::decode_raw.
 fn svo_decode_raw(tree: OctreeUniforms, w: array<u32, 5>, level: u32) -> SvoRawVoxel {
     var r: SvoRawVoxel;
+    if tree.shape.z == SVO_LAYOUT_COMPACT16_FINE8 && level == 0u {
+        r.distance = (f32(w[0] & 0xffffu) - 32768.0) * (1.0 / SVO_COMPACT_DISTANCE_STEPS);
+        r.normal = svo_octahedral_decode_bits((w[0] >> 16u) & 0xfffu, (w[0] >> 28u) | ((w[1] & 0xffu) << 4u), 12u);
+        r.mean_attribute = vec3<f32>(svo_byte(w[1], 1u), svo_byte(w[1], 2u), svo_byte(w[1], 3u));
+        return r;
+    }
     if tree.shape.z == SVO_LAYOUT_PAPER20 {
         let w1 = w[1];
         let w3 = w[3];
@@ -221,13 +236,24 @@ fn svo_empty_voxel(level: u32, flag: u32) -> SvoRawVoxel {
     return r;
 }
 
-// Rust: PackedTree::stored_voxel (brick b in binding b / bricks_per_binding).
+// Rust: PackedTree::brick_offset.
+fn svo_brick_offset(tree: OctreeUniforms, brick: u32) -> u32 {
+    let side = (1u << tree.shape.y) + 1u;
+    let stored = side * side * side;
+    let first_fine = tree.pools.y;
+    if brick < first_fine {
+        return brick * stored * tree.shape.w;
+    }
+    return first_fine * stored * tree.shape.w + (brick - first_fine) * stored * tree.pools.x;
+}
+
+// Rust: PackedTree::stored_voxel (word k of the pool in binding k / words per binding).
 fn svo_stored_voxel(tree: OctreeUniforms, brick: u32, index: vec3<u32>, level: u32) -> SvoRawVoxel {
     let side = (1u << tree.shape.y) + 1u;
-    let binding = brick / tree.counts.w;
-    let local = brick - binding * tree.counts.w;
-    let voxel = ((local * side + index.z) * side + index.y) * side + index.x;
-    return svo_decode_raw(tree, svo_voxel_words(tree, binding, voxel * tree.shape.w), level);
+    let count = select(tree.shape.w, tree.pools.x, level == 0u);
+    let voxel = (index.z * side + index.y) * side + index.x;
+    let first = svo_brick_offset(tree, brick) + voxel * count;
+    return svo_decode_raw(tree, svo_voxel_words(tree, first, count), level);
 }
 
 // Rust: PackedTree::trilinear_in_brick.

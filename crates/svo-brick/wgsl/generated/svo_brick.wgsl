@@ -17,16 +17,19 @@ const SVO_LAYOUT_PAPER20: u32 = 0u;
 
 const SVO_LAYOUT_COMPACT16: u32 = 1u;
 
+const SVO_LAYOUT_COMPACT16_FINE8: u32 = 2u;
+
 // Rust size 8 bytes.
 struct OctreeNode {
     child: u32, // offset 0
     brick: u32, // offset 4
 }
 
-// Rust size 64 bytes.
+// Rust size 80 bytes.
 struct OctreeUniforms {
     origin_inverse_size: vec4<f32>, // offset 0
     voxel_size: vec4<f32>, // offset 16
     shape: vec4<u32>, // offset 32
     counts: vec4<u32>, // offset 48
+    pools: vec4<u32>, // offset 64
 }

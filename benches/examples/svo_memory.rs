@@ -85,7 +85,7 @@ struct Row {
     /// Bricks per level, the finest first.
     per_level: Vec<usize>,
     /// `PackedTree::bytes()` per layout (`VoxelLayout::ALL` order).
-    bytes: [usize; 2],
+    bytes: [usize; 3],
 }
 
 /// The peak resident memory of this process (`VmHWM`, Linux), in MB.

@@ -187,7 +187,7 @@ fn run() -> Result<(), String> {
         let (stored, interior) = (bricks * stored_per_brick, bricks * interior_per_brick);
         let per = |total: usize, voxels: usize| total as f64 / voxels as f64;
         println!(
-            "{:>4}³ {bricks:>7} {stored:>11} {interior:>11} {:>9.3} | {:>10.2} {:>10.2} {:>7.2} {:>7.2} | {:>10.2} {:>7.2} {:>7.2} | {build_seconds:>8.2} {pack_seconds:>7.2}",
+            "{:>4}³ {bricks:>7} {stored:>11} {interior:>11} {:>9.3} | {:>10.2} {:>10.2} {:>7.2} {:>7.2} | {:>10.2} {:>7.2} {:>7.2} | {:>10.2} {:>7.2} | {build_seconds:>8.2} {pack_seconds:>7.2}",
             tree.resolution(),
             mb(node_bytes as f64),
             mb((bytes[0] - node_bytes) as f64),
@@ -197,6 +197,8 @@ fn run() -> Result<(), String> {
             mb((bytes[1] - node_bytes) as f64),
             per(bytes[1], stored),
             per(bytes[1], interior),
+            mb(bytes[2] as f64),
+            per(bytes[2], interior),
         );
         let mut per_level = vec![0; levels as usize];
         for &level in tree.brick_levels() {

@@ -17,12 +17,17 @@
 
 mod analytic;
 mod attribute;
+mod displaced;
 mod error;
+mod noise;
 mod plate;
+mod shell;
 #[cfg(test)]
 mod testing;
 
 pub use analytic::{AxisBox, Sphere, Torus};
 pub use attribute::Attribute;
+pub use displaced::{Displaced, DisplacementBase, HeightColours};
 pub use error::SceneError;
+pub use noise::{Fbm, MAX_OCTAVES, NOISE_GRADIENT_BOUND};
 pub use plate::{Plane, Plate};

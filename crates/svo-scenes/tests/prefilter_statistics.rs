@@ -1,8 +1,8 @@
 //! svo-brick's prefiltered statistics of a height field against microsurface-truth's: at
 //! each level whose voxel footprint spans exactly one period of a periodic height field, a
 //! voxel holding the surface must have the field's height and slope deviations (σh, σn), its
-//! correlation a_s with the attribute, and its mean attribute ā. Goal (the issue): σh, σn
-//! and a_s within 2 %, ā exact (to f32 rounding).
+//! correlation `a_s` with the attribute, and its mean attribute ā. Goal (the issue): σh, σn
+//! and `a_s` within 2 %, ā exact (to f32 rounding).
 
 use glam::Vec3;
 use microsurface_truth::{HeightField, Spectrum, SurfaceStatistics, generate_gaussian};

@@ -23,8 +23,8 @@ pub fn tracer_rays(dims: UVec3) -> Vec<(Vec3, Vec3)> {
 }
 
 /// The displaced sphere of the `svo_brick` benchmark and the `svo_memory` example (paper
-/// Fig. 11–12 in spirit): radius [`DISPLACED_RADIUS`] at the origin, displaced along the
-/// radius by [`DISPLACED_AMPLITUDE`] `× fbm(p)`, in the domain `[−1, 1)³`.
+/// Fig. 11–12 in spirit): radius [`DISPLACED_RADIUS`](displaced::DISPLACED_RADIUS) at the origin, displaced along the
+/// radius by [`DISPLACED_AMPLITUDE`](displaced::DISPLACED_AMPLITUDE) `× fbm(p)`, in the domain `[−1, 1)³`.
 pub mod displaced {
     use glam::{Mat3, Vec3};
     use svo_brick::{Domain, SdfSurface, SurfaceSource};

@@ -115,6 +115,6 @@ pub use sample::{
     EmptyRegion, FRACTION_STEPS, MAX_BRICK_BINDINGS, OctreeUniforms, PackedTree, PoolError, RawSample, SPLIT_MASK,
     lerp, lerp_raw,
 };
-pub use surface::{Cell, SdfSurface, SurfaceError, SurfaceSample, SurfaceSource, thin_shell_samples};
+pub use surface::{Cell, PROJECTION_STEPS, SdfSurface, SurfaceError, SurfaceSample, SurfaceSource, thin_shell_samples};
 #[cfg(feature = "wgsl")]
 pub use wgsl::WGSL;

@@ -434,19 +434,24 @@ impl PackedTree {
         (base, t)
     }
 
+    /// The two levels a quadrilinear sample at `lod` blends and the quantised weight of the
+    /// coarser (`lod` clamped to `[0, levels − 1]`, NaN → 0; at the top level, the same
+    /// level twice with weight 0).
+    fn blended_levels(&self, lod: f32) -> (u32, u32, f32) {
+        let top = (self.levels() - 1) as f32;
+        let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top) };
+        let (level, t) = split_fraction(lod);
+        let fine = level as u32;
+        let coarse = (fine + 1).min(self.levels() - 1);
+        (fine, coarse, if coarse == fine { 0.0 } else { t })
+    }
+
     /// The quadrilinear sample with the moment-corrected variances (see
     /// `trilinear_moment_corrected`), world units; CPU only.
     pub fn sample_moment_corrected(&self, p: Vec3, lod: f32) -> Option<Voxel> {
         let q = self.tree_position(p);
         let cell = self.cell(q)?;
-        let top = (self.levels() - 1) as f32;
-        let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top) };
-        let (level, mut t) = split_fraction(lod);
-        let fine = level as u32;
-        let coarse = (fine + 1).min(self.levels() - 1);
-        if coarse == fine {
-            t = 0.0;
-        }
+        let (fine, coarse, t) = self.blended_levels(lod);
         let a = self.trilinear_moment_corrected(q, cell, fine);
         let b = self.trilinear_moment_corrected(q, cell, coarse);
         Some(self.finish(lerp_raw(&a, &b, t)))
@@ -459,14 +464,7 @@ impl PackedTree {
     pub fn sample_raw(&self, p: Vec3, lod: f32) -> Option<RawSample> {
         let q = self.tree_position(p);
         let cell = self.cell(q)?;
-        let top = (self.levels() - 1) as f32;
-        let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top) };
-        let (level, mut t) = split_fraction(lod);
-        let fine = level as u32;
-        let coarse = (fine + 1).min(self.levels() - 1);
-        if coarse == fine {
-            t = 0.0;
-        }
+        let (fine, coarse, t) = self.blended_levels(lod);
         let a = self.trilinear(q, cell, fine);
         let b = self.trilinear(q, cell, coarse);
         Some(lerp_raw(&a, &b, t))

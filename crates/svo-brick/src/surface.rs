@@ -56,7 +56,8 @@ pub trait SurfaceSource {
     ///
     /// The default is the thin-shell estimator: every point `p` of the grid of step
     /// `spacing` (cell-centred) with `|d(p)| < spacing / 2` is projected onto the surface,
-    /// `x = p − d(p) ∇d / |∇d|²`, and stands for `spacing² |∇d(p)|` of area. By the coarea
+    /// `x = p − d(p) ∇d / |∇d|²` (repeated up to [`PROJECTION_STEPS`] times for a distance
+    /// that is only a bound), and stands for `spacing² |∇d(p)|` of area. By the coarea
     /// formula the shell `|d| < spacing / 2`, `spacing / |∇d|` thick, holds
     /// `area / (spacing² |∇d|)` grid points on average, so the total area is unbiased for an
     /// exact signed distance and for a 1-Lipschitz bound of one alike; each sample's weight
@@ -66,6 +67,9 @@ pub trait SurfaceSource {
         thin_shell_samples(self, cell, spacing, out);
     }
 }
+
+/// Newton steps of the thin-shell sampler's projection onto the surface, at most.
+pub const PROJECTION_STEPS: usize = 4;
 
 /// The default [`SurfaceSource::surface_samples`]: the thin-shell estimator.
 pub fn thin_shell_samples<S: SurfaceSource + ?Sized>(
@@ -96,13 +100,26 @@ pub fn thin_shell_samples<S: SurfaceSource + ?Sized>(
                 if !g2.is_finite() || g2 <= 0.0 {
                     continue;
                 }
-                let x = p - g * (d / g2);
+                // Newton steps x ← x − d ∇d / |∇d|²: one lands on the surface for an exact
+                // signed distance; a 1-Lipschitz bound of one may need a few.
+                let (mut x, mut gx, mut dx) = (p, g, d);
+                for _ in 0..PROJECTION_STEPS {
+                    let step = gx * (dx / gx.length_squared());
+                    if !step.is_finite() {
+                        break;
+                    }
+                    x -= step;
+                    (dx, gx) = (source.distance(x), source.gradient(x));
+                    if libm::fabsf(dx) <= 1e-6 * spacing {
+                        break;
+                    }
+                }
                 // The shell |d| < spacing / 2 is spacing / |∇d| thick: a distance that is only a
                 // 1-Lipschitz bound (|∇d| < 1) has a thicker shell, hence the |∇d| weight.
                 let length = libm::sqrtf(g2);
                 out.push(SurfaceSample {
                     position: x,
-                    normal: g / length,
+                    normal: gx.try_normalize().unwrap_or(g / length),
                     area: area * length,
                     attribute: source.attribute(x),
                 });

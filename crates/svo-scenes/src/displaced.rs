@@ -2,13 +2,12 @@
 //! displacement (Fig. 11: deep = red, high = yellow).
 
 use glam::Vec3;
-use svo_brick::{ATTRIBUTE_CHANNELS, Cell, SurfaceSample, SurfaceSource};
+use svo_brick::{ATTRIBUTE_CHANNELS, SurfaceSource};
 
 use crate::analytic::Sphere;
 use crate::error::{SceneError, check};
 use crate::noise::Fbm;
 use crate::plate::Plane;
-use crate::shell::weighted_shell_samples;
 
 mod sealed {
     use glam::Vec3;
@@ -208,15 +207,6 @@ impl<S: DisplacementBase> SurfaceSource for Displaced<S> {
     fn attribute(&self, x: Vec3) -> [f32; ATTRIBUTE_CHANNELS] {
         self.colours.at(self.displacement(x), self.fbm.amplitude())
     }
-
-    /// The thin-shell estimator with each grid point weighted by `spacing² · |∇d|`, not
-    /// `spacing²`: the distance is a bound with `|∇d| < 1`, whose shell is `1/|∇d|` times
-    /// thicker than a true distance's (the coarea formula; the unweighted default would
-    /// overstate the area by that factor, unevenly over the surface). The points are
-    /// projected on the surface by Newton steps, the normals taken there.
-    fn surface_samples(&self, cell: Cell, spacing: f32, out: &mut Vec<SurfaceSample>) {
-        weighted_shell_samples(self, cell, spacing, out);
-    }
 }
 
 #[cfg(test)]
@@ -224,6 +214,7 @@ mod tests {
     use super::*;
     use crate::attribute::Attribute;
     use crate::testing::{Rng, assert_gradient_matches, assert_lipschitz};
+    use svo_brick::Cell;
 
     fn sphere() -> Displaced<Sphere> {
         let base = Sphere::new(Vec3::new(0.1, -0.2, 0.0), 1.0, Attribute::grey()).unwrap();

@@ -61,7 +61,6 @@ mod heightmap;
 mod mesh;
 mod noise;
 mod plate;
-mod shell;
 #[cfg(test)]
 mod testing;
 

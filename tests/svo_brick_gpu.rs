@@ -2,7 +2,7 @@
 //! samples of packed octrees, bit for bit (0 ulp), over 100 000+ queries (counted) per tree
 //! and layout, including brick borders, level boundaries, empty and full nodes, the domain's
 //! boundary and special values; and the finished (world-unit, normalised) samples within
-//! the normalisation's rounding bound. The brick pool is split over three of the twin's four
+//! the normalisation's rounding bound. The brick pool is split over two or three of the twin's four
 //! brick bindings, as for a tree larger than the adapter's binding limit.
 
 use glam::{UVec4, Vec3, Vec4};
@@ -120,13 +120,14 @@ fn packed_octrees_sample_bit_identically_on_cpu_and_gpu() {
         let queries = queries(&tree, u64::from(levels));
         assert!(queries.len() >= 100_000, "{} queries", queries.len());
         for layout in VoxelLayout::ALL {
-            // The brick pool split over three bindings, as a tree past the adapter's
+            // The brick pool split over two or three bindings, as a tree past the adapter's
             // binding limit would be (the CPU reads one buffer).
-            let brick_bytes = (4 * brick_size.stored_voxels() * layout.words()) as u64;
-            let limit = brick_bytes * (tree.brick_count() as u64).div_ceil(3);
+            let brick_words = (brick_size.stored_voxels() * layout.words()) as u64;
+            let words = PackedTree::new(&tree, layout).words().len() as u64;
+            let limit = 4 * words.div_ceil(3).div_ceil(brick_words) * brick_words;
             let packed = PackedTree::with_binding_limit(&tree, layout, limit).unwrap();
             let bindings = packed.brick_bindings();
-            assert_eq!(bindings.iter().filter(|b| b.len() > 1).count(), 3);
+            assert!(bindings.iter().filter(|b| b.len() > 1).count() >= 2);
             let uniforms = bytemuck::bytes_of(&packed.uniforms()).to_vec();
             let mut storage: Vec<&[u8]> = vec![bytemuck::cast_slice(packed.nodes())];
             storage.extend(bindings.iter().map(|b| bytemuck::cast_slice::<u32, u8>(b)));

@@ -21,3 +21,101 @@ pub fn tracer_rays(dims: UVec3) -> Vec<(Vec3, Vec3)> {
         })
         .collect()
 }
+
+/// The displaced sphere of the `svo_brick` benchmark and the `svo_memory` example (paper
+/// Fig. 11–12 in spirit): radius [`DISPLACED_RADIUS`](displaced::DISPLACED_RADIUS) at the origin, displaced along the
+/// radius by [`DISPLACED_AMPLITUDE`](displaced::DISPLACED_AMPLITUDE) `× fbm(p)`, in the domain `[−1, 1)³`.
+pub mod displaced {
+    use glam::{Mat3, Vec3};
+    use svo_brick::{Domain, SdfSurface, SurfaceSource};
+
+    /// The undisplaced radius (world units).
+    pub const DISPLACED_RADIUS: f32 = 0.6;
+    /// The displacement's amplitude: `|displacement| ≤ DISPLACED_AMPLITUDE × fbm_max()`.
+    pub const DISPLACED_AMPLITUDE: f32 = 0.04;
+    /// The first octave's angular frequency (a wavelength of `2π / 8 ≈ 0.79`).
+    pub const BASE_FREQUENCY: f32 = 8.0;
+    /// Octaves of the fBm (frequency ×2, amplitude ×1/2 per octave).
+    pub const OCTAVES: u32 = 4;
+
+    /// Each octave's coordinates are the previous one's turned by this rotation (about
+    /// `(1, 2, 3)`, 0.9 rad), so that the octaves' lattices do not align.
+    fn octave_rotation() -> Mat3 {
+        Mat3::from_axis_angle(Vec3::new(1.0, 2.0, 3.0).normalize(), 0.9)
+    }
+
+    /// Sine-product fBm: `Σₖ 2⁻ᵏ sin(x'ₖ) sin(y'ₖ) sin(z'ₖ)` with `p'ₖ = 2ᵏ f₀ Rᵏ p +
+    /// φₖ`. Deterministic and cheap (three sines an octave); in `[−fbm_max, fbm_max]`, and
+    /// `fbm_lipschitz`-Lipschitz (one octave's gradient has length ≤ its frequency, as
+    /// `|∇ sin x sin y sin z| ≤ 1`).
+    pub fn fbm(p: Vec3) -> f32 {
+        let rotation = octave_rotation();
+        let (mut q, mut sum, mut amplitude, mut frequency) = (p, 0.0, 1.0, BASE_FREQUENCY);
+        for k in 0..OCTAVES {
+            let phase = Vec3::new(0.3, 1.1, 2.3) * (k + 1) as f32;
+            let x = q * frequency + phase;
+            sum += amplitude * x.x.sin() * x.y.sin() * x.z.sin();
+            q = rotation * q;
+            amplitude *= 0.5;
+            frequency *= 2.0;
+        }
+        sum
+    }
+
+    /// The bound of `|fbm|`: `Σₖ 2⁻ᵏ`.
+    pub fn fbm_max() -> f32 {
+        (0..OCTAVES).map(|k| 0.5_f32.powi(k as i32)).sum()
+    }
+
+    /// The Lipschitz bound of `fbm`: `Σₖ 2⁻ᵏ 2ᵏ f₀ = OCTAVES f₀`.
+    pub fn fbm_lipschitz() -> f32 {
+        OCTAVES as f32 * BASE_FREQUENCY
+    }
+
+    /// How the raw `|p| − R − A fbm(p)` is made 1-Lipschitz.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub enum Normalisation {
+        /// Divided by `1 + L` (`L = A fbm_lipschitz`): a true bound, since the 3D noise's
+        /// gradient may point along the radius (`|r̂ − A∇fbm| ≤ 1 + L`). The default.
+        Sum,
+        /// Divided by `√(1 + L²)`: exact for a displacement whose gradient is tangential
+        /// (a height field over the sphere), not a bound for 3D noise.
+        Hypot,
+    }
+
+    impl Normalisation {
+        /// The divisor.
+        pub fn divisor(self) -> f32 {
+            let l = DISPLACED_AMPLITUDE * fbm_lipschitz();
+            match self {
+                Normalisation::Sum => 1.0 + l,
+                Normalisation::Hypot => (1.0 + l * l).sqrt(),
+            }
+        }
+    }
+
+    /// The raw displaced distance `|p| − R − A fbm(p)` (not normalised).
+    pub fn raw_distance(p: Vec3) -> f32 {
+        p.length() - DISPLACED_RADIUS - DISPLACED_AMPLITUDE * fbm(p)
+    }
+
+    /// The colour at a surface point, correlated with the displacement: dark brown in the
+    /// valleys to pale sand on the crests.
+    pub fn colour(x: Vec3) -> [f32; 3] {
+        let u = 0.5 + 0.5 * fbm(x) / fbm_max();
+        [0.25 + 0.7 * u, 0.18 + 0.65 * u, 0.12 + 0.55 * u]
+    }
+
+    /// The displaced sphere as a surface source: the distance normalised by
+    /// `normalisation`, the gradient by central differences of step `1e-4` (a fortieth of
+    /// the finest voxel at 512³), [`colour`] as the attribute.
+    pub fn displaced_sphere(normalisation: Normalisation) -> impl SurfaceSource {
+        let inverse = 1.0 / normalisation.divisor();
+        SdfSurface::new(move |p: Vec3| raw_distance(p) * inverse, colour, 1e-4).expect("a valid gradient step")
+    }
+
+    /// The domain `[−1, 1)³`.
+    pub fn domain() -> Domain {
+        Domain { origin: Vec3::splat(-1.0), size: 2.0 }
+    }
+}

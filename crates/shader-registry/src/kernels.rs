@@ -49,6 +49,7 @@ static KERNELS: &[TestKernel] = &[
     test_kernel!("smith_micro_cubic_differential", &smith_micro::WGSL, kernel_io::smith_micro::STRUCTS),
     test_kernel!("ddm_tracer_compute", &ddm_tracer::WGSL, kernel_io::ddm_tracer::STRUCTS),
     test_kernel!("svo_brick_differential", &svo_brick::WGSL, &[]),
+    test_kernel!("svo_tracer_differential", &svo_tracer::WGSL, &[]),
 ];
 
 /// Every test kernel.

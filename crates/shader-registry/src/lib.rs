@@ -75,6 +75,7 @@ static MODULES: &[CrateModule] = &[
         library_files: &["wgsl/smith_micro.wgsl"],
     },
     CrateModule { module: &svo_brick::WGSL, crate_dir: "crates/svo-brick", library_files: &["wgsl/svo_brick.wgsl"] },
+    CrateModule { module: &svo_tracer::WGSL, crate_dir: "crates/svo-tracer", library_files: &["wgsl/svo_tracer.wgsl"] },
     CrateModule {
         module: &ddm_tracer::WGSL,
         crate_dir: "crates/ddm-tracer",

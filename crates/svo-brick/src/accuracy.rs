@@ -117,7 +117,7 @@ pub fn moment_correction_error<S: SurfaceSource + ?Sized>(
         let (d, g) = measure.box_mean(q - 0.5 * scale, scale, level);
         let Some(box_truth) = surface_statistics(&samples, q, d, g) else { continue };
         // Mixture truth: the eight corner cubes around q with trilinear weights.
-        let local = q / scale - 0.5;
+        let local = q / scale;
         let base = local.floor();
         let t = local - base;
         samples.clear();
@@ -125,7 +125,7 @@ pub fn moment_correction_error<S: SurfaceSource + ?Sized>(
         for k in 0..8 {
             let offset = IVec3::new(k & 1, (k >> 1) & 1, k >> 2);
             let w = (0..3).map(|a| if offset[a] == 1 { t[a] } else { 1.0 - t[a] }).product::<f32>();
-            let min = (base + offset.as_vec3()) * scale;
+            let min = (base + offset.as_vec3() - 0.5) * scale;
             measure.samples(min, scale, w, &mut samples);
             let (d, g) = measure.box_mean(min, scale, level);
             d_mix += w * d;

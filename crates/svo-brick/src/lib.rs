@@ -37,8 +37,8 @@
 //!
 //! - The descriptor: [`Voxel`]. Sources: [`SurfaceSource`] (a signed distance, its
 //!   gradient, attributes and surface samples), [`SdfSurface`] from closures.
-//! - The octree: [`BrickTree::build`] places `n³` bricks (n = 4, 8, 16) with one-voxel
-//!   aprons where the surface is within reach, box-filters `h̄` and `n̄` bottom-up and
+//! - The octree: [`BrickTree::build`] places bricks of `n³` cells (n = 4, 8, 16; `(n + 1)³`
+//!   voxels at the corners, faces shared) where the surface is within reach, box-filters `h̄` and `n̄` bottom-up and
 //!   measures the statistics of each coarse voxel from the surface samples in its
 //!   footprint ([`surface_statistics`]; [`HeightVariance::DistanceVolume`] is the literal
 //!   "variance of the distance" as a negative control); voxels without samples are dilated
@@ -109,12 +109,12 @@ pub use accuracy::{DeviationError, InterpolationError, moment_correction_error};
 pub use descriptor::{ATTRIBUTE_CHANNELS, Voxel};
 pub use half::{HALF_MAX, HALF_MIN_POSITIVE, f32_to_half, half_to_f32};
 pub use layout::{COMPACT_DISTANCE_RANGE, COMPACT_DISTANCE_STEPS, MAX_VOXEL_WORDS, RawVoxel, VoxelLayout};
-pub use octree::{BrickSize, BrickTree, BuildError, BuildOptions, Domain, MAX_LEVELS, OctreeNode};
+pub use octree::{BrickSize, BrickTree, BuildError, BuildOptions, Domain, EMPTY_DISTANCE, MAX_LEVELS, OctreeNode};
 pub use prefilter::{HeightVariance, SurfaceStatistics, surface_statistics};
 pub use sample::{
     EmptyRegion, FRACTION_STEPS, MAX_BRICK_BINDINGS, OctreeUniforms, PackedTree, PoolError, RawSample, SPLIT_MASK,
     lerp, lerp_raw,
 };
-pub use surface::{Cell, SdfSurface, SurfaceError, SurfaceSample, SurfaceSource, thin_shell_samples};
+pub use surface::{Cell, PROJECTION_STEPS, SdfSurface, SurfaceError, SurfaceSample, SurfaceSource, thin_shell_samples};
 #[cfg(feature = "wgsl")]
 pub use wgsl::WGSL;

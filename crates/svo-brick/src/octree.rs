@@ -6,36 +6,47 @@
 //! The octree covers the cube `domain.origin + [0, domain.size)³`. Inside, lengths are in
 //! *finest voxels* (`voxel_size = domain.size / (n 2^(levels − 1))` world units). Level 0
 //! is the finest; level `L` has voxels of `S_L = 2^L` finest voxels; the root is a single
-//! brick at level `levels − 1`. A node at level `L` covers `n S_L` finest voxels and, when
-//! it has a brick, stores its `n³` voxels with a one-voxel apron on every side (`(n + 2)³`
-//! values, as `GigaVoxels`' 8³ + border), so that trilinear interpolation anywhere in the
-//! node reads one brick.
+//! brick at level `levels − 1`.
+//!
+//! # Voxels at vertices: bricks of `(n + 1)³`
+//!
+//! A level-`L` voxel `v` stands at the lattice point `v S_L` and describes the cube of side
+//! `S_L` centred there. A node at level `L` covers `n S_L` finest voxels, `n³` cells, and its
+//! brick stores the `(n + 1)³` voxels at the cells' corners, so that trilinear
+//! interpolation anywhere in the node reads one brick. Neighbouring bricks share their
+//! face voxels. This is the role of `GigaVoxels`' one-voxel border (8³ cells stored as 10³
+//! with centred samples) at `(n + 1)³ / (n + 2)³ = 73 %` of its memory for `n = 8`.
 //!
 //! # Which nodes get a brick
 //!
-//! A node gets a brick iff the surface may pass within two of its level's voxels of the
-//! node: `|d(centre)| ≤ (√3/2) n S_L + 2 S_L` (for a 1-Lipschitz distance, no surface point
-//! within that reach is missed). A brick node above level 0 has eight children; a node
-//! without a brick has none and is [`EMPTY`](OctreeNode::EMPTY) (outside) or [`FULL`](OctreeNode::FULL)
-//! (inside).
+//! A cone element at level of detail `λ ∈ [L, L + 1)` has radius `r` and half-length `l`
+//! below `S_L`; its footprint square reaches `l |n_z| + √2 r ρ ≤ √(l² + 2r²) < √3 S_L`
+//! along any plane normal (`n_z² + ρ² = 1`), so its mask is empty wherever the surface is
+//! farther than `√3 S_L`. A node gets a brick iff the surface may come within
+//! [`EMPTY_DISTANCE`]` = 2` of its level's voxels of it: iff one of its `n³` cells `c` has
+//! `|d(c)| ≤ (√3/2) S_L + 2 S_L` (a 1-Lipschitz distance misses nothing; the node's centre
+//! is tested first, with the node's half-diagonal). Everywhere in a node without a brick
+//! the distance is thus above `2 S_L`, the value its samples return. (The filtered `h̄` of
+//! a coarse level blurs the surface by up to `√3 S_L`; that blur is not kept beyond the
+//! elements' reach.) A brick node above level 0 has eight children;
+//! a node without a brick has none and is [`EMPTY`](OctreeNode::EMPTY) (outside) or
+//! [`FULL`](OctreeNode::FULL) (inside).
 //!
 //! # Every voxel is a function of its position
 //!
 //! A voxel's value depends only on its level and integer position: `h̄`, `n̄` are means
 //! over fixed quadrature points of its cube, its statistics come from the surface samples
-//! in its cube, and dilation looks up the same global tables. So the apron of a brick holds
-//! exactly the values of its neighbours' border voxels (bit for bit), or, where the
-//! neighbour has no brick, the values the source gives there: brick borders interpolate
-//! without seams.
+//! in its cube, and dilation looks up the same global tables. So the face voxels that
+//! neighbouring bricks share are the same bits in both, and where a neighbour has no brick
+//! they are what the source gives there: brick borders interpolate without seams.
 //!
 //! # `h̄` and `n̄`: a box filter
 //!
 //! `h̄` at level `L` is the mean of the signed distance over the voxel's cube, `n̄` the
 //! mean of its gradient, both by the midpoint rule on `q³` sub-cubes, `q = min(2^L,
-//! quadrature)`: the exact box mean of the finest level's samples while `2^L ≤ quadrature`,
-//! the midpoint rule beyond. Since the same fixed offsets serve every voxel, `n̄` is exactly
-//! the gradient of the filtered `h̄` (a mean of shifted copies of the field), and the
-//! filtered `h̄` is 1-Lipschitz like the source.
+//! quadrature)` (at level 0 the source at the vertex itself). Since the same fixed offsets
+//! serve every voxel, `n̄` is exactly the gradient of the filtered `h̄` (a mean of shifted
+//! copies of the field), and the filtered `h̄` is 1-Lipschitz like the source.
 
 use alloc::vec::Vec;
 
@@ -73,17 +84,22 @@ impl BrickSize {
         self.side().trailing_zeros()
     }
 
-    /// `n + 2`, the stored side with the apron.
+    /// `n + 1`, the stored side: the node's `n` cells have `n + 1` vertices per axis.
     pub const fn stored_side(self) -> u32 {
-        self.side() + 2
+        self.side() + 1
     }
 
-    /// `(n + 2)³`, values stored per brick.
+    /// `(n + 1)³`, values stored per brick.
     pub const fn stored_voxels(self) -> usize {
         let s = self.stored_side() as usize;
         s * s * s
     }
 }
+
+/// A node without a brick is at least this many of its level's voxels from the surface
+/// (more than a cone element's reach, `√3`), and its samples return this distance (with
+/// the sign of the side).
+pub const EMPTY_DISTANCE: f32 = 2.0;
 
 /// The most levels an octree may have (finest resolution `n 2^(MAX_LEVELS − 1)` ≤ 2¹⁸).
 pub const MAX_LEVELS: u32 = 15;
@@ -186,8 +202,8 @@ pub struct BrickTree {
     voxels: Vec<Voxel>,
 }
 
-/// A voxel's key at its level: its integer position (the apron reaches −1) biased by 1
-/// and packed in 21 bits per axis.
+/// A voxel's key at its level: its integer position biased by 1 (dilation looks one voxel
+/// outside the domain) and packed in 21 bits per axis.
 fn key(v: IVec3) -> u64 {
     let b = (v + 1).as_uvec3();
     u64::from(b.x) | u64::from(b.y) << 21 | u64::from(b.z) << 42
@@ -225,7 +241,7 @@ impl BrickTree {
         tree.voxels.reserve(tree.brick_levels.len() * options.brick_size.stored_voxels());
         for (b, &level) in tree.brick_levels.iter().enumerate() {
             let table = &level_tables[level as usize];
-            let first = (tree.brick_origins[b] >> level).as_ivec3() - 1;
+            let first = (tree.brick_origins[b] >> level).as_ivec3();
             for z in 0..stored {
                 for y in 0..stored {
                     for x in 0..stored {
@@ -254,8 +270,16 @@ impl BrickTree {
                 return Err(BuildError::Distance(centre));
             }
             let d = world_distance / self.voxel_size;
-            let reach = 0.5 * libm::sqrtf(3.0) * size as f32 + 2.0 * (1u32 << level) as f32;
-            if libm::fabsf(d) > reach {
+            let cell = (1u32 << level) as f32;
+            let margin = EMPTY_DISTANCE * cell;
+            let near = libm::fabsf(d) <= 0.5 * libm::sqrtf(3.0) * size as f32 + margin
+                && (0..n * n * n).any(|k| {
+                    let offset = Vec3::new((k % n) as f32, (k / n % n) as f32, (k / (n * n)) as f32);
+                    let c = self.world(min.as_vec3() + (offset + 0.5) * cell);
+                    let dc = source.distance(c) / self.voxel_size;
+                    dc.is_nan() || libm::fabsf(dc) <= 0.5 * libm::sqrtf(3.0) * cell + margin
+                });
+            if !near {
                 self.nodes[index].brick = if d > 0.0 { OctreeNode::EMPTY } else { OctreeNode::FULL };
                 continue;
             }
@@ -353,8 +377,9 @@ impl BrickTree {
         &self.brick_origins
     }
 
-    /// Brick `brick`'s `(n + 2)³` voxels (finest-voxel units), x fastest; stored index
-    /// `(x, y, z)` is the level voxel `origin / S_L − 1 + (x, y, z)`.
+    /// Brick `brick`'s `(n + 1)³` voxels (finest-voxel units), x fastest; stored index
+    /// `(x, y, z)` is the level-`L` voxel (vertex) `origin / S_L + (x, y, z)`, at
+    /// `(origin / S_L + (x, y, z)) S_L`.
     pub fn brick_voxels(&self, brick: usize) -> &[Voxel] {
         let count = self.brick_size.stored_voxels();
         &self.voxels[brick * count..(brick + 1) * count]
@@ -379,7 +404,7 @@ fn check_options(domain: Domain, options: &BuildOptions) -> Result<(), BuildErro
     Ok(())
 }
 
-/// One level's voxels: every voxel some brick stores (interior and apron), computed once.
+/// One level's voxels: every voxel some brick stores (shared faces once), computed once.
 struct LevelTable {
     keys: Vec<u64>,
     voxels: Vec<Voxel>,
@@ -396,7 +421,8 @@ struct SampleBins<'a> {
 impl<'a> SampleBins<'a> {
     fn new(samples: &'a [SurfaceSample], level: u32) -> Self {
         let scale = 1.0 / (1u32 << level) as f32;
-        let voxel_of = |s: &SurfaceSample| key((s.position * scale).floor().as_ivec3());
+        // A vertex's footprint is the cube of side S_L centred on it.
+        let voxel_of = |s: &SurfaceSample| key((s.position * scale + 0.5).floor().as_ivec3());
         let mut keyed: Vec<(u64, u32)> = samples.iter().enumerate().map(|(i, s)| (voxel_of(s), i as u32)).collect();
         keyed.sort_unstable();
         let mut ranges: Vec<(u64, u32, u32)> = Vec::new();
@@ -433,14 +459,14 @@ impl<S: SurfaceSource + Sync + ?Sized> VoxelContext<'_, S> {
     }
 
     fn centre(&self, v: IVec3) -> Vec3 {
-        (v.as_vec3() + 0.5) * self.scale()
+        v.as_vec3() * self.scale()
     }
 
     /// `h̄`, `n̄` and the volume variance of the distance by the midpoint rule.
     fn box_mean(&self, v: IVec3) -> (f32, Vec3, f32) {
         let q = (1u32 << self.level.min(4)).min(self.options.quadrature);
         let step = self.scale() / q as f32;
-        let min = v.as_vec3() * self.scale();
+        let min = (v.as_vec3() - 0.5) * self.scale();
         let (mut d_sum, mut d2_sum, mut g_sum) = (0.0_f64, 0.0_f64, glam::DVec3::ZERO);
         for k in 0..q {
             for j in 0..q {
@@ -503,7 +529,7 @@ impl<S: SurfaceSource + Sync + ?Sized> VoxelContext<'_, S> {
     /// Dilation: the statistics of the voxel with samples nearest to `projected` (the
     /// voxel's closest surface point), searched in growing shells of up to 2 voxels.
     fn dilated(&self, projected: Vec3, scratch: &mut Vec<SurfaceSample>) -> Option<SurfaceStatistics> {
-        let home = (projected / self.scale()).floor().as_ivec3();
+        let home = (projected / self.scale() + 0.5).floor().as_ivec3();
         for radius in 0..=2 {
             let mut best: Option<(f32, IVec3)> = None;
             for z in -radius..=radius {
@@ -581,7 +607,7 @@ impl LevelTable {
             if l != level {
                 continue;
             }
-            let first = (tree.brick_origins[b] >> level).as_ivec3() - 1;
+            let first = (tree.brick_origins[b] >> level).as_ivec3();
             for z in 0..stored {
                 for y in 0..stored {
                     for x in 0..stored {

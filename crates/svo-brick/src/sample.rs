@@ -24,8 +24,9 @@
 //! # Empty space
 //!
 //! Where the descent to level `L` ends at a node without a brick, level `L` contributes the
-//! voxel `h̄ = ±2 S_L'` (`L'` the node's level, `+` outside, `−` inside: a lower bound of
-//! the distance there, by the brick placement rule), with every other field zero.
+//! voxel `h̄ = ±2 S_L'` ([`EMPTY_DISTANCE`](crate::EMPTY_DISTANCE); `L'` the node's level,
+//! `+` outside, `−` inside: a lower bound of the distance there, by the brick placement
+//! rule), with every other field zero.
 
 use alloc::vec::Vec;
 
@@ -34,7 +35,7 @@ use gpu_layout::gpu_struct;
 
 use crate::descriptor::{ATTRIBUTE_CHANNELS, Voxel};
 use crate::layout::{RawVoxel, VoxelLayout, level_inverse_scale, level_scale};
-use crate::octree::{BrickTree, OctreeNode};
+use crate::octree::{BrickTree, EMPTY_DISTANCE, OctreeNode};
 
 /// Interpolation fractions are multiples of `1 / FRACTION_STEPS`.
 pub const FRACTION_STEPS: f32 = 2048.0;
@@ -52,10 +53,14 @@ gpu_struct! {
         pub voxel_size: Vec4,
         /// `(levels, log2 n, layout index, words per voxel)`.
         pub shape: UVec4,
-        /// `(node count, brick count, finest resolution, bricks per binding)`: brick `b`
-        /// lives in brick binding `b / bricks_per_binding` (see
-        /// [`PackedTree::brick_bindings`]).
+        /// `(node count, brick count, finest resolution, 0)`.
         pub counts: UVec4,
+        /// `(words per finest-level voxel, the first finest-level brick, words per brick
+        /// binding, 0)`: bricks before the first finest one take `shape.w` words per voxel,
+        /// the rest the finest level's (the build places bricks breadth-first, so the finest
+        /// level's come last); the pool's word `k` lives in binding `k / words per binding`
+        /// (see [`PackedTree::brick_bindings`]).
+        pub pools: UVec4,
     }
 }
 
@@ -163,7 +168,9 @@ enum Found {
 impl PackedTree {
     /// Packs `tree` in `layout` for bindings of at most `max_binding_bytes` each (the
     /// adapter's `min(max_storage_buffer_binding_size, max_buffer_size)`): the brick pool
-    /// is split into up to [`MAX_BRICK_BINDINGS`] bindings of whole bricks.
+    /// is split into up to [`MAX_BRICK_BINDINGS`] bindings of whole bricks (a multiple of the
+    /// largest brick's words, so that no brick straddles two bindings: the finest level's
+    /// bricks are half as large in `Compact16Fine8`).
     pub fn with_binding_limit(
         tree: &BrickTree,
         layout: VoxelLayout,
@@ -174,33 +181,52 @@ impl PackedTree {
         if node_bytes > max_binding_bytes {
             return Err(PoolError::Nodes(node_bytes, max_binding_bytes));
         }
-        let brick_bytes = 4 * (tree.brick_size().stored_voxels() * layout.words()) as u64;
-        let per_binding = (max_binding_bytes / brick_bytes).min(u64::from(u32::MAX)) as u32;
-        let bricks = tree.brick_count() as u64;
-        if per_binding == 0 || bricks.div_ceil(u64::from(per_binding)) > MAX_BRICK_BINDINGS as u64 {
-            return Err(PoolError::Bricks(bricks * brick_bytes, max_binding_bytes));
+        let brick_words = (tree.brick_size().stored_voxels() * layout.words()) as u64;
+        let per_binding =
+            (max_binding_bytes / 4 / brick_words * brick_words).min(u64::from(u32::MAX) / brick_words * brick_words);
+        let words = packed.words.len() as u64;
+        if per_binding == 0 || words.div_ceil(per_binding) > MAX_BRICK_BINDINGS as u64 {
+            return Err(PoolError::Bricks(4 * words, max_binding_bytes));
         }
-        packed.uniforms.counts.w = per_binding;
+        packed.uniforms.pools.z = per_binding as u32;
         Ok(packed)
     }
 
     /// Packs `tree` in `layout`, the brick pool in a single binding.
     pub fn new(tree: &BrickTree, layout: VoxelLayout) -> Self {
-        let words_per_voxel = layout.words();
-        let mut words = Vec::with_capacity(tree.brick_count() * tree.brick_size().stored_voxels() * words_per_voxel);
+        let stored = tree.brick_size().stored_voxels();
+        let mut words = Vec::with_capacity(tree.brick_count() * stored * layout.words());
+        let mut first_fine = tree.brick_count() as u32;
         for (b, &level) in tree.brick_levels().iter().enumerate() {
+            if level == 0 {
+                first_fine = first_fine.min(b as u32);
+            }
+            let w = layout.words_at(level);
             for voxel in tree.brick_voxels(b) {
-                words.extend_from_slice(&layout.encode(voxel, level)[..words_per_voxel]);
+                words.extend_from_slice(&layout.encode(voxel, level)[..w]);
             }
         }
         let origin = tree.origin();
         let uniforms = OctreeUniforms {
             origin_inverse_size: origin.extend(1.0 / tree.voxel_size()),
             voxel_size: Vec4::new(tree.voxel_size(), 0.0, 0.0, 0.0),
-            shape: UVec4::new(tree.levels(), tree.brick_size().log2(), layout.index(), words_per_voxel as u32),
-            counts: UVec4::new(tree.nodes().len() as u32, tree.brick_count() as u32, tree.resolution(), u32::MAX),
+            shape: UVec4::new(tree.levels(), tree.brick_size().log2(), layout.index(), layout.words() as u32),
+            counts: UVec4::new(tree.nodes().len() as u32, tree.brick_count() as u32, tree.resolution(), 0),
+            pools: UVec4::new(layout.words_at(0) as u32, first_fine, u32::MAX, 0),
         };
         Self { layout, uniforms, nodes: tree.nodes().to_vec(), words }
+    }
+
+    /// The first word of brick `brick` in the pool.
+    fn brick_offset(&self, brick: u32) -> usize {
+        let stored = ((1usize << self.brick_log2()) + 1).pow(3);
+        let (coarse, fine) = (self.uniforms.shape.w as usize, self.uniforms.pools.x as usize);
+        let first_fine = self.uniforms.pools.y;
+        if brick < first_fine {
+            brick as usize * stored * coarse
+        } else {
+            first_fine as usize * stored * coarse + (brick - first_fine) as usize * stored * fine
+        }
     }
 
     /// The layout.
@@ -218,8 +244,8 @@ impl PackedTree {
         &self.nodes
     }
 
-    /// The brick pool: brick `b`'s `(n + 2)³` voxels, x fastest, each
-    /// [`VoxelLayout::words`] words.
+    /// The brick pool: brick `b`'s `(n + 1)³` voxels, x fastest, each
+    /// [`VoxelLayout::words_at`] its level words.
     pub fn words(&self) -> &[u32] {
         &self.words
     }
@@ -229,9 +255,7 @@ impl PackedTree {
     /// cannot be empty).
     pub fn brick_bindings(&self) -> [&[u32]; MAX_BRICK_BINDINGS] {
         const UNUSED: &[u32] = &[0];
-        let per = self.uniforms.counts.w as usize;
-        let brick_words = self.words.len() / (self.uniforms.counts.y as usize).max(1);
-        let chunk = per.saturating_mul(brick_words).max(1);
+        let chunk = (self.uniforms.pools.z as usize).max(1);
         let mut chunks = self.words.chunks(chunk);
         core::array::from_fn(|_| chunks.next().filter(|c| !c.is_empty()).unwrap_or(UNUSED))
     }
@@ -281,18 +305,18 @@ impl PackedTree {
         if brick >= OctreeNode::FULL { Found::Empty(node_level, brick, origin) } else { Found::Brick(brick, origin) }
     }
 
-    /// Decodes stored voxel `index` of brick `brick`. (The WGSL twin reads it from binding
-    /// `brick / bricks_per_binding`; here the pool is one buffer.)
+    /// Decodes stored voxel `index` of brick `brick` (of level `level`). (The WGSL twin reads
+    /// its words from binding `word / words_per_binding`; here the pool is one buffer.)
     fn stored_voxel(&self, brick: u32, index: UVec3, level: u32) -> RawVoxel {
-        let side = (1u32 << self.brick_log2()) + 2;
-        let w = self.layout.words();
-        let voxel = ((brick * side + index.z) * side + index.y) * side + index.x;
-        let first = voxel as usize * w;
+        let side = (1u32 << self.brick_log2()) + 1;
+        let w = self.layout.words_at(level);
+        let voxel = (index.z * side + index.y) * side + index.x;
+        let first = self.brick_offset(brick) + voxel as usize * w;
         self.layout.decode_raw(&self.words[first..first + w], level)
     }
 
     fn empty_voxel(level: u32, brick: u32) -> RawVoxel {
-        let bound = 2.0 * level_scale(level);
+        let bound = EMPTY_DISTANCE * level_scale(level);
         RawVoxel { distance: if brick == OctreeNode::FULL { -bound } else { bound }, ..RawVoxel::default() }
     }
 
@@ -307,15 +331,15 @@ impl PackedTree {
     }
 
     /// Trilinear interpolation at `level` in brick `brick` whose node's origin is `origin`
-    /// (`q` within half a voxel of the node, so that the apron covers it).
+    /// (`q` in the node).
     fn trilinear_in_brick(&self, q: Vec3, brick: u32, origin: UVec3, level: u32) -> RawVoxel {
         let inverse = level_inverse_scale(level);
-        let local = (q * inverse - (origin >> level).as_vec3()) + 0.5;
+        let local = q * inverse - (origin >> level).as_vec3();
         let n = (1u32 << self.brick_log2()) as f32;
         let (mut i0, mut t) = ([0_u32; 3], [0.0_f32; 3]);
         for axis in 0..3 {
             let (i, f) = split_fraction(local[axis]);
-            i0[axis] = i.clamp(0.0, n) as u32;
+            i0[axis] = i.clamp(0.0, n - 1.0) as u32;
             t[axis] = f;
         }
         let base = UVec3::from_array(i0);
@@ -391,23 +415,35 @@ impl PackedTree {
         core::array::from_fn(|k| {
             let offset = UVec3::new(k as u32 & 1, (k as u32 >> 1) & 1, k as u32 >> 2);
             let weight = (0..3).map(|a| if offset[a] == 1 { t[a] } else { 1.0 - t[a] }).product::<f32>();
-            // Stored index i is level voxel origin / S_L − 1 + i, centred at + ½.
-            let centre = ((origin >> level).as_vec3() + (base + offset).as_vec3() - 0.5) * scale;
+            // Stored index i is the level-L voxel origin / S_L + i, at that lattice point.
+            let centre = ((origin >> level).as_vec3() + (base + offset).as_vec3()) * scale;
             (weight, self.stored_voxel(brick, base + offset, level), centre)
         })
     }
 
     /// The stencil's first stored index and fractions at `q`.
     fn stencil(&self, q: Vec3, origin: UVec3, level: u32) -> (UVec3, Vec3) {
-        let local = (q * level_inverse_scale(level) - (origin >> level).as_vec3()) + 0.5;
+        let local = q * level_inverse_scale(level) - (origin >> level).as_vec3();
         let n = (1u32 << self.brick_log2()) as f32;
         let (mut base, mut t) = (UVec3::ZERO, Vec3::ZERO);
         for axis in 0..3 {
             let (i, f) = split_fraction(local[axis]);
-            base[axis] = i.clamp(0.0, n) as u32;
+            base[axis] = i.clamp(0.0, n - 1.0) as u32;
             t[axis] = f;
         }
         (base, t)
+    }
+
+    /// The two levels a quadrilinear sample at `lod` blends and the quantised weight of the
+    /// coarser (`lod` clamped to `[0, levels − 1]`, NaN → 0; at the top level, the same
+    /// level twice with weight 0).
+    fn blended_levels(&self, lod: f32) -> (u32, u32, f32) {
+        let top = (self.levels() - 1) as f32;
+        let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top) };
+        let (level, t) = split_fraction(lod);
+        let fine = level as u32;
+        let coarse = (fine + 1).min(self.levels() - 1);
+        (fine, coarse, if coarse == fine { 0.0 } else { t })
     }
 
     /// The quadrilinear sample with the moment-corrected variances (see
@@ -415,14 +451,7 @@ impl PackedTree {
     pub fn sample_moment_corrected(&self, p: Vec3, lod: f32) -> Option<Voxel> {
         let q = self.tree_position(p);
         let cell = self.cell(q)?;
-        let top = (self.levels() - 1) as f32;
-        let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top) };
-        let (level, mut t) = split_fraction(lod);
-        let fine = level as u32;
-        let coarse = (fine + 1).min(self.levels() - 1);
-        if coarse == fine {
-            t = 0.0;
-        }
+        let (fine, coarse, t) = self.blended_levels(lod);
         let a = self.trilinear_moment_corrected(q, cell, fine);
         let b = self.trilinear_moment_corrected(q, cell, coarse);
         Some(self.finish(lerp_raw(&a, &b, t)))
@@ -435,14 +464,7 @@ impl PackedTree {
     pub fn sample_raw(&self, p: Vec3, lod: f32) -> Option<RawSample> {
         let q = self.tree_position(p);
         let cell = self.cell(q)?;
-        let top = (self.levels() - 1) as f32;
-        let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top) };
-        let (level, mut t) = split_fraction(lod);
-        let fine = level as u32;
-        let coarse = (fine + 1).min(self.levels() - 1);
-        if coarse == fine {
-            t = 0.0;
-        }
+        let (fine, coarse, t) = self.blended_levels(lod);
         let a = self.trilinear(q, cell, fine);
         let b = self.trilinear(q, cell, coarse);
         Some(lerp_raw(&a, &b, t))
@@ -469,8 +491,9 @@ impl PackedTree {
         let raw = match self.find(cell, level) {
             Found::Empty(level, brick, _) => Self::empty_voxel(level, brick),
             Found::Brick(brick, origin) => {
-                let index = (cell >> level) - (origin >> level) + 1;
-                self.stored_voxel(brick, index, level)
+                // The nearest lattice point: ⌊q / S_L + ½⌋ (an exact product, then one add).
+                let nearest = (q * level_inverse_scale(level) + 0.5).floor().as_uvec3();
+                self.stored_voxel(brick, nearest - (origin >> level), level)
             }
         };
         Some(raw)
@@ -491,19 +514,6 @@ impl PackedTree {
     /// A raw sample in world units, `n̄` normalised.
     pub fn finish(&self, raw: RawSample) -> Voxel {
         raw.finish().scaled(self.uniforms.voxel_size.x)
-    }
-
-    /// The trilinear raw sample at `level` through a given brick: the seam test's access to
-    /// both sides of a brick border. `None` if `brick` is not a brick of `level` whose node
-    /// (of origin `origin`, finest-voxel units) lies within half a voxel of `p`.
-    pub fn sample_in_brick(&self, p: Vec3, level: u32, brick: u32, origin: UVec3) -> Option<RawSample> {
-        let q = self.tree_position(p);
-        let scale = level_scale(level);
-        let size = ((1u32 << self.brick_log2()) as f32) * scale;
-        let lo = origin.as_vec3() - 0.5 * scale;
-        let inside = q.cmpge(lo).all() && q.cmplt(lo + size + scale).all();
-        (inside && (brick as usize) < self.words.len() / self.layout.words())
-            .then(|| self.trilinear_in_brick(q, brick, origin, level))
     }
 }
 

@@ -56,15 +56,20 @@ pub trait SurfaceSource {
     ///
     /// The default is the thin-shell estimator: every point `p` of the grid of step
     /// `spacing` (cell-centred) with `|d(p)| < spacing / 2` is projected onto the surface,
-    /// `x = p − d(p) ∇d / |∇d|²`, and stands for `spacing²` of area. By the coarea
-    /// formula the shell of thickness `spacing` around the surface holds
-    /// `area / spacing²` grid points on average, so the total area is unbiased for an exact
-    /// signed distance; each sample's weight is exact for a surface parallel to a grid
-    /// plane. Height fields and meshes override it with exact samples.
+    /// `x = p − d(p) ∇d / |∇d|²` (repeated up to [`PROJECTION_STEPS`] times for a distance
+    /// that is only a bound), and stands for `spacing² |∇d(p)|` of area. By the coarea
+    /// formula the shell `|d| < spacing / 2`, `spacing / |∇d|` thick, holds
+    /// `area / (spacing² |∇d|)` grid points on average, so the total area is unbiased for an
+    /// exact signed distance and for a 1-Lipschitz bound of one alike; each sample's weight
+    /// is exact for a surface parallel to a grid plane. Height fields and meshes override
+    /// it with exact samples.
     fn surface_samples(&self, cell: Cell, spacing: f32, out: &mut Vec<SurfaceSample>) {
         thin_shell_samples(self, cell, spacing, out);
     }
 }
+
+/// Newton steps of the thin-shell sampler's projection onto the surface, at most.
+pub const PROJECTION_STEPS: usize = 4;
 
 /// The default [`SurfaceSource::surface_samples`]: the thin-shell estimator.
 pub fn thin_shell_samples<S: SurfaceSource + ?Sized>(
@@ -95,11 +100,27 @@ pub fn thin_shell_samples<S: SurfaceSource + ?Sized>(
                 if !g2.is_finite() || g2 <= 0.0 {
                     continue;
                 }
-                let x = p - g * (d / g2);
+                // Newton steps x ← x − d ∇d / |∇d|²: one lands on the surface for an exact
+                // signed distance; a 1-Lipschitz bound of one may need a few.
+                let (mut x, mut gx, mut dx) = (p, g, d);
+                for _ in 0..PROJECTION_STEPS {
+                    let step = gx * (dx / gx.length_squared());
+                    if !step.is_finite() {
+                        break;
+                    }
+                    x -= step;
+                    (dx, gx) = (source.distance(x), source.gradient(x));
+                    if libm::fabsf(dx) <= 1e-6 * spacing {
+                        break;
+                    }
+                }
+                // The shell |d| < spacing / 2 is spacing / |∇d| thick: a distance that is only a
+                // 1-Lipschitz bound (|∇d| < 1) has a thicker shell, hence the |∇d| weight.
+                let length = libm::sqrtf(g2);
                 out.push(SurfaceSample {
                     position: x,
-                    normal: g / libm::sqrtf(g2),
-                    area,
+                    normal: gx.try_normalize().unwrap_or(g / length),
+                    area: area * length,
                     attribute: source.attribute(x),
                 });
             }
@@ -198,6 +219,18 @@ mod tests {
             assert!((s.position.length() - radius).abs() < 1e-3);
             assert!((s.normal - s.position / radius).length() < 1e-2);
         }
+    }
+
+    #[test]
+    fn a_distance_bound_below_the_true_distance_gets_the_same_area() {
+        // Half the distance: a 1-Lipschitz bound with |∇d| = ½ and a shell twice as thick.
+        let radius = 10.0;
+        let half = SdfSurface::new(move |p: Vec3| 0.5 * (p.length() - radius), |_| [0.5; 3], 1e-3).unwrap();
+        let mut samples = Vec::new();
+        half.surface_samples(Cell { min: Vec3::splat(-12.0), max: Vec3::splat(12.0) }, 0.25, &mut samples);
+        let area: f32 = samples.iter().map(|s| s.area).sum();
+        let exact = 4.0 * core::f32::consts::PI * radius * radius;
+        assert!((area / exact - 1.0).abs() < 0.01, "{area} vs {exact}");
     }
 
     #[test]

@@ -5,7 +5,7 @@
 use gpu_layout::{StructDecl, WgslModule, gpu_const};
 
 use crate::layout::COMPACT_DISTANCE_STEPS;
-use crate::octree::OctreeNode;
+use crate::octree::{EMPTY_DISTANCE, OctreeNode};
 use crate::sample::{FRACTION_STEPS, OctreeUniforms, SPLIT_MASK};
 
 /// The WGSL twin of this crate: the node pool's descent (`svo_find`), exact decoding
@@ -29,9 +29,11 @@ pub const WGSL: WgslModule = WgslModule {
         gpu_const!(SPLIT_MASK: u32 as "SVO_SPLIT_MASK"),
         gpu_const!(COMPACT_DISTANCE_STEPS: f32 as "SVO_COMPACT_DISTANCE_STEPS"),
         gpu_const!("SVO_EMPTY": u32 = OctreeNode::EMPTY),
+        gpu_const!(EMPTY_DISTANCE: f32 as "SVO_EMPTY_DISTANCE"),
         gpu_const!("SVO_FULL": u32 = OctreeNode::FULL),
         gpu_const!("SVO_LAYOUT_PAPER20": u32 = crate::VoxelLayout::Paper20.index()),
         gpu_const!("SVO_LAYOUT_COMPACT16": u32 = crate::VoxelLayout::Compact16.index()),
+        gpu_const!("SVO_LAYOUT_COMPACT16_FINE8": u32 = crate::VoxelLayout::Compact16Fine8.index()),
     ],
 };
 
@@ -42,6 +44,6 @@ mod tests {
     #[test]
     fn gpu_structs_have_their_wgsl_sizes() {
         assert_eq!(size_of::<OctreeNode>(), 8);
-        assert_eq!(size_of::<OctreeUniforms>(), 64);
+        assert_eq!(size_of::<OctreeUniforms>(), 80);
     }
 }

@@ -66,7 +66,7 @@ fn the_finest_level_is_the_source_itself() {
         let side = tree.brick_size().stored_side();
         for (i, voxel) in tree.brick_voxels(b).iter().enumerate() {
             let index = UVec3::new(i as u32 % side, i as u32 / side % side, i as u32 / (side * side));
-            let centre = tree.world(origin.as_vec3() + index.as_vec3() - 0.5);
+            let centre = tree.world(origin.as_vec3() + index.as_vec3());
             assert_eq!(voxel.distance, source.distance(centre) / tree.voxel_size());
             assert_eq!(voxel.normal, source.gradient(centre));
             assert_eq!((voxel.distance_variance, voxel.slope_variance, voxel.correlation), (0.0, 0.0, [0.0; 3]));
@@ -104,36 +104,71 @@ fn every_level_stays_one_lipschitz() {
 }
 
 #[test]
-fn brick_borders_interpolate_identically_through_both_bricks() {
+fn neighbouring_bricks_share_their_faces_bit_for_bit_and_interpolate_continuously() {
     let tree = BrickTree::build(&sphere(), domain(), options(BrickSize::Four, 4)).unwrap();
     let n = tree.brick_size().side();
-    for layout in VoxelLayout::ALL {
-        let packed = PackedTree::new(&tree, layout);
-        let bricks: std::collections::HashMap<(u32, UVec3), u32> =
-            (0..tree.brick_count()).map(|b| ((tree.brick_levels()[b], tree.brick_origins()[b]), b as u32)).collect();
-        let mut compared = 0;
-        for (&(level, origin), &brick) in &bricks {
-            let size = n << level;
-            for axis in 0..3 {
-                let mut step = UVec3::ZERO;
-                step[axis] = size;
-                let Some(&neighbour) = bricks.get(&(level, origin + step)) else { continue };
-                let scale = (1u32 << level) as f32;
-                for k in 0..16 {
-                    // Points within half a voxel of the shared face, on both sides.
-                    let mut q =
-                        origin.as_vec3() + Vec3::new(0.37, 0.71, 0.13) * size as f32 * ((k % 4) as f32 + 0.5) / 4.0;
-                    q[axis] = (origin[axis] + size) as f32 + scale * (k as f32 / 16.0 - 0.5) * 0.99;
-                    let p = tree.world(q);
-                    let a = packed.sample_in_brick(p, level, brick, origin).unwrap();
-                    let b = packed.sample_in_brick(p, level, neighbour, origin + step).unwrap();
-                    assert_eq!(format!("{a:?}"), format!("{b:?}"), "{layout:?} level {level} at {q}");
-                    compared += 1;
+    let side = tree.brick_size().stored_side() as usize;
+    let bricks: std::collections::HashMap<(u32, UVec3), usize> =
+        (0..tree.brick_count()).map(|b| ((tree.brick_levels()[b], tree.brick_origins()[b]), b)).collect();
+    let (mut faces, mut voxels) = (0, 0);
+    for (&(level, origin), &brick) in &bricks {
+        for axis in 0..3 {
+            let mut step = UVec3::ZERO;
+            step[axis] = n << level;
+            let Some(&neighbour) = bricks.get(&(level, origin + step)) else { continue };
+            let (a, b) = (tree.brick_voxels(brick), tree.brick_voxels(neighbour));
+            for j in 0..side {
+                for i in 0..side {
+                    let index = |k: usize| {
+                        let mut v = [i, j, j];
+                        v[axis] = k;
+                        v[(axis + 1) % 3] = i;
+                        v[(axis + 2) % 3] = j;
+                        (v[2] * side + v[1]) * side + v[0]
+                    };
+                    assert_eq!(
+                        format!("{:?}", a[index(side - 1)]),
+                        format!("{:?}", b[index(0)]),
+                        "level {level} at {origin}"
+                    );
+                    voxels += 1;
                 }
             }
+            faces += 1;
         }
-        assert!(compared > 1000, "{layout:?}: {compared}");
-        println!("{layout:?}: {compared} border points equal through both bricks");
+    }
+    assert!(faces > 100, "{faces} shared faces");
+    println!("{faces} shared faces, {voxels} voxels equal in both bricks");
+    // Continuity across faces: one f32 step to either side of a face, the samples differ
+    // by the field's change over that step (≤ √3 per voxel for a trilinear field) and rounding.
+    for layout in VoxelLayout::ALL {
+        let packed = PackedTree::new(&tree, layout);
+        let mut compared = 0;
+        for (&(level, origin), _) in bricks.iter().filter(|((l, _), _)| *l < 2) {
+            let q = origin.as_vec3() + Vec3::new(0.37, 0.71, 0.13) * (n << level) as f32;
+            for axis in 0..3 {
+                let mut p = tree.world(q);
+                p[axis] = tree.world(origin.as_vec3())[axis];
+                let (mut below, mut above) = (p, p);
+                below[axis] = p[axis].next_down();
+                above[axis] = p[axis].next_up();
+                let (Some(a), Some(b)) =
+                    (packed.sample_raw(below, level as f32), packed.sample_raw(above, level as f32))
+                else {
+                    continue;
+                };
+                if a.normal == Vec3::ZERO || b.normal == Vec3::ZERO {
+                    continue; // an empty node's sample is only a bound
+                }
+                // Fractions are quantised to 2⁻¹¹ voxel: a step of the field's ≤ √3 slope.
+                assert!(
+                    (a.distance - b.distance).abs() <= (3_f32.sqrt() / 2048.0 + 1e-5) * (1u32 << level) as f32,
+                    "{layout:?} {a:?} {b:?}"
+                );
+                compared += 1;
+            }
+        }
+        assert!(compared > 100, "{compared}");
     }
 }
 
@@ -182,13 +217,13 @@ fn sampling_a_voxel_centre_returns_that_voxel() {
                     (i as u32 / side % side) as i32,
                     (i as u32 / (side * side)) as i32,
                 );
-                if index.min_element() < 1 || index.max_element() > side as i32 - 2 {
-                    continue; // apron voxels are another brick's interior
+                if index.max_element() > side as i32 - 2 {
+                    continue; // the far faces' points belong to the next node
                 }
-                let q = origin.as_vec3() + (index.as_vec3() - 0.5) * scale;
+                let q = origin.as_vec3() + index.as_vec3() * scale;
                 let sample = packed.sample(tree.world(q), level as f32).unwrap();
                 let expected = layout.round_trip(voxel, level).scaled(tree.voxel_size());
-                assert_eq!(sample.distance, expected.distance);
+                assert_eq!(sample.distance, expected.distance, "level {level} origin {origin} index {index}");
                 assert_eq!(sample.attribute, expected.attribute);
                 assert!((sample.normal - expected.normal).length() < 1e-6);
                 compared += 1;
@@ -289,7 +324,10 @@ fn voxels_off_the_surface_take_the_attributes_of_their_nearest_surface() {
         let scale = (1u32 << level) as f32;
         for (i, voxel) in tree.brick_voxels(b).iter().enumerate() {
             let index = UVec3::new(i as u32 % side, i as u32 / side % side, i as u32 / (side * side));
-            let centre = tree.world(origin.as_vec3() + (index.as_vec3() - 0.5) * scale);
+            let centre = tree.world(origin.as_vec3() + index.as_vec3() * scale);
+            if centre.length() < 1e-6 {
+                continue; // the sphere's centre has no closest point
+            }
             let closest = centre.normalize() * RADIUS;
             let expected = 0.5 + 0.5 * closest.z / RADIUS;
             let bound = 0.5 / RADIUS * 4.0 * 3_f32.sqrt() * scale * tree.voxel_size();
@@ -301,5 +339,6 @@ fn voxels_off_the_surface_take_the_attributes_of_their_nearest_surface() {
             checked += 1;
         }
     }
-    assert_eq!(checked, tree.brick_count() * BrickSize::Eight.stored_voxels());
+    // All but the few copies of the vertex at the sphere's centre.
+    assert!(checked + 64 >= tree.brick_count() * BrickSize::Eight.stored_voxels(), "{checked}");
 }

@@ -9,7 +9,7 @@
 //
 // The pools are read-only storage buffers of group 0: binding 3 the nodes
 // (svo_brick::PackedTree::nodes), bindings 4-7 the brick pool split into whole bricks
-// (PackedTree::brick_bindings; brick b in binding 4 + b / bricks_per_binding, the unused
+// (PackedTree::brick_bindings; word k in binding 4 + k / words per binding, the unused
 // ones a dummy word); the uniforms are a parameter, so a shader may keep them in a uniform
 // or a storage buffer.
 //
@@ -82,8 +82,15 @@ fn svo_sign(x: f32) -> f32 {
 
 // Rust: layout::octahedral_decode.
 fn svo_octahedral_decode(word: u32) -> vec3<f32> {
-    let u = (f32(word & 0xffffu) - 32768.0) * (1.0 / 32768.0);
-    let v = (f32(word >> 16u) - 32768.0) * (1.0 / 32768.0);
+    return svo_octahedral_decode_bits(word & 0xffffu, word >> 16u, 16u);
+}
+
+// Rust: layout::octahedral_decode_bits.
+fn svo_octahedral_decode_bits(code_u: u32, code_v: u32, bits: u32) -> vec3<f32> {
+    let half = f32(1u << (bits - 1u));
+    let step = bitcast<f32>((128u - bits) << 23u);
+    let u = (f32(code_u) - half) * step;
+    let v = (f32(code_v) - half) * step;
     let z = 1.0 - abs(u) - abs(v);
     if z >= 0.0 {
         return vec3<f32>(u, v, z);
@@ -105,11 +112,13 @@ fn svo_brick_word(binding: u32, k: u32) -> u32 {
     }
 }
 
-// The words of one voxel: `first` in binding `binding` (Paper20 reads five, Compact16 four).
-fn svo_voxel_words(tree: OctreeUniforms, binding: u32, first: u32) -> array<u32, 5> {
+// The `count` words of one voxel from word `first` of the pool.
+fn svo_voxel_words(tree: OctreeUniforms, first: u32, count: u32) -> array<u32, 5> {
+    let binding = first / tree.pools.z;
+    let local = first - binding * tree.pools.z;
     var w: array<u32, 5>;
-    for (var k = 0u; k < tree.shape.w; k++) {
-        w[k] = svo_brick_word(binding, first + k);
+    for (var k = 0u; k < count; k++) {
+        w[k] = svo_brick_word(binding, local + k);
     }
     return w;
 }
@@ -117,6 +126,12 @@ fn svo_voxel_words(tree: OctreeUniforms, binding: u32, first: u32) -> array<u32,
 // Rust: VoxelLayout::decode_raw.
 fn svo_decode_raw(tree: OctreeUniforms, w: array<u32, 5>, level: u32) -> SvoRawVoxel {
     var r: SvoRawVoxel;
+    if tree.shape.z == SVO_LAYOUT_COMPACT16_FINE8 && level == 0u {
+        r.distance = (f32(w[0] & 0xffffu) - 32768.0) * (1.0 / SVO_COMPACT_DISTANCE_STEPS);
+        r.normal = svo_octahedral_decode_bits((w[0] >> 16u) & 0xfffu, (w[0] >> 28u) | ((w[1] & 0xffu) << 4u), 12u);
+        r.mean_attribute = vec3<f32>(svo_byte(w[1], 1u), svo_byte(w[1], 2u), svo_byte(w[1], 3u));
+        return r;
+    }
     if tree.shape.z == SVO_LAYOUT_PAPER20 {
         let w1 = w[1];
         let w3 = w[3];
@@ -216,29 +231,40 @@ fn svo_find(tree: OctreeUniforms, cell: vec3<u32>, level: u32) -> SvoFound {
 // Rust: PackedTree::empty_voxel.
 fn svo_empty_voxel(level: u32, flag: u32) -> SvoRawVoxel {
     var r: SvoRawVoxel;
-    let bound = 2.0 * svo_level_scale(level);
+    let bound = SVO_EMPTY_DISTANCE * svo_level_scale(level);
     r.distance = select(bound, -bound, flag == SVO_FULL);
     return r;
 }
 
-// Rust: PackedTree::stored_voxel (brick b in binding b / bricks_per_binding).
+// Rust: PackedTree::brick_offset.
+fn svo_brick_offset(tree: OctreeUniforms, brick: u32) -> u32 {
+    let side = (1u << tree.shape.y) + 1u;
+    let stored = side * side * side;
+    let first_fine = tree.pools.y;
+    if brick < first_fine {
+        return brick * stored * tree.shape.w;
+    }
+    return first_fine * stored * tree.shape.w + (brick - first_fine) * stored * tree.pools.x;
+}
+
+// Rust: PackedTree::stored_voxel (word k of the pool in binding k / words per binding).
 fn svo_stored_voxel(tree: OctreeUniforms, brick: u32, index: vec3<u32>, level: u32) -> SvoRawVoxel {
-    let side = (1u << tree.shape.y) + 2u;
-    let binding = brick / tree.counts.w;
-    let local = brick - binding * tree.counts.w;
-    let voxel = ((local * side + index.z) * side + index.y) * side + index.x;
-    return svo_decode_raw(tree, svo_voxel_words(tree, binding, voxel * tree.shape.w), level);
+    let side = (1u << tree.shape.y) + 1u;
+    let count = select(tree.shape.w, tree.pools.x, level == 0u);
+    let voxel = (index.z * side + index.y) * side + index.x;
+    let first = svo_brick_offset(tree, brick) + voxel * count;
+    return svo_decode_raw(tree, svo_voxel_words(tree, first, count), level);
 }
 
 // Rust: PackedTree::trilinear_in_brick.
 fn svo_trilinear_in_brick(tree: OctreeUniforms, q: vec3<f32>, brick: u32, origin: vec3<u32>, level: u32) -> SvoRawVoxel {
     let inverse = svo_level_inverse_scale(level);
-    let local = (q * inverse - vec3<f32>(origin >> vec3<u32>(level))) + 0.5;
+    let local = q * inverse - vec3<f32>(origin >> vec3<u32>(level));
     let n = f32(1u << tree.shape.y);
     let sx = svo_split_fraction(local.x);
     let sy = svo_split_fraction(local.y);
     let sz = svo_split_fraction(local.z);
-    let base = vec3<u32>(clamp(vec3<f32>(sx.x, sy.x, sz.x), vec3<f32>(0.0), vec3<f32>(n)));
+    let base = vec3<u32>(clamp(vec3<f32>(sx.x, sy.x, sz.x), vec3<f32>(0.0), vec3<f32>(n - 1.0)));
     let t = vec3<f32>(sx.y, sy.y, sz.y);
     let x00 = svo_lerp_raw(svo_stored_voxel(tree, brick, base, level), svo_stored_voxel(tree, brick, base + vec3<u32>(1u, 0u, 0u), level), t.x);
     let x10 = svo_lerp_raw(svo_stored_voxel(tree, brick, base + vec3<u32>(0u, 1u, 0u), level), svo_stored_voxel(tree, brick, base + vec3<u32>(1u, 1u, 0u), level), t.x);
@@ -298,8 +324,8 @@ fn svo_sample_nearest_raw(tree: OctreeUniforms, p: vec3<f32>, lod: f32) -> SvoSa
     if found.flag != 0u {
         result.voxel = svo_empty_voxel(found.level, found.flag);
     } else {
-        let index = (cell >> vec3<u32>(level)) - (found.origin >> vec3<u32>(level)) + 1u;
-        result.voxel = svo_stored_voxel(tree, found.brick, index, level);
+        let nearest = vec3<u32>(floor(q * svo_level_inverse_scale(level) + 0.5));
+        result.voxel = svo_stored_voxel(tree, found.brick, nearest - (found.origin >> vec3<u32>(level)), level);
     }
     return result;
 }
@@ -316,4 +342,52 @@ fn svo_finish(tree: OctreeUniforms, raw: SvoRawVoxel) -> SvoRawVoxel {
     r.mean_attribute = raw.mean_attribute * (1.0 / 255.0);
     r.correlation = raw.correlation * (1.0 / 127.0);
     return r;
+}
+
+// Rust: PackedTree::sample (svo_finish of svo_sample_raw).
+fn svo_sample(tree: OctreeUniforms, p: vec3<f32>, lod: f32) -> SvoSample {
+    var s = svo_sample_raw(tree, p, lod);
+    if s.inside {
+        s.voxel = svo_finish(tree, s.voxel);
+    }
+    return s;
+}
+
+// Rust: PackedTree::sample_nearest.
+fn svo_sample_nearest(tree: OctreeUniforms, p: vec3<f32>, lod: f32) -> SvoSample {
+    var s = svo_sample_nearest_raw(tree, p, lod);
+    if s.inside {
+        s.voxel = svo_finish(tree, s.voxel);
+    }
+    return s;
+}
+
+// Rust: svo_brick::EmptyRegion (found = false: Rust's None).
+struct SvoEmptyRegion {
+    min: vec3<f32>,
+    found: bool,
+    max: vec3<f32>,
+    level: u32,
+    inside: bool,
+}
+
+// Rust: PackedTree::empty_region.
+fn svo_empty_region(tree: OctreeUniforms, p: vec3<f32>, level: u32) -> SvoEmptyRegion {
+    var region: SvoEmptyRegion;
+    let q = svo_tree_position(tree, p);
+    if !svo_inside(tree, q) {
+        return region;
+    }
+    let found = svo_find(tree, vec3<u32>(floor(q)), min(level, tree.shape.x - 1u));
+    if found.flag == 0u {
+        return region;
+    }
+    let size = tree.voxel_size.x;
+    let side = f32((1u << tree.shape.y) << found.level) * size;
+    region.min = tree.origin_inverse_size.xyz + vec3<f32>(found.origin) * size;
+    region.max = region.min + side;
+    region.found = true;
+    region.level = found.level;
+    region.inside = found.flag == SVO_FULL;
+    return region;
 }

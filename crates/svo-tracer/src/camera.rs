@@ -97,6 +97,26 @@ impl Camera {
         self.position
     }
 
+    /// The image's right axis.
+    pub fn right(&self) -> Vec3 {
+        self.right
+    }
+
+    /// The image's up axis.
+    pub fn up(&self) -> Vec3 {
+        self.up
+    }
+
+    /// The view axis.
+    pub fn forward(&self) -> Vec3 {
+        self.forward
+    }
+
+    /// The lens, if any.
+    pub fn lens(&self) -> Option<Lens> {
+        self.lens
+    }
+
     /// The pixel's side at unit distance along the view axis.
     pub fn pixel_size(&self) -> f32 {
         self.pixel_size

@@ -186,6 +186,9 @@ fn domain(tree: &PackedTree) -> (Vec3, Vec3) {
     (lo, lo + u.voxel_size.x * u.counts.z as f32)
 }
 
+/// The factor of [`error_bound`]: `√3` and the layouts' quantisation and rounding.
+pub(crate) const ERROR_BOUND_FACTOR: f32 = 1.74;
+
 /// The finest level a sample at `lod` reads: `⌊lod⌋` (quadrilinear reads it and the next),
 /// or the nearest level for [`Model::Nearest`].
 fn sampled_level(lod: f32, top: u32, model: Model) -> u32 {
@@ -204,7 +207,7 @@ fn sampled_level(lod: f32, top: u32, model: Model) -> u32 {
 fn error_bound(lod: f32, top: u32, voxel: f32) -> f32 {
     let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top as f32) };
     let coarse = (libm::floorf(lod) as u32 + 1).min(top);
-    1.74 * (1u32 << coarse) as f32 * voxel
+    ERROR_BOUND_FACTOR * (1u32 << coarse) as f32 * voxel
 }
 
 /// Marches `cone`, calling `shade(voxel, z, new coverage)` for every element that adds

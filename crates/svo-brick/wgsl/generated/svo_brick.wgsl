@@ -9,11 +9,15 @@ const SVO_COMPACT_DISTANCE_STEPS: f32 = 0x1.000000p+10f; // 1.024e3
 
 const SVO_EMPTY: u32 = 4294967295u;
 
+const SVO_EMPTY_DISTANCE: f32 = 0x1.000000p+1f; // 2e0
+
 const SVO_FULL: u32 = 4294967294u;
 
 const SVO_LAYOUT_PAPER20: u32 = 0u;
 
 const SVO_LAYOUT_COMPACT16: u32 = 1u;
+
+const SVO_LAYOUT_COMPACT16_FINE8: u32 = 2u;
 
 // Rust size 8 bytes.
 struct OctreeNode {
@@ -21,10 +25,11 @@ struct OctreeNode {
     brick: u32, // offset 4
 }
 
-// Rust size 64 bytes.
+// Rust size 80 bytes.
 struct OctreeUniforms {
     origin_inverse_size: vec4<f32>, // offset 0
     voxel_size: vec4<f32>, // offset 16
     shape: vec4<u32>, // offset 32
     counts: vec4<u32>, // offset 48
+    pools: vec4<u32>, // offset 64
 }

@@ -86,3 +86,18 @@ pub fn special_directions() -> Vec<Vec3> {
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
+
+/// The octree the SVO GPU tests trace (`svo_tracer_gpu`, `svo_render_gpu`): a sphere with
+/// sine bumps over a floor, coloured by position, 4 levels of 8³ bricks over `[−1, 1]³`.
+pub fn svo_bumps_over_floor() -> svo_brick::BrickTree {
+    use svo_brick::{BrickSize, BrickTree, BuildOptions, Domain, SdfSurface};
+    let bumps = |p: Vec3| 0.02 * (17.0 * p.x).sin() * (13.0 * p.y).sin() * (11.0 * p.z).sin();
+    let shape = SdfSurface::new(
+        move |p: Vec3| ((p - Vec3::new(0.1, 0.0, 0.0)).length() - 0.45 - bumps(p)).min(p.y + 0.55) / 1.6,
+        |p: Vec3| [0.5 + 0.4 * p.z, 0.6, 0.3 + 0.3 * p.x],
+        1e-4,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let options = BuildOptions { brick_size: BrickSize::Eight, levels: 4, ..BuildOptions::default() };
+    BrickTree::build(&shape, Domain { origin: Vec3::splat(-1.0), size: 2.0 }, options).unwrap_or_else(|e| panic!("{e}"))
+}

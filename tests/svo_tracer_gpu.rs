@@ -8,23 +8,15 @@
 
 use abuffer_mask::MaskTable;
 use glam::{UVec4, Vec3, Vec4};
-use integration_tests::gpu;
-use svo_brick::{BrickSize, BrickTree, BuildOptions, Domain, PackedTree, SdfSurface, VoxelLayout};
+use integration_tests::{gpu, svo_bumps_over_floor};
+use svo_brick::{PackedTree, VoxelLayout};
 use svo_tracer::{Camera, Lens, Model, TraceSettings, trace_cone};
 
 const SIZE: u32 = 32;
 
 #[test]
 fn pixel_cones_match_the_cpu_reference() {
-    let bumps = |p: Vec3| 0.02 * (17.0 * p.x).sin() * (13.0 * p.y).sin() * (11.0 * p.z).sin();
-    let shape = SdfSurface::new(
-        move |p: Vec3| ((p - Vec3::new(0.1, 0.0, 0.0)).length() - 0.45 - bumps(p)).min(p.y + 0.55) / 1.6,
-        |p: Vec3| [0.5 + 0.4 * p.z, 0.6, 0.3 + 0.3 * p.x],
-        1e-4,
-    )
-    .unwrap();
-    let options = BuildOptions { brick_size: BrickSize::Eight, levels: 4, ..BuildOptions::default() };
-    let tree = BrickTree::build(&shape, Domain { origin: Vec3::splat(-1.0), size: 2.0 }, options).unwrap();
+    let tree = svo_bumps_over_floor();
     let table = MaskTable::<4>::paper().unwrap();
     let camera = Camera::look_at(Vec3::new(0.4, 0.5, -2.6), Vec3::ZERO, Vec3::Y, 0.7, SIZE, SIZE).unwrap();
     let lens = camera.with_lens(Lens { aperture: 0.08, focus: 2.4 }).unwrap();

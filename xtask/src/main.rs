@@ -56,6 +56,7 @@ fn codegen() -> Result<(), String> {
         (grain_impostor::cloud::CLOUD_GENERATED_WGSL_PATH, grain_impostor::cloud::cloud_generated_wgsl()),
         (grain_splitter::shaders::GENERATED_WGSL_PATH, grain_splitter::shaders::generated_wgsl()),
         (grain_renderer::shaders::GENERATED_WGSL_PATH, grain_renderer::shaders::generated_wgsl()),
+        (svo_render::shader::GENERATED_WGSL_PATH, svo_render::shader::generated_wgsl()),
     ];
     for (relative, text) in pipelines {
         write_if_changed(relative, &text.map_err(|e| format!("{relative}: {e}"))?)?;

@@ -31,10 +31,7 @@ impl Gpu {
                 limit: u64::from(limit),
             });
         }
-        let row_bytes = width * 4;
-        let padded_row_bytes = row_bytes.next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-        let readback_size = u64::from(padded_row_bytes) * u64::from(height);
-        let readback = self.scoped(|| {
+        let target = self.scoped(|| {
             let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("gpu-harness render"),
                 source: wgpu::ShaderSource::Wgsl(wgsl.into()),
@@ -72,12 +69,6 @@ impl Gpu {
                 view_formats: &[],
             });
             let view = target.create_view(&Default::default());
-            let readback = self.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("gpu-harness render readback"),
-                size: readback_size,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
             let mut encoder = self.device.create_command_encoder(&Default::default());
             {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -96,8 +87,33 @@ impl Gpu {
                 pass.set_pipeline(&pipeline);
                 pass.draw(0..vertex_count, 0..1);
             }
+            self.queue.submit([encoder.finish()]);
+            target
+        })?;
+        self.read_rgba8_texture(&target)
+    }
+
+    /// Reads a 2-D RGBA8 texture (`Rgba8Unorm` or `Rgba8UnormSrgb`, with `COPY_SRC` usage)
+    /// back as an image. Waits for all submitted work.
+    pub fn read_rgba8_texture(&self, texture: &wgpu::Texture) -> Result<image::RgbaImage, HarnessError> {
+        let format = texture.format();
+        if !matches!(format, wgpu::TextureFormat::Rgba8Unorm | wgpu::TextureFormat::Rgba8UnormSrgb) {
+            return Err(HarnessError::InvalidRequest(format!("reading a {format:?} texture as RGBA8")));
+        }
+        let (width, height) = (texture.width(), texture.height());
+        let row_bytes = width * 4;
+        let padded_row_bytes = row_bytes.next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        let readback_size = u64::from(padded_row_bytes) * u64::from(height);
+        let readback = self.scoped(|| {
+            let readback = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("gpu-harness texture readback"),
+                size: readback_size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut encoder = self.device.create_command_encoder(&Default::default());
             encoder.copy_texture_to_buffer(
-                target.as_image_copy(),
+                texture.as_image_copy(),
                 wgpu::TexelCopyBufferInfo {
                     buffer: &readback,
                     layout: wgpu::TexelCopyBufferLayout {
@@ -106,7 +122,7 @@ impl Gpu {
                         rows_per_image: Some(height),
                     },
                 },
-                extent,
+                wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
             );
             self.queue.submit([encoder.finish()]);
             readback
@@ -117,6 +133,6 @@ impl Gpu {
             pixels.extend_from_slice(&row[..row_bytes as usize]);
         }
         image::RgbaImage::from_raw(width, height, pixels)
-            .ok_or_else(|| HarnessError::Readback("render readback has the wrong size".into()))
+            .ok_or_else(|| HarnessError::Readback("texture readback has the wrong size".into()))
     }
 }

@@ -162,7 +162,7 @@ fn every_wgsl_file_is_registered() {
         registered.extend(module.library_files.iter().map(|f| format!("{}/{f}", module.crate_dir)));
     }
     registered.extend(test_kernels().iter().map(|k| k.path.to_owned()));
-    let pipeline_links = ["grain-impostor", "ddm-render"];
+    let pipeline_links = ["grain-impostor", "ddm-render", "svo-render"];
     let mut unregistered = Vec::new();
     let mut linked = Vec::new();
     for entry in std::fs::read_dir(workspace_root().join("shaders")).unwrap().map(Result::unwrap) {

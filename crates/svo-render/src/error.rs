@@ -62,6 +62,15 @@ pub enum RenderError {
         /// Why.
         source: image::ImageError,
     },
+    /// The GPU failed or refused: what was being done and wgpu's or the harness's message.
+    Gpu {
+        /// What was being done (`"uploading the octree"`, …).
+        what: &'static str,
+        /// The message.
+        message: String,
+    },
+    /// The octree does not fit the adapter's storage bindings.
+    Pools(svo_brick::PoolError),
     /// A file could not be written.
     Io {
         /// The file.
@@ -88,6 +97,8 @@ impl fmt::Display for RenderError {
             }
             RenderError::Png { path, source } => write!(f, "writing the PNG `{}`: {source}", path.display()),
             RenderError::Io { path, source } => write!(f, "writing `{}`: {source}", path.display()),
+            RenderError::Gpu { what, message } => write!(f, "{what} on the GPU: {message}"),
+            RenderError::Pools(source) => write!(f, "the octree does not fit the adapter: {source}"),
         }
     }
 }
@@ -100,7 +111,11 @@ impl std::error::Error for RenderError {
             RenderError::Metric { source, .. } => Some(source),
             RenderError::Png { source, .. } => Some(source),
             RenderError::Io { source, .. } => Some(source),
-            RenderError::Setting { .. } | RenderError::FrameSize { .. } | RenderError::SizeMismatch { .. } => None,
+            RenderError::Pools(source) => Some(source),
+            RenderError::Gpu { .. }
+            | RenderError::Setting { .. }
+            | RenderError::FrameSize { .. }
+            | RenderError::SizeMismatch { .. } => None,
         }
     }
 }
@@ -108,4 +123,9 @@ impl std::error::Error for RenderError {
 /// `Err(Setting)` unless `ok`.
 pub(crate) fn check(ok: bool, field: &'static str, value: f64, expected: &'static str) -> Result<(), RenderError> {
     if ok { Ok(()) } else { Err(RenderError::Setting { field, value, expected }) }
+}
+
+/// A [`RenderError::Gpu`] of `what` from any displayable error.
+pub(crate) fn gpu_failed(what: &'static str) -> impl FnOnce(gpu_harness::HarnessError) -> RenderError {
+    move |e| RenderError::Gpu { what, message: e.to_string() }
 }

@@ -2,7 +2,8 @@
 //! Appearance and Pre-filtering Subpixel Data in Sparse Voxel Octrees* (HPG 2012): images
 //! through the cone tracer (`svo-tracer`), the supersampled ground truth of the unfiltered
 //! surface (eq. 2) and of the octree's finest level, and their accuracy along a dolly
-//! (Fig. 8). CPU parts; the modules are separate so that a GPU pipeline can join them.
+//! (Fig. 8); on the CPU, and on wgpu through [`GpuRenderer`], built once and encoded per
+//! frame.
 //!
 //! ```
 //! use abuffer_mask::MaskTable;
@@ -45,6 +46,13 @@
 //! - [`scenes`]: the analytic scenes (sphere, bumpy sphere coloured by height, bumpy plane,
 //!   box) as `svo_brick::SdfSurface` closures.
 //! - [`parallel`]: the per-pixel thread pool of [`std::thread::scope`].
+//! - [`renderer`]: [`GpuRenderer`], the cone tracer on wgpu: the pools, the mask table and
+//!   the pipeline built once; per frame ([`FrameSettings`]) one compute pass of 8 × 8 tiles
+//!   through `svo-tracer`'s WGSL twin into radiance, coverage and work buffers and an
+//!   sRGB-encoded storage texture.
+//! - [`shader`]: the frame kernel's WGSL (generated declarations and composition).
+//! - [`timing`]: frames timed by GPU timestamps (wall clock on software adapters), and the
+//!   benchmark of every model along a dolly with and without shadows and depth of field.
 //! - [`RenderError`]: every failure, naming the setting or file.
 
 pub mod accuracy;
@@ -52,8 +60,12 @@ pub mod cpu;
 mod error;
 pub mod frame;
 pub mod parallel;
+pub mod renderer;
 pub mod scenes;
+pub mod shader;
+pub mod timing;
 pub mod truth;
 
 pub use error::RenderError;
 pub use frame::Frame;
+pub use renderer::{FrameSettings, GpuRenderer};

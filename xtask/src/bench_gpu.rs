@@ -1,6 +1,8 @@
 //! `cargo xtask bench-gpu SUBJECT [OUT_DIR] [--grains LIST] [--frames N]`; subject `stackings`
 //! (which also takes `--scene NAME`, `--obj PATH`, `--mesh-above PX`, `--samples S`)
-//! is [`crate::bench_stackings`]. `culling`: GPU time of the
+//! is [`crate::bench_stackings`]; subject `svo` (`--scene NAME`, `--obj PATH`,
+//! `--height-map PNG`, `--pixels N`, `--levels L`, `--zoom K`, `--views N`) is
+//! [`crate::svo::bench`]. `culling`: GPU time of the
 //! occluder map and the splitter (`grain_splitter::bench`) on piles of coffee beans and of
 //! balls from `grain-scenes` at 1920×1080, in two shots (the whole pile; close, most grains outside the
 //! frustum and the nearest as meshes), for each occluder map the adapter has (64-bit, 32-bit),
@@ -72,12 +74,26 @@ fn bean_pile(count: usize) -> Result<(Stacking, f32, f32), String> {
 }
 
 pub fn run(args: &Args<'_>) -> Result<(), String> {
+    const SVO_ONLY: [&str; 5] = ["height-map", "pixels", "levels", "zoom", "views"];
+    if args.subject() == "svo" {
+        for flag in ["grains", "mesh-above", "samples"] {
+            if args.value(flag).is_some() {
+                return Err(format!("bench-gpu svo: --{flag} does not apply to `bench-gpu svo`"));
+            }
+        }
+        return crate::svo::bench(args);
+    }
+    for flag in SVO_ONLY {
+        if args.value(flag).is_some() {
+            return Err(format!("bench-gpu {}: --{flag} applies to `bench-gpu svo` only", args.subject()));
+        }
+    }
     if args.subject() == "stackings" {
         return crate::bench_stackings::run(args, args.parse_value("grains", grain_counts)?);
     }
     for flag in ["scene", "obj", "mesh-above", "samples"] {
         if args.value(flag).is_some() {
-            return Err(format!("bench-gpu culling: --{flag} applies to `bench-gpu stackings` only"));
+            return Err(format!("bench-gpu culling: --{flag} applies to `bench-gpu stackings` and `svo` only"));
         }
     }
     let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;

@@ -103,10 +103,10 @@ impl Command {
                 continue;
             }
             let mut text = shown(flag);
-            if let Some(&(_, second)) = self.exclusive.iter().find(|&&(first, _)| first == flag.name)
-                && let Some(other) = self.flag(second)
-            {
-                text = format!("{text} | {}", shown(other));
+            for &(_, second) in self.exclusive.iter().filter(|&&(first, _)| first == flag.name) {
+                if let Some(other) = self.flag(second) {
+                    text = format!("{text} | {}", shown(other));
+                }
             }
             let repeat = if matches!(flag.takes, Takes::Values(_)) { "..." } else { "" };
             words.push(format!("[{text}]{repeat}"));

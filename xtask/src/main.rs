@@ -24,6 +24,7 @@ mod impostor_cloud;
 mod occlusion_check;
 mod showcase;
 mod stackings;
+mod svo;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -95,6 +96,9 @@ const SIZE: cli::Flag = value("size", "WxHxD");
 /// `--obj PATH`: a grain from an OBJ file.
 const OBJ: cli::Flag = value("obj", "PATH");
 
+/// `--height-map PNG`: a grayscale height map.
+const HEIGHT_MAP: cli::Flag = value("height-map", "PNG");
+
 /// Every command, in usage order.
 pub const COMMANDS: &[Command] = &[
     Command { name: "test", flags: &[], exclusive: &[], positional: Positional::None, run: test },
@@ -115,9 +119,14 @@ pub const COMMANDS: &[Command] = &[
             OBJ,
             value("mesh-above", "PX"),
             value("samples", "S"),
+            HEIGHT_MAP,
+            value("pixels", "N"),
+            value("levels", "L"),
+            value("zoom", "K"),
+            value("views", "N"),
         ],
-        exclusive: &[("obj", "scene")],
-        positional: Positional::SubjectThenOutDir(&["culling", "stackings"]),
+        exclusive: &[("obj", "scene"), ("obj", "height-map"), ("scene", "height-map")],
+        positional: Positional::SubjectThenOutDir(&["culling", "stackings", "svo"]),
         run: bench_gpu::run,
     },
     Command { name: "codegen", flags: &[], exclusive: &[], positional: Positional::None, run: |_| codegen() },
@@ -216,6 +225,23 @@ pub const COMMANDS: &[Command] = &[
         exclusive: &[("obj", "grain"), ("shake", "accuracy")],
         positional: Positional::OutDir("target/stackings"),
         run: stackings::run,
+    },
+    Command {
+        name: "svo",
+        flags: &[
+            value("scene", "NAME"),
+            OBJ,
+            HEIGHT_MAP,
+            value("zoom", "K"),
+            value("views", "N"),
+            value("pixels", "N"),
+            value("levels", "L"),
+            value("frames", "N"),
+            QUICK,
+        ],
+        exclusive: &[("scene", "obj"), ("scene", "height-map"), ("obj", "height-map")],
+        positional: Positional::OutDir("target/svo"),
+        run: svo::run,
     },
 ];
 
@@ -419,7 +445,7 @@ mod tests {
         let error = parse("bench-gpu", "").err().unwrap();
         assert!(error.contains("needs a subject: culling"), "{error}");
         let error = parse("bench-gpu", "sorting").err().unwrap();
-        assert!(error.contains("unknown subject `sorting` (known: culling, stackings)"), "{error}");
+        assert!(error.contains("unknown subject `sorting` (known: culling, stackings, svo)"), "{error}");
         let args = parse("bench-gpu", "culling --frames 50").unwrap();
         assert_eq!(args.subject(), "culling");
         assert!(args.out_dir().ends_with("target/bench-gpu/culling"));

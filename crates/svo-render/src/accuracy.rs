@@ -317,6 +317,21 @@ pub fn dolly_accuracy<S: SurfaceSource + Sync + ?Sized, const W: usize>(
     table: &MaskTable<W>,
     settings: &DollySettings,
 ) -> Result<AccuracyTable, RenderError> {
+    let render = |camera: &Camera, trace: &TraceSettings| Ok(cpu::render(packed, table, camera, trace));
+    dolly_accuracy_with(source, packed, settings, render, |_, _| {})
+}
+
+/// [`dolly_accuracy`] with the tracer's frames from `render` (for instance a
+/// [`crate::GpuRenderer`]'s), called once per view and model in the order of the rows; its
+/// wall time is the row's [`ms`](AccuracyRow::ms). `truth` receives each view's index and
+/// its ground truth.
+pub fn dolly_accuracy_with<S: SurfaceSource + Sync + ?Sized>(
+    source: &S,
+    packed: &PackedTree,
+    settings: &DollySettings,
+    mut render: impl FnMut(&Camera, &TraceSettings) -> Result<Frame, RenderError>,
+    mut truth_frame: impl FnMut(u32, &Frame),
+) -> Result<AccuracyTable, RenderError> {
     settings.dolly.validate()?;
     settings.truth.validate()?;
     let shadows = (settings.trace.shadow_cones > 0, settings.truth.shadow_rays_per_axis > 0);
@@ -342,6 +357,7 @@ pub fn dolly_accuracy<S: SurfaceSource + Sync + ?Sized, const W: usize>(
         let start = Instant::now();
         let truth = render_source_truth(source, domain, &camera, &settings.trace, &settings.truth)?;
         let truth_ms = ms_since(start);
+        truth_frame(view, &truth);
         let voxel_rmse = if settings.voxel_truth {
             Some(render_voxel_truth(packed, &camera, &settings.trace, &settings.truth)?.rmse(&truth)?)
         } else {
@@ -352,7 +368,7 @@ pub fn dolly_accuracy<S: SurfaceSource + Sync + ?Sized, const W: usize>(
         for (index, &model) in settings.models.iter().enumerate() {
             let trace = TraceSettings { model, ..settings.trace };
             let start = Instant::now();
-            let frame = cpu::render(packed, table, &camera, &trace);
+            let frame = render(&camera, &trace)?;
             let ms = ms_since(start);
             let comparison = compare(&frame, &truth, settings.trace.background, exposure)?;
             let now = ratio(comparison.mean, comparison.truth_mean);

@@ -69,6 +69,20 @@ pub enum RenderError {
         /// The message.
         message: String,
     },
+    /// A scene could not be made from its parameters or its file.
+    Scene {
+        /// The file, where the scene came from one.
+        path: Option<PathBuf>,
+        /// Why.
+        source: svo_scenes::SceneError,
+    },
+    /// No scene has this name.
+    UnknownScene {
+        /// The name asked for.
+        name: String,
+        /// The names there are, comma-separated.
+        known: String,
+    },
     /// The octree does not fit the adapter's storage bindings.
     Pools(svo_brick::PoolError),
     /// A file could not be written.
@@ -99,6 +113,11 @@ impl fmt::Display for RenderError {
             RenderError::Io { path, source } => write!(f, "writing `{}`: {source}", path.display()),
             RenderError::Gpu { what, message } => write!(f, "{what} on the GPU: {message}"),
             RenderError::Pools(source) => write!(f, "the octree does not fit the adapter: {source}"),
+            RenderError::Scene { path: Some(path), source } => write!(f, "the scene `{}`: {source}", path.display()),
+            RenderError::Scene { path: None, source } => write!(f, "the scene: {source}"),
+            RenderError::UnknownScene { name, known } => {
+                write!(f, "no scene is named `{name}`; the scenes are {known}")
+            }
         }
     }
 }
@@ -112,7 +131,9 @@ impl std::error::Error for RenderError {
             RenderError::Png { source, .. } => Some(source),
             RenderError::Io { source, .. } => Some(source),
             RenderError::Pools(source) => Some(source),
-            RenderError::Gpu { .. }
+            RenderError::Scene { source, .. } => Some(source),
+            RenderError::UnknownScene { .. }
+            | RenderError::Gpu { .. }
             | RenderError::Setting { .. }
             | RenderError::FrameSize { .. }
             | RenderError::SizeMismatch { .. } => None,

@@ -45,6 +45,8 @@
 //!   elements, time), and its CSV.
 //! - [`scenes`]: the analytic scenes (sphere, bumpy sphere coloured by height, bumpy plane,
 //!   box) as `svo_brick::SdfSurface` closures.
+//! - [`scene_input`]: the scenes a user names ([`scene_input::SceneInput`]): a named one, a
+//!   closed OBJ, a PNG height map.
 //! - [`parallel`]: the per-pixel thread pool of [`std::thread::scope`].
 //! - [`renderer`]: [`GpuRenderer`], the cone tracer on wgpu: the pools, the mask table and
 //!   the pipeline built once; per frame ([`FrameSettings`]) one compute pass of 8 × 8 tiles
@@ -61,6 +63,7 @@ mod error;
 pub mod frame;
 pub mod parallel;
 pub mod renderer;
+pub mod scene_input;
 pub mod scenes;
 pub mod shader;
 pub mod timing;

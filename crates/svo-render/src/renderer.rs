@@ -25,7 +25,7 @@ use crate::shader::{SvoFrameUniforms, TILE, frame_shader};
 /// (`PackedTree::with_binding_limit`).
 pub fn binding_limit(device: &wgpu::Device) -> u64 {
     let limits = device.limits();
-    u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size)
+    limits.max_storage_buffer_binding_size.min(limits.max_buffer_size)
 }
 
 /// Packs `tree` in `layout` for `device`'s bindings, or says why it does not fit.

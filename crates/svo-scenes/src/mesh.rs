@@ -70,6 +70,7 @@ pub struct MeshSurface {
     triangles: Vec<Triangle>,
     bvh: Bvh,
     area: f64,
+    bounds: (Vec3, Vec3),
     attribute: Attribute,
 }
 
@@ -133,7 +134,12 @@ impl MeshSurface {
             .collect();
         let bvh = Bvh::new(&corners);
         let area = triangles.iter().map(|t| t.area).sum();
-        Ok(MeshSurface { triangles, bvh, area, attribute })
+        let (lo, hi) = corners
+            .iter()
+            .flatten()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        let bounds = (lo.as_vec3(), hi.as_vec3());
+        Ok(MeshSurface { triangles, bvh, area, bounds, attribute })
     }
 
     /// The number of triangles.
@@ -144,6 +150,11 @@ impl MeshSurface {
     /// The total surface area.
     pub fn surface_area(&self) -> f64 {
         self.area
+    }
+
+    /// The mesh's axis-aligned bounds `(min, max)`.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.bounds
     }
 
     /// The point of the mesh nearest to `p`.

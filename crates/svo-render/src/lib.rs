@@ -42,6 +42,10 @@
 //! - [`accuracy`]: [`accuracy::dolly_accuracy`], the table of every model at every view of
 //!   a dolly against the truth (RMSE, SSIM, ꟻLIP, mean colour and drift, silhouette coverage,
 //!   elements, time), and its CSV.
+//! - [`stability`]: sweeps that relax the paper's hypotheses step by step (H7 thin plates,
+//!   H6 curvature and box corners, H3 non-Gaussian micro-surfaces, grazing views) with
+//!   every model against the truth at each step ([`stability::run`]), their CSV and
+//!   [`stability::write_folder`]; scenes from `svo-scenes` and `microsurface-truth`.
 //! - [`scenes`]: the analytic scenes (sphere, bumpy sphere coloured by height, bumpy plane,
 //!   box) as `svo_brick::SdfSurface` closures.
 //! - [`parallel`]: the per-pixel thread pool of [`std::thread::scope`].
@@ -53,6 +57,7 @@ mod error;
 pub mod frame;
 pub mod parallel;
 pub mod scenes;
+pub mod stability;
 pub mod truth;
 
 pub use error::RenderError;

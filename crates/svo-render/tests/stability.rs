@@ -219,3 +219,23 @@ fn bad_settings_name_their_field() {
     assert_eq!(bad(StabilitySettings { models: vec![], ..quick() }), "StabilitySettings::models");
     assert_eq!(bad(StabilitySettings { levels: 12, ..quick() }), "StabilitySettings::levels");
 }
+
+/// The full sweeps ([`StabilitySettings::default`]: 40 × 40 pixels, 64 voxels across, six
+/// to seven steps each), written to the folder `$SVO_STABILITY_DIR` (or a temporary one);
+/// ignored by default (a few minutes on 2 cores):
+/// `cargo test -p svo-render --test stability -- --ignored --nocapture`.
+#[test]
+#[ignore = "the full sweeps take minutes; run with --ignored"]
+fn full_sweeps_write_their_folder() {
+    let settings = StabilitySettings::default();
+    let start = std::time::Instant::now();
+    let table = stability::run(&Sweep::ALL, &settings, table()).unwrap();
+    println!("full sweeps in {:.1} s", start.elapsed().as_secs_f64());
+    print!("{}", table.to_csv());
+    assert_eq!(table.rows.len(), settings.rows(&Sweep::ALL));
+    let dir = std::env::var_os("SVO_STABILITY_DIR")
+        .map_or_else(|| std::env::temp_dir().join("svo-render-stability-full"), std::path::PathBuf::from);
+    let files = stability::write_folder(&table, &dir).unwrap();
+    assert_eq!(files.len(), 1 + Sweep::ALL.len());
+    println!("wrote {}", dir.display());
+}

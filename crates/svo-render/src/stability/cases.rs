@@ -297,14 +297,13 @@ pub fn height_map(
 
 /// H3: for each surface of [`MicroSurface::ALL`] and each RMS height `σ S₀` of
 /// [`StabilitySettings::rms_height`], the [`height_map`] seen from 50° off its normal where
-/// a pixel is [`StabilitySettings::far_pixel_voxels`] finest voxels at the centre (the
-/// cone reads the coarse levels whose Gaussian descriptors H3 is about; the top of the
-/// image shows the plane's far edge, cut by the domain), lit from the side, 45° off the
-/// normal.
+/// a pixel is [`StabilitySettings::height_pixel_voxels`] finest voxels at the centre (more
+/// towards the top of the image: the cone reads the coarse levels whose Gaussian
+/// descriptors H3 is about), lit from the side, 45° off the normal.
 pub fn non_gaussian(settings: &StabilitySettings) -> Result<Vec<Case>, RenderError> {
     let voxel = finest_voxel(settings.levels);
     let (target, theta) = (Vec3::ZERO, 50f32.to_radians());
-    let distance = footprint_distance(settings, settings.far_pixel_voxels, voxel);
+    let distance = footprint_distance(settings, settings.height_pixel_voxels, voxel);
     let eye = target + Vec3::new(-theta.sin(), 0.0, theta.cos()) * distance;
     let lit = light(target, Vec3::new(0.0, 45f32.to_radians().sin(), 45f32.to_radians().cos()));
     let mut cases = Vec::new();

@@ -113,7 +113,7 @@ impl Sweep {
     }
 
     /// The steps of its parameter in `settings`.
-    pub fn steps<'a>(self, settings: &'a StabilitySettings) -> &'a [f32] {
+    pub fn steps(self, settings: &StabilitySettings) -> &[f32] {
         match self {
             Sweep::ThinPlate => &settings.plate_thickness,
             Sweep::Curvature => &settings.curvature_radius,
@@ -144,9 +144,15 @@ pub struct StabilitySettings {
     pub plate_thickness: Vec<f32>,
     /// H7: the plate's mid-plane above the lattice plane `z = 0` (in `[0, 1]`).
     pub plate_offset: f32,
-    /// H7's far view and H3: a pixel's footprint at the target (in `[1, 16]`), so that the
-    /// cone reads the level `log₂` of it.
+    /// H7's far view: a pixel's footprint at the plate (in `[1, 16]`), so that the cone
+    /// reads the level `log₂` of it.
     pub far_pixel_voxels: f32,
+    /// H3: a pixel's footprint at the height map's centre (in `[1, 16]`; more towards the
+    /// top of the oblique view). Keep `width × height_pixel_voxels` well below the domain's
+    /// `4 · 2^(levels − 1)` voxels, or the view shows mostly the plane's edge, cut by the
+    /// domain (at 40 px, 64 voxels and 3 voxels per pixel, the plane covers 30 % of the
+    /// image and its mean colour errs by 24 % even for flat surfaces).
+    pub height_pixel_voxels: f32,
     /// H6: sphere radii and cube half-sides (positive, at most 0.6 of the domain's half-side).
     pub curvature_radius: Vec<f32>,
     /// H3: RMS heights (positive).
@@ -217,6 +223,8 @@ impl StabilitySettings {
         }
         let far = self.far_pixel_voxels;
         check((1.0..=16.0).contains(&far), "StabilitySettings::far_pixel_voxels", f64::from(far), "in [1, 16]")?;
+        let h = self.height_pixel_voxels;
+        check((1.0..=16.0).contains(&h), "StabilitySettings::height_pixel_voxels", f64::from(h), "in [1, 16]")?;
         let offset = self.plate_offset;
         check((0.0..=1.0).contains(&offset), "StabilitySettings::plate_offset", f64::from(offset), "in [0, 1]")?;
         let feature = self.feature_voxels;
@@ -241,6 +249,7 @@ impl Default for StabilitySettings {
             plate_thickness: vec![4.0, 2.0, 1.0, 0.5, 0.25, 0.125],
             plate_offset: 0.5,
             far_pixel_voxels: 3.0,
+            height_pixel_voxels: 1.5,
             curvature_radius: vec![16.0, 8.0, 4.0, 2.0, 1.0],
             rms_height: vec![0.125, 0.25, 0.5, 1.0, 2.0],
             feature_voxels: 3.0,

@@ -33,6 +33,21 @@ pub enum RenderError {
         /// Why.
         source: BuildError,
     },
+    /// A scene of `svo-scenes` could not be made (a sweep's parameter out of the scene's
+    /// range).
+    Scene {
+        /// The scene's name.
+        scene: &'static str,
+        /// Why (names the scene's parameter).
+        source: svo_scenes::SceneError,
+    },
+    /// A micro-surface of `microsurface-truth` could not be generated.
+    HeightField {
+        /// The surface's name.
+        surface: &'static str,
+        /// Why.
+        source: microsurface_truth::HeightFieldError,
+    },
     /// An image metric could not be computed.
     Metric {
         /// The metric (`"SSIM"`, `"FLIP"`) and the image it compared.
@@ -69,10 +84,10 @@ pub enum RenderError {
         /// The message.
         message: String,
     },
-    /// A scene could not be made from its parameters or its file.
-    Scene {
-        /// The file, where the scene came from one.
-        path: Option<PathBuf>,
+    /// A scene could not be made from its file.
+    SceneFile {
+        /// The file.
+        path: PathBuf,
         /// Why.
         source: svo_scenes::SceneError,
     },
@@ -102,6 +117,10 @@ impl fmt::Display for RenderError {
             }
             RenderError::Camera { view, source } => write!(f, "the camera of view {view}: {source}"),
             RenderError::Build { scene, source } => write!(f, "building the octree of scene `{scene}`: {source}"),
+            RenderError::Scene { scene, source } => write!(f, "making the scene `{scene}`: {source}"),
+            RenderError::HeightField { surface, source } => {
+                write!(f, "generating the micro-surface `{surface}`: {source}")
+            }
             RenderError::Metric { what, source } => write!(f, "{what}: {source}"),
             RenderError::FrameSize { size: (w, h), pixels } => {
                 write!(f, "a {w}×{h} frame holds {pixels} pixels")
@@ -113,8 +132,7 @@ impl fmt::Display for RenderError {
             RenderError::Io { path, source } => write!(f, "writing `{}`: {source}", path.display()),
             RenderError::Gpu { what, message } => write!(f, "{what} on the GPU: {message}"),
             RenderError::Pools(source) => write!(f, "the octree does not fit the adapter: {source}"),
-            RenderError::Scene { path: Some(path), source } => write!(f, "the scene `{}`: {source}", path.display()),
-            RenderError::Scene { path: None, source } => write!(f, "the scene: {source}"),
+            RenderError::SceneFile { path, source } => write!(f, "the scene `{}`: {source}", path.display()),
             RenderError::UnknownScene { name, known } => {
                 write!(f, "no scene is named `{name}`; the scenes are {known}")
             }
@@ -127,11 +145,13 @@ impl std::error::Error for RenderError {
         match self {
             RenderError::Camera { source, .. } => Some(source),
             RenderError::Build { source, .. } => Some(source),
+            RenderError::Scene { source, .. } => Some(source),
+            RenderError::HeightField { source, .. } => Some(source),
             RenderError::Metric { source, .. } => Some(source),
             RenderError::Png { source, .. } => Some(source),
             RenderError::Io { source, .. } => Some(source),
             RenderError::Pools(source) => Some(source),
-            RenderError::Scene { source, .. } => Some(source),
+            RenderError::SceneFile { source, .. } => Some(source),
             RenderError::UnknownScene { .. }
             | RenderError::Gpu { .. }
             | RenderError::Setting { .. }

@@ -43,6 +43,10 @@
 //! - [`accuracy`]: [`accuracy::dolly_accuracy`], the table of every model at every view of
 //!   a dolly against the truth (RMSE, SSIM, ꟻLIP, mean colour and drift, silhouette coverage,
 //!   elements, time), and its CSV.
+//! - [`stability`]: sweeps that relax the paper's hypotheses step by step (H7 thin plates,
+//!   H6 curvature and box corners, H3 non-Gaussian micro-surfaces, grazing views) with
+//!   every model against the truth at each step ([`stability::run`]), their CSV and
+//!   [`stability::write_folder`]; scenes from `svo-scenes` and `microsurface-truth`.
 //! - [`scenes`]: the analytic scenes (sphere, bumpy sphere coloured by height, bumpy plane,
 //!   box) as `svo_brick::SdfSurface` closures.
 //! - [`scene_input`]: the scenes a user names ([`scene_input::SceneInput`]): a named one, a
@@ -66,6 +70,7 @@ pub mod renderer;
 pub mod scene_input;
 pub mod scenes;
 pub mod shader;
+pub mod stability;
 pub mod timing;
 pub mod truth;
 

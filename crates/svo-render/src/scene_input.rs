@@ -47,8 +47,12 @@ impl SceneInput {
     }
 }
 
-fn scene_error(path: Option<&Path>) -> impl FnOnce(svo_scenes::SceneError) -> RenderError + '_ {
-    move |source| RenderError::Scene { path: path.map(Path::to_path_buf), source }
+fn scene_error(scene: &'static str) -> impl FnOnce(svo_scenes::SceneError) -> RenderError {
+    move |source| RenderError::Scene { scene, source }
+}
+
+fn file_error(path: &Path) -> impl FnOnce(svo_scenes::SceneError) -> RenderError + '_ {
+    move |source| RenderError::SceneFile { path: path.to_path_buf(), source }
 }
 
 /// One of [`NAMED_SCENES`] by name.
@@ -59,16 +63,15 @@ pub fn named(name: &str) -> Result<Scene, RenderError> {
         "bumpy-plane" => scenes::bumpy_plane(0.05, 9.0),
         "box" => scenes::cuboid(Vec3::new(0.5, 0.4, 0.3)),
         "fbm-sphere" => {
-            let error = scene_error(None);
-            let sphere = Sphere::new(Vec3::ZERO, 0.6, Attribute::grey()).map_err(scene_error(None))?;
-            let fbm = Fbm::new(7, 5, 0.5, 0.03, 0.25).map_err(scene_error(None))?;
-            let source = Displaced::new(sphere, fbm, HeightColours::default()).map_err(error)?;
+            let sphere = Sphere::new(Vec3::ZERO, 0.6, Attribute::grey()).map_err(scene_error("fbm-sphere"))?;
+            let fbm = Fbm::new(7, 5, 0.5, 0.03, 0.25).map_err(scene_error("fbm-sphere"))?;
+            let source = Displaced::new(sphere, fbm, HeightColours::default()).map_err(scene_error("fbm-sphere"))?;
             let target = Vec3::NEG_Z * (0.6 + fbm.value(Vec3::NEG_Z * 0.6));
             Ok(Scene { name: "fbm-sphere", source: Box::new(source), domain: DOMAIN, target, outward: Vec3::NEG_Z })
         }
         "torus" => {
-            let colour = Attribute::constant([0.35, 0.55, 0.8]).map_err(scene_error(None))?;
-            let source = Torus::new(Vec3::ZERO, 0.55, 0.2, colour).map_err(scene_error(None))?;
+            let colour = Attribute::constant([0.35, 0.55, 0.8]).map_err(scene_error("torus"))?;
+            let source = Torus::new(Vec3::ZERO, 0.55, 0.2, colour).map_err(scene_error("torus"))?;
             let target = Vec3::new(0.0, -0.75, 0.0);
             Ok(Scene { name: "torus", source: Box::new(source), domain: DOMAIN, target, outward: Vec3::NEG_Y })
         }
@@ -82,8 +85,8 @@ pub fn named(name: &str) -> Result<Scene, RenderError> {
 /// A closed OBJ mesh in a cube domain 1.25 times its largest side, centred on its bounds,
 /// dollied towards the point of the mesh nearest to the front (`−z`) of its bounds.
 pub fn obj(path: &Path) -> Result<Scene, RenderError> {
-    let colour = Attribute::constant([0.8, 0.7, 0.55]).map_err(scene_error(Some(path)))?;
-    let mesh = MeshSurface::from_obj(path, colour).map_err(scene_error(Some(path)))?;
+    let colour = Attribute::constant([0.8, 0.7, 0.55]).map_err(file_error(path))?;
+    let mesh = MeshSurface::from_obj(path, colour).map_err(file_error(path))?;
     let (lo, hi) = mesh.bounds();
     let extent = (hi - lo).max_element();
     if !(extent > 0.0 && extent.is_finite()) {
@@ -108,8 +111,8 @@ pub fn height_map(path: &Path) -> Result<Scene, RenderError> {
     const WIDTH: f32 = 2.0;
     let relief = HEIGHT_MAP_RELIEF * WIDTH;
     let probe = image::image_dimensions(path)
-        .map_err(|e| RenderError::Scene {
-            path: Some(path.to_path_buf()),
+        .map_err(|e| RenderError::SceneFile {
+            path: path.to_path_buf(),
             source: svo_scenes::SceneError::Image { path: path.to_path_buf(), message: e.to_string() },
         })?
         .0
@@ -119,7 +122,7 @@ pub fn height_map(path: &Path) -> Result<Scene, RenderError> {
         let t = (h / relief).clamp(0.0, 1.0);
         std::array::from_fn(|c| GROOVE[c] + (CREST[c] - GROOVE[c]) * t)
     });
-    let surface = HeightMapSurface::from_png(path, texel, relief, colour).map_err(scene_error(Some(path)))?;
+    let surface = HeightMapSurface::from_png(path, texel, relief, colour).map_err(file_error(path))?;
     let middle = 0.5 * WIDTH;
     let target = Vec3::new(middle, middle, surface.interpolate(middle, middle).0);
     let domain = Domain { origin: Vec3::new(0.0, 0.0, 0.5 * relief - 0.5 * WIDTH), size: WIDTH };

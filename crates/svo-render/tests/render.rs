@@ -285,8 +285,11 @@ fn the_voxel_truth_converges_to_the_truth() {
 /// - wide (defocused) cones on the bumps under a grazing light read coarse levels, where the
 ///   Lambert term of the mean normal, `(n̄·l)₊`, is below the truth's mean `⟨(n(x)·l)₊⟩`
 ///   (the clamp is convex): 19.1 % colour error. It is now the expected clamped cosine over
-///   the voxel's Gaussian lobe of micro-normals (`svo_tracer::expected_clamped_cosine`):
-///   7.5 %.
+///   visible facets of the voxel's Gaussian lobe of micro-normals
+///   (`svo_tracer::expected_clamped_cosine`): 15.8 % (7.5 % without the visible-area
+///   weighting of the facets; on this curved, partly resolved surface the weighting
+///   over-corrects, while on the flat far patch of Fig. 11 it is what brings the colour
+///   within 1 % of the truth, `tests/appearance.rs`).
 #[test]
 fn lens_and_shadows_of_the_truth_agree_with_the_cones() {
     let pinhole = Camera::look_at(Vec3::new(0.0, 0.0, -2.4), Vec3::ZERO, Vec3::Y, 0.6, 32, 32).unwrap();
@@ -332,11 +335,9 @@ fn lens_and_shadows_of_the_truth_agree_with_the_cones() {
              silhouette bias {:+.4} ({} px)",
             c.ssim, c.flip, c.rmse, c.colour_error, c.silhouette.bias, c.silhouette.pixels
         );
-        // Pins above the measured values (pinhole SSIM 0.998 / colour error 0.3 %, lens 0.969
-        // / 2.3 %). The lens reads coarse levels, where the expected clamped cosine's
-        // normalisation `1/√(1 + 2σn²)` darkens the sphere by ~1 % (the sphere's own curvature
-        // within a voxel; before it, the lens measured 0.967 / 1.7 %).
-        assert!(c.ssim >= 0.95 && c.colour_error <= 0.03, "{name}: {c:?}");
+        // Pins below the measured values (pinhole SSIM 0.998 / colour error 0.3 %, lens 0.974
+        // / 1.5 %).
+        assert!(c.ssim >= 0.95 && c.colour_error <= 0.02, "{name}: {c:?}");
         if name == "pinhole" {
             let four = cpu::render(sphere_tree(), table(), camera, &TraceSettings { shadow_cones: 4, ..trace });
             let c4 = compare(&four, &reference, BACKGROUND, 1.0).unwrap();

@@ -13,8 +13,9 @@
 //!   attribute tends to the top of the microsurface, `ā + a_s`).
 //! - `ρ_s`: eq. 13's microfacet lobe with the convolved slopes `σn² + σnp²` (§5.5),
 //!   `smith_micro::shade` of a white attribute.
-//! - `⟨(m·l)₊⟩`: eq. 13's mean cosine, the expected clamped cosine over the voxel's
-//!   Gaussian lobe of micro-normals `N(n̄, σn²)` (§5.2, §5.5;
+//! - `⟨(m·l)₊⟩`: eq. 13's mean cosine, the expected clamped cosine over the visible
+//!   facets (weighted by their projected area, as eq. 14 weights the attribute) of the
+//!   voxel's Gaussian lobe of micro-normals `N(n̄, σn²)` (§5.2, §5.5;
 //!   [`expected_clamped_cosine`], derived in its module), which is `(n̂·l)₊` at the finest
 //!   level (`σn = 0`) and for [`Filtering::Separate`] (the naive filtering of Fig. 11–12
 //!   keeps the Lambert term of the mean normal).
@@ -101,7 +102,7 @@ pub fn element_radiance(
     let Ok(slopes) = SlopeDeviation::isotropic(sigma) else { return Vec3::ZERO };
     let (lambda_v, lambda_l) = (lambda(v, slopes), lambda(l, slopes));
     // σ = 0 for Filtering::Separate: `(n̂·l)₊`, bit for bit.
-    let lit = expected_clamped_cosine(l, sigma);
+    let lit = expected_clamped_cosine(v, l, sigma);
     let mut out = [0.0_f32; ATTRIBUTE_CHANNELS];
     for (c, value) in out.iter_mut().enumerate() {
         let correlation = if filtering == Filtering::Correlated { voxel.correlation[c] } else { 0.0 };

@@ -105,27 +105,50 @@ fn svo_lambda(direction: vec3<f32>, slopes: vec3<f32>) -> SmithValue {
     return lambda;
 }
 
-// Rust: lambert::expected_clamped_cosine.
-fn svo_expected_clamped_cosine(light: vec3<f32>, sigma: f32) -> f32 {
-    let mu = light.z;
-    if !(sigma > 0.0) {
-        return max(mu, 0.0);
-    }
-    let normalisation = sqrt(1.0 + 2.0 * (sigma * sigma));
-    let tau = sigma * sqrt(light.x * light.x + light.y * light.y);
-    let clamped = max(mu, 0.0);
+// Rust: lambert::rectified; (mean, cdf, density, ratio) of lambert::Rectified.
+fn svo_rectified(mu: f32, tau: f32) -> vec4<f32> {
+    let one_sided = vec4<f32>(max(mu, 0.0), select(0.0, 1.0, mu > 0.0), 0.0, 0.0);
     if !(tau > 0.0) {
-        return clamped / normalisation;
+        return one_sided;
     }
     let x = mu / tau * SVO_FRAC_1_SQRT_2;
     if !(abs(x) < SVO_RECTIFIED_CUTOFF) {
-        return clamped / normalisation;
+        return one_sided;
     }
     let erfc = smith_erfc(-x);
-    let tail = select(0.0, erfc.value, erfc.kind == SMITH_FINITE);
+    let cdf = 0.5 * select(0.0, erfc.value, erfc.kind == SMITH_FINITE);
     let density = exp(-(x * x)) * SVO_FRAC_1_SQRT_2PI;
-    let rectified = max(0.5 * mu * tail + tau * density, 0.0);
-    return rectified / normalisation;
+    let mean = max(mu * cdf + tau * density, 0.0);
+    return vec4<f32>(mean, cdf, density, mu / tau);
+}
+
+// Rust: lambert::expected_clamped_cosine.
+fn svo_expected_clamped_cosine(view: vec3<f32>, light: vec3<f32>, sigma: f32) -> f32 {
+    if !(sigma > 0.0) {
+        return max(light.z, 0.0);
+    }
+    let normalisation = sqrt(1.0 + 2.0 * (sigma * sigma));
+    let view_across = sqrt(view.x * view.x + view.y * view.y);
+    let light_across = sqrt(light.x * light.x + light.y * light.y);
+    let tau_v = sigma * view_across;
+    let tau_l = sigma * light_across;
+    let lit = svo_rectified(light.z, tau_l);
+    let seen = svo_rectified(view.z, tau_v);
+    if !(tau_v > 0.0 && tau_l > 0.0 && seen.x > 0.0) {
+        return lit.x / normalisation;
+    }
+    let rho = clamp((view.x * light.x + view.y * light.y) / (view_across * light_across), -1.0, 1.0);
+    let a = seen.w;
+    let b = lit.w;
+    let a2 = a * a;
+    let b2 = b * b;
+    let hermite = 0.5
+        + rho
+            * (a * b * (1.0 / 6.0)
+                + rho * ((a2 - 1.0) * (b2 - 1.0) * (1.0 / 24.0) + rho * (a * (a2 - 3.0)) * (b * (b2 - 3.0)) * (1.0 / 120.0)));
+    let series = rho * (seen.y * lit.y) + (seen.z * lit.z) * (rho * rho) * hermite;
+    let product = max(seen.x * lit.x + (tau_v * tau_l) * series, 0.0);
+    return product / (seen.x * normalisation);
 }
 
 // Rust: shading::element_radiance. `separate`: Filtering::Separate.
@@ -141,7 +164,7 @@ fn svo_element_radiance(voxel: SvoRawVoxel, view: vec3<f32>, light: vec3<f32>, s
     let slopes = smith_slope_deviation(sigma, sigma);
     let lambda_view = svo_lambda(v, slopes);
     let lambda_light = svo_lambda(l, slopes);
-    let lit = svo_expected_clamped_cosine(l, sigma);
+    let lit = svo_expected_clamped_cosine(v, l, sigma);
     var out = vec3<f32>(0.0);
     for (var c = 0u; c < 3u; c++) {
         let correlation = select(voxel.correlation[c], 0.0, separate);

@@ -40,7 +40,8 @@
 //! - [`trace_cone`]: Algorithm 1 and its baselines as modes of the same loop ([`Model`]:
 //!   masks, α-blending of eq. 12, the nearest voxel with 0/1 occupancy, separate
 //!   filtering), shadow cones ([`light_visibility`]) and the empty-space skip.
-//! - [`element_radiance`]: `L_d` (eq. 13 with eq. 17, plus a Lambert term).
+//! - [`element_radiance`]: `L_d` (eq. 13 with eq. 17, plus a Lambert term), whose mean
+//!   cosine is [`expected_clamped_cosine`] over the voxel's lobe of micro-normals.
 //! - [`GpuCamera`], [`GpuTraceSettings`]: the GPU forms.
 //!
 //! # Using the WGSL twin
@@ -85,6 +86,7 @@ extern crate std;
 
 mod camera;
 mod gpu;
+mod lambert;
 mod shading;
 mod trace;
 #[cfg(feature = "wgsl")]
@@ -92,6 +94,7 @@ mod wgsl;
 
 pub use camera::{Camera, CameraError, Cone, Lens};
 pub use gpu::{GpuCamera, GpuTraceSettings};
+pub use lambert::{RECTIFIED_CUTOFF, expected_clamped_cosine};
 pub use shading::{Filtering, Material, element_radiance};
 pub use trace::{ConeResult, Light, Model, TraceSettings, box_interval, light_visibility, trace_cone};
 #[cfg(feature = "wgsl")]

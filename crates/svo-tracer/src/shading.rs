@@ -4,7 +4,7 @@
 //! the light `l`, per colour channel `c`:
 //!
 //! ```text
-//! L_d,c = Ē V̄(l) ( k_d/π ā_c(v, l) ⟨n̂·l⟩ + k_s ρ_s(v, l) )
+//! L_d,c = Ē V̄(l) ( k_d/π ā_c(v, l) ⟨(m·l)₊⟩ + k_s ρ_s(v, l) )
 //! ```
 //!
 //! - `ā_c(v, l) = ā + a_s (2 (Λv + Λl + 1)/(Λv + Λl + 2) − 1)` (eq. 17, through
@@ -13,6 +13,12 @@
 //!   attribute tends to the top of the microsurface, `ā + a_s`).
 //! - `ρ_s`: eq. 13's microfacet lobe with the convolved slopes `σn² + σnp²` (§5.5),
 //!   `smith_micro::shade` of a white attribute.
+//! - `⟨(m·l)₊⟩`: eq. 13's mean cosine, the expected clamped cosine over the visible
+//!   facets (weighted by their projected area, as eq. 14 weights the attribute) of the
+//!   voxel's Gaussian lobe of micro-normals `N(n̄, σn²)` (§5.2, §5.5;
+//!   [`expected_clamped_cosine`], derived in its module), which is `(n̂·l)₊` at the finest
+//!   level (`σn = 0`) and for [`Filtering::Separate`] (the naive filtering of Fig. 11–12
+//!   keeps the Lambert term of the mean normal).
 //! - `V̄(l)`: the shadow cone's visibility (1 without shadows).
 //!
 //! The Lambert term weighted by `ā(v, l)` is the design notes' addition: eq. 13 alone is a
@@ -21,6 +27,8 @@
 use glam::Vec3;
 use smith_micro::{FilteredSurface, HeightCorrelatedAttribute, SlopeDeviation, shade, smith_lambda_direction};
 use svo_brick::{ATTRIBUTE_CHANNELS, Voxel};
+
+use crate::lambert::expected_clamped_cosine;
 
 /// The base material of the surface (the finest level's BRDF).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -93,7 +101,8 @@ pub fn element_radiance(
     // σ is clamped into the constructor's range, so this never returns.
     let Ok(slopes) = SlopeDeviation::isotropic(sigma) else { return Vec3::ZERO };
     let (lambda_v, lambda_l) = (lambda(v, slopes), lambda(l, slopes));
-    let lit = l.z.max(0.0);
+    // σ = 0 for Filtering::Separate: `(n̂·l)₊`, bit for bit.
+    let lit = expected_clamped_cosine(v, l, sigma);
     let mut out = [0.0_f32; ATTRIBUTE_CHANNELS];
     for (c, value) in out.iter_mut().enumerate() {
         let correlation = if filtering == Filtering::Correlated { voxel.correlation[c] } else { 0.0 };

@@ -39,10 +39,40 @@
 //! # Shadows
 //!
 //! With a light, each of the first [`TraceSettings::shadow_cones`] elements that add
-//! coverage casts a shadow cone from `p_d + r_d n̂` towards the light's centre, starting at the
-//! element's width and widening linearly to the light's diameter at the light; it is traced
-//! like a pixel cone with its own mask, and `V̄(l) = 1 −` its coverage. Later elements reuse
-//! the last visibility.
+//! coverage casts a shadow cone towards the light's centre, starting at the element's width
+//! and widening linearly to the light's diameter at the light; it is traced like a pixel
+//! cone with its own mask, and `V̄(l) = 1 −` its coverage. Later elements reuse the last
+//! visibility.
+//!
+//! **Where a shadow cone starts** ([`light_visibility`]). The elements that fill the rest of
+//! a pixel's mask lie deeper in the surface (`h̄ < 0`): a cone started at the element's
+//! centre, or a fixed offset from it, begins inside the surface's own reach and shadows its
+//! own surface (7–18 % too dark on a lit sphere with 4 cones). So the cone starts from the
+//! element's surface point `x = p_d − h̄ n̂` (the foot of its centre on its plane `(h̄, n̂)`,
+//! §5.4, H6), lifted along `n̂` by just what keeps its own first element off that plane.
+//! Element `e` of the shadow cone (centre `c`, radius `r_e`, half-length `l_e`, footprint
+//! `[−1, 1]²`) covers nothing when its sample has `h̄(c) > l_e |n_z| + √2 r_e ‖n_xy‖` (the
+//! mask test `v ≤ −√2`, `abuffer_mask::HalfPlane`), and by Cauchy–Schwarz
+//! (`n_z² + ‖n_xy‖² ≤ 1`) that holds whatever its sampled normal when
+//! `h̄(c) > ρ_e = √(l_e² + 2 r_e²)`, the element's circumradius. The first element's centre
+//! lies at `t₁ = l(0)` along the axis `d` from the start `x + δ n̂`, at the height
+//! `δ + t₁ (n̂·d)` above the plane, so
+//!
+//! ```text
+//! δ = ρ₁ − t₁ (n̂·d)
+//! ```
+//!
+//! puts its circumsphere on the plane. On a convex body the sampled `h̄(c)` is at least the
+//! height of `c` above the tangent plane at `x` (the body lies below that plane, and the box
+//! means and multilinear interpolation of a convex distance are at least the distance,
+//! Jensen), so the first element covers nothing; a later element at `t` rises by
+//! `t (n̂·d)` while its circumradius grows by at most `√3 |R − r| t / D` (`R` the light's
+//! radius, `r` the start radius, `D` the light's distance), so no element covers anything
+//! as long as `n̂·l ≥ √3 |R − r| / D`: an unshadowed convex surface keeps `V̄ = 1` except in
+//! that band above its terminator, where the light's disk itself starts to set (`n̂·l <
+//! R/D`). A real occluder farther along the cone is seen as before; the microsurface's own
+//! occlusion below the element's scale is not the shadow cone's (H1: it is local, in
+//! `L_d`).
 
 use abuffer_mask::{HalfPlane, Mask, MaskTable};
 use glam::Vec3;
@@ -303,16 +333,22 @@ fn march<const W: usize>(
     (coverage.fraction(), elements)
 }
 
-/// The visibility of the light from `point` (world), for a shadow cone of starting width
-/// `width`: `1 −` the cone's coverage.
+/// The visibility of the light from the surface point `surface` (world) of an element of
+/// unit normal `normal` (zero: none), for a shadow cone of starting width `width`: `1 −` the
+/// coverage of the cone from `surface + δ normal` towards the light's centre (see the module
+/// documentation: `δ = ρ₁ − t₁ (n̂·d)` keeps the cone's first element off the element's own
+/// plane). The cone's axis is the direction `d` from `surface` to the light's centre, and
+/// it reaches the light's diameter at the light's distance from `surface`. A surface point
+/// at the light's centre (or not finite) sees all of it: `1`.
 pub fn light_visibility<const W: usize>(
     tree: &PackedTree,
     table: &MaskTable<W>,
-    point: Vec3,
+    surface: Vec3,
+    normal: Vec3,
     width: f32,
     settings: &TraceSettings,
 ) -> f32 {
-    let to_light = settings.light.position - point;
+    let to_light = settings.light.position - surface;
     let distance = to_light.length();
     if distance.is_nan() || distance <= 0.0 {
         return 1.0;
@@ -321,8 +357,16 @@ pub fn light_visibility<const W: usize>(
     let (right, up) = tangent_frame(direction);
     let diameter = 2.0 * settings.light.radius;
     let widen = |t: f32| width + (diameter - width) * (t / distance).clamp(0.0, 1.0);
+    // The first element of the march (it starts at t = 0 inside the domain): its centre t₁,
+    // radius r₁ and half-length l₁, as `march` computes them.
+    let floor = settings.min_half_length * tree.uniforms().voxel_size.x;
+    let first = (0.5 * widen(0.0)).max(floor);
+    let (r1, l1) = (0.5 * widen(first), (0.5 * widen(first)).max(floor));
+    let reach = libm::sqrtf(l1 * l1 + 2.0 * (r1 * r1));
+    let lift = reach - first * normal.dot(direction);
+    let origin = surface + normal * lift;
     let never = |_: f32| false;
-    let geometry = ConeGeometry { origin: point, direction, right, up, width: &widen, crossed: &never };
+    let geometry = ConeGeometry { origin, direction, right, up, width: &widen, crossed: &never };
     let shadow_settings = TraceSettings { shadow_cones: 0, ..*settings };
     let (coverage, _) = march(tree, table, &geometry, 0.0, &shadow_settings, |_, _, _| {});
     1.0 - coverage
@@ -352,7 +396,9 @@ pub fn trace_cone<const W: usize>(
         let light = (settings.light.position - p).normalize_or_zero();
         if shadows < settings.shadow_cones {
             let r = 0.5 * cone.width(z);
-            visibility = light_visibility(tree, table, p + voxel.normal * r, 2.0 * r, settings);
+            // The foot of the element's centre on its plane (h̄, n̂).
+            let surface = p - voxel.normal * voxel.distance;
+            visibility = light_visibility(tree, table, surface, voxel.normal, 2.0 * r, settings);
             shadows += 1;
         }
         let l_d = element_radiance(

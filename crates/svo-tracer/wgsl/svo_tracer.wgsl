@@ -105,6 +105,52 @@ fn svo_lambda(direction: vec3<f32>, slopes: vec3<f32>) -> SmithValue {
     return lambda;
 }
 
+// Rust: lambert::rectified; (mean, cdf, density, ratio) of lambert::Rectified.
+fn svo_rectified(mu: f32, tau: f32) -> vec4<f32> {
+    let one_sided = vec4<f32>(max(mu, 0.0), select(0.0, 1.0, mu > 0.0), 0.0, 0.0);
+    if !(tau > 0.0) {
+        return one_sided;
+    }
+    let x = mu / tau * SVO_FRAC_1_SQRT_2;
+    if !(abs(x) < SVO_RECTIFIED_CUTOFF) {
+        return one_sided;
+    }
+    let erfc = smith_erfc(-x);
+    let cdf = 0.5 * select(0.0, erfc.value, erfc.kind == SMITH_FINITE);
+    let density = exp(-(x * x)) * SVO_FRAC_1_SQRT_2PI;
+    let mean = max(mu * cdf + tau * density, 0.0);
+    return vec4<f32>(mean, cdf, density, mu / tau);
+}
+
+// Rust: lambert::expected_clamped_cosine.
+fn svo_expected_clamped_cosine(view: vec3<f32>, light: vec3<f32>, sigma: f32) -> f32 {
+    if !(sigma > 0.0) {
+        return max(light.z, 0.0);
+    }
+    let normalisation = sqrt(1.0 + 2.0 * (sigma * sigma));
+    let view_across = sqrt(view.x * view.x + view.y * view.y);
+    let light_across = sqrt(light.x * light.x + light.y * light.y);
+    let tau_v = sigma * view_across;
+    let tau_l = sigma * light_across;
+    let lit = svo_rectified(light.z, tau_l);
+    let seen = svo_rectified(view.z, tau_v);
+    if !(tau_v > 0.0 && tau_l > 0.0 && seen.x > 0.0) {
+        return lit.x / normalisation;
+    }
+    let rho = clamp((view.x * light.x + view.y * light.y) / (view_across * light_across), -1.0, 1.0);
+    let a = seen.w;
+    let b = lit.w;
+    let a2 = a * a;
+    let b2 = b * b;
+    let hermite = 0.5
+        + rho
+            * (a * b * (1.0 / 6.0)
+                + rho * ((a2 - 1.0) * (b2 - 1.0) * (1.0 / 24.0) + rho * (a * (a2 - 3.0)) * (b * (b2 - 3.0)) * (1.0 / 120.0)));
+    let series = rho * (seen.y * lit.y) + (seen.z * lit.z) * (rho * rho) * hermite;
+    let product = max(seen.x * lit.x + (tau_v * tau_l) * series, 0.0);
+    return product / (seen.x * normalisation);
+}
+
 // Rust: shading::element_radiance. `separate`: Filtering::Separate.
 fn svo_element_radiance(voxel: SvoRawVoxel, view: vec3<f32>, light: vec3<f32>, settings: GpuTraceSettings, separate: bool, visibility: f32) -> vec3<f32> {
     let n = voxel.normal;
@@ -118,7 +164,7 @@ fn svo_element_radiance(voxel: SvoRawVoxel, view: vec3<f32>, light: vec3<f32>, s
     let slopes = smith_slope_deviation(sigma, sigma);
     let lambda_view = svo_lambda(v, slopes);
     let lambda_light = svo_lambda(l, slopes);
-    let lit = max(l.z, 0.0);
+    let lit = svo_expected_clamped_cosine(v, l, sigma);
     var out = vec3<f32>(0.0);
     for (var c = 0u; c < 3u; c++) {
         let correlation = select(voxel.correlation[c], 0.0, separate);
@@ -344,22 +390,29 @@ fn svo_march_coverage(table: MaskTableUniforms, settings: GpuTraceSettings, stat
 }
 
 // Rust: trace::light_visibility.
-fn svo_light_visibility(tree: OctreeUniforms, table: MaskTableUniforms, point: vec3<f32>, width: f32, settings: GpuTraceSettings) -> f32 {
-    let to_light = settings.light.xyz - point;
+fn svo_light_visibility(tree: OctreeUniforms, table: MaskTableUniforms, surface: vec3<f32>, normal: vec3<f32>, width: f32, settings: GpuTraceSettings) -> f32 {
+    let to_light = settings.light.xyz - surface;
     let distance = length(to_light);
     if !(distance > 0.0) {
         return 1.0;
     }
+    let direction = to_light / distance;
     var cone: SvoCone;
-    cone.origin = point;
-    cone.direction = to_light / distance;
-    let frame = svo_tangent_frame(cone.direction);
+    cone.direction = direction;
+    let frame = svo_tangent_frame(direction);
     cone.right = frame[0];
     cone.up = frame[1];
     cone.spread = width;
     cone.aperture = 2.0 * settings.light.w;
     cone.focus = distance;
     cone.kind = SVO_CONE_SHADOW;
+    let floor = settings.background_floor.w * tree.voxel_size.x;
+    let first = max(0.5 * svo_cone_width(cone, 0.0), floor);
+    let r1 = 0.5 * svo_cone_width(cone, first);
+    let l1 = max(0.5 * svo_cone_width(cone, first), floor);
+    let reach = sqrt(l1 * l1 + 2.0 * (r1 * r1));
+    let lift = reach - first * dot(normal, direction);
+    cone.origin = surface + normal * lift;
     var state = svo_march_begin(tree, cone, settings);
     loop {
         let element = svo_march_next(tree, table, cone, settings, &state);
@@ -388,7 +441,8 @@ fn svo_trace_cone(tree: OctreeUniforms, table: MaskTableUniforms, cone: SvoCone,
         let light = select(vec3<f32>(0.0), normalize(to_light), dot(to_light, to_light) > 0.0);
         if shadows < settings.model_limits.w {
             let r = 0.5 * svo_cone_width(cone, element.z);
-            visibility = svo_light_visibility(tree, table, p + element.voxel.normal * r, 2.0 * r, settings);
+            let surface = p - element.voxel.normal * element.voxel.distance;
+            visibility = svo_light_visibility(tree, table, surface, element.voxel.normal, 2.0 * r, settings);
             shadows += 1u;
         }
         radiance += svo_element_radiance(element.voxel, view, light, settings, separate, visibility) * element.added;

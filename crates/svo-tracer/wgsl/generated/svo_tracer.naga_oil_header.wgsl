@@ -2,4 +2,4 @@
 #define_import_path svo_tracer
 #import svo_brick::{OctreeUniforms, SvoEmptyRegion, SvoRawVoxel, SvoSample, svo_empty_region, svo_sample, svo_sample_nearest}
 #import abuffer_mask::{MaskTableUniforms, abuffer_cell_index, abuffer_half_plane, abuffer_mask_difference, abuffer_mask_popcount, abuffer_mask_union, abuffer_mask_word_offset}
-#import smith_micro::{SMITH_FINITE, SMITH_MAX_SLOPE_DEVIATION, SMITH_NONE, SmithValue, smith_attribute_is_valid, smith_lambda_direction, smith_positive_infinity, smith_shade, smith_slope_deviation, smith_visible_mean_attribute}
+#import smith_micro::{SMITH_FINITE, SMITH_MAX_SLOPE_DEVIATION, SMITH_NONE, SmithValue, smith_attribute_is_valid, smith_erfc, smith_lambda_direction, smith_positive_infinity, smith_shade, smith_slope_deviation, smith_visible_mean_attribute}

@@ -23,7 +23,7 @@ const SVO_FRAC_1_SQRT_2: f32 = 0x1.6a09e6p-1f; // 7.0710677e-1
 
 const SVO_FRAC_1_SQRT_2PI: f32 = 0x1.988454p-2f; // 3.989423e-1
 
-const SVO_RECTIFIED_CUTOFF: f32 = 0x1.4p+3f; // 1e1
+const SVO_RECTIFIED_CUTOFF: f32 = 0x1.400000p+3f; // 1e1
 
 // Rust size 96 bytes.
 struct GpuCamera {

@@ -90,11 +90,11 @@ struct Rectified {
 /// [`Rectified`] of `N(mu, tau²)`.
 fn rectified(mu: f32, tau: f32) -> Rectified {
     let one_sided = Rectified { mean: mu.max(0.0), cdf: if mu > 0.0 { 1.0 } else { 0.0 }, density: 0.0, ratio: 0.0 };
-    if !(tau > 0.0) {
+    if tau.is_nan() || tau <= 0.0 {
         return one_sided;
     }
     let x = mu / tau * FRAC_1_SQRT_2;
-    if !(x.abs() < RECTIFIED_CUTOFF) {
+    if x.is_nan() || x.abs() >= RECTIFIED_CUTOFF {
         return one_sided;
     }
     // erfc of a finite |x| < 10 always has a value.
@@ -117,8 +117,7 @@ fn rectified(mu: f32, tau: f32) -> Rectified {
 ///
 /// WGSL twin: `svo_expected_clamped_cosine`.
 pub fn expected_clamped_cosine(view: Vec3, light: Vec3, sigma: f32) -> f32 {
-    // `!(σ > 0)` also catches NaN.
-    if !(sigma > 0.0) {
+    if sigma.is_nan() || sigma <= 0.0 {
         return light.z.max(0.0);
     }
     let normalisation = libm::sqrtf(1.0 + 2.0 * (sigma * sigma));

@@ -25,6 +25,7 @@ mod occlusion_check;
 mod showcase;
 mod stackings;
 mod svo;
+mod svo_stability;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -85,8 +86,18 @@ fn test_gpu() -> Result<(), String> {
     // nothing is rebuilt; the glob selects the GPU test targets of `tests/`.
     cargo(&["test", "--workspace", "--features", "integration-tests/gpu", "--test", "*_gpu", "--", "--show-output"])?;
     // A renderer outside the workspace's pipelines takes octahedral-map alone and checks its
-    // GPU results against the Rust (exits with an error naming the first difference).
-    cargo(&["run", "--package", "foreign-renderer"])
+    // GPU results against the Rust (exits with an error naming the first difference). Built
+    // with the workspace's features (`cargo run --package` would resolve its own and compile
+    // wgpu a third time); `.ci/packages` builds the algorithm crates alone.
+    cargo(&["build", "--workspace", "--bins"])?;
+    let exe = std::env::current_exe().map_err(|e| format!("cannot locate xtask's binary: {e}"))?;
+    let renderer = exe.with_file_name(format!("foreign-renderer{}", std::env::consts::EXE_SUFFIX));
+    println!("$ {}", renderer.display());
+    let status = std::process::Command::new(&renderer)
+        .current_dir(workspace_root())
+        .status()
+        .map_err(|e| format!("cannot run {}: {e}", renderer.display()))?;
+    if status.success() { Ok(()) } else { Err(format!("{} failed ({status})", renderer.display())) }
 }
 
 /// `--quick`: the command's quick settings.
@@ -243,6 +254,13 @@ pub const COMMANDS: &[Command] = &[
         positional: Positional::OutDir("target/svo"),
         run: svo::run,
     },
+    Command {
+        name: "svo-stability",
+        flags: &[QUICK],
+        exclusive: &[],
+        positional: Positional::OutDir("target/svo-stability"),
+        run: svo_stability::run,
+    },
 ];
 
 /// The usage of every command.
@@ -272,7 +290,8 @@ fn bench(args: &Args<'_>) -> Result<(), String> {
 /// Everything that can be shown so far, at quick settings: the octahedral layout, impostor
 /// accuracy (Fig. 12-13), the DDM tracer's tables and its renders on a plane and a torus,
 /// the A-buffer masks' coverage error, Fig. 15 (occlusion culling), the multiscale renderer's
-/// dolly over a bean pile and Fig. 9.
+/// dolly over a bean pile, Fig. 9, and the SVO cone tracer's dolly, depth of field, shadows
+/// and stability sweeps.
 fn showcase(args: &Args<'_>) -> Result<(), String> {
     let out = args.out_dir();
     showcase::run(&out)?;
@@ -283,7 +302,11 @@ fn showcase(args: &Args<'_>) -> Result<(), String> {
     abuffer_chart::run(&out)?;
     run_command("culling-chart", &[&out_text, "--quick"])?;
     run_command("stackings", &[&out_text, "--quick", "--accuracy"])?;
-    run_command("fig9", &[&out_text, "--quick"])
+    run_command("fig9", &[&out_text, "--quick"])?;
+    run_command("svo", &[&out_text, "--quick"])?;
+    // The sweeps' CSV names (`stability.csv`, `grazing.csv`, ...) get a folder of their own.
+    let stability = out.join("svo-stability").to_string_lossy().into_owned();
+    run_command("svo-stability", &[&stability, "--quick"])
 }
 
 /// The command called `name`.

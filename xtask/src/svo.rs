@@ -3,11 +3,13 @@
 //! (Heitz & Neyret 2012) of a scene rendered on the GPU along a dolly of `K` octaves
 //! (Fig. 8) with every model, each frame against the supersampled truth of the unfiltered
 //! surface; the depth-of-field and shadow images of the middle view against theirs; PNGs of
-//! every frame beside its truth, `svo_accuracy.csv`, `svo_times.csv`, `svo_effects.csv`, and
-//! `svo_error_vs_time.png` (ꟻLIP against GPU µs per covered pixel per model, each view and the
-//! dolly's mean, the Pareto front of the means drawn).
+//! every frame beside its truth, `svo_accuracy.csv`, `svo_times.csv`, `svo_effects.csv`,
+//! `svo_supersampling.csv` (supersampling itself as a method: the truth's sampling with fewer
+//! rays, timed on the CPU, against the truth, and the truth's own noise floor), and
+//! `svo_error_vs_time.png` (ꟻLIP against µs per covered pixel per model and per supersampling
+//! rate, each view and the dolly's mean, the Pareto front of the means drawn).
 //!
-//! `cargo xtask bench-gpu svo` ([`bench`]) times every model with and without shadows and
+//! `cargo xtask bench-gpu svo` ([`bench()`]) times every model with and without shadows and
 //! depth of field at every view and writes `svo.csv`.
 
 use std::fmt::Write as _;
@@ -19,7 +21,8 @@ use glam::Vec3;
 use gpu_harness::Gpu;
 use plotters::prelude::*;
 use svo_brick::{BrickSize, VoxelLayout};
-use svo_render::accuracy::{AccuracyRow, Dolly, DollySettings, compare, dolly_accuracy_with, write_csv};
+use svo_render::accuracy::{AccuracyRow, Comparison, Dolly, DollySettings, compare, dolly_accuracy_with, write_csv};
+use svo_render::parallel::threads;
 use svo_render::renderer::pack_for;
 use svo_render::scene_input::SceneInput;
 use svo_render::scenes::Scene;
@@ -150,7 +153,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
 
     // GPU time per view and model.
     let mut times = String::from("view,model,median_ms,us_per_covered_pixel,elements_per_pixel,timing\n");
-    let mut points: Vec<(Model, f64, f64)> = Vec::new();
+    let mut points: Vec<(Model, u32, f64, f64)> = Vec::new();
     println!(
         "{:>4} {:>9} {:>8} {:>7} {:>7} {:>8} {:>7} {:>9} {:>9} {:>10}",
         "view", "model", "px/voxel", "SSIM", "FLIP", "colour", "drift", "gpu ms", "µs/px", "truth ms"
@@ -173,7 +176,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
             per_pixel
         );
         if per_pixel.is_finite() {
-            points.push((row.model, per_pixel, row.comparison.flip));
+            points.push((row.model, row.view, per_pixel, row.comparison.flip));
         }
     }
     let path = out.join("svo_times.csv");
@@ -181,11 +184,15 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     for model in Model::ALL {
         println!("  {:>11}: zoom drift {:+.4}", model.name(), table.max_drift(model));
     }
+    let sampled = supersampling(&setup, &settings, &truths)?;
+    write_supersampling(&sampled, &out.join("svo_supersampling.csv"))?;
+    print_equal_error(&sampled, &points);
     effects(&setup, &settings, &out)?;
     let adapter = setup.gpu.adapter_info().name.clone();
-    chart(&out.join("svo_error_vs_time.png"), &points, &adapter, setup.scene.name)?;
+    chart(&out.join("svo_error_vs_time.png"), &points, &sampled, &adapter, setup.scene.name)?;
     println!(
-        "svo: wrote PNGs, svo_accuracy.csv, svo_times.csv, svo_effects.csv, svo_error_vs_time.png to {}",
+        "svo: wrote PNGs, svo_accuracy.csv, svo_times.csv, svo_supersampling.csv, svo_effects.csv, \
+         svo_error_vs_time.png to {}",
         out.display()
     );
     Ok(())
@@ -206,6 +213,120 @@ fn print_row(row: &AccuracyRow, gpu_ms: f64, per_pixel: f64) {
         per_pixel,
         row.truth_ms
     );
+}
+
+/// One render of the truth's own sampling at one view, against the truth.
+struct Supersampled {
+    view: u32,
+    /// `k`: `k × k` rays per pixel.
+    rays_per_axis: u32,
+    /// Jittered strata (as the truth), or their centres (the noise-floor render).
+    jitter: bool,
+    /// Wall clock on the CPU, all cores.
+    ms: f64,
+    /// `ms` per pixel the truth covers, in µs.
+    per_pixel: f64,
+    comparison: Comparison,
+}
+
+impl Supersampled {
+    /// A rate cheaper than the truth's (a method on the chart), not the noise floor.
+    fn is_method(&self) -> bool {
+        self.jitter
+    }
+}
+
+/// Supersampling as a method, view by view: the truth's sampling of the unfiltered surface
+/// with 1 × 1 and 2 × 2 jittered rays per pixel (those below the truth's `k × k`), timed on
+/// the CPU, against the truth; and the truth's noise floor: its own `k × k` rays at the
+/// strata's centres against the jittered truth (two independent estimates of the same
+/// integral: their difference is about √2 times the truth's own error).
+fn supersampling(
+    setup: &Setup,
+    settings: &DollySettings,
+    truths: &[(u32, Frame)],
+) -> Result<Vec<Supersampled>, String> {
+    let reference = settings.truth;
+    let mut cases: Vec<TruthSettings> = [1, 2]
+        .into_iter()
+        .filter(|&k| k < reference.rays_per_axis)
+        .map(|k| TruthSettings { rays_per_axis: k, ..reference })
+        .collect();
+    cases.push(TruthSettings { jitter: false, ..reference });
+    let source = setup.scene.source.as_ref();
+    let mut out = Vec::new();
+    for (view, truth) in truths {
+        let camera = settings.dolly.camera(*view).map_err(|e| e.to_string())?;
+        let covered = truth.coverage.iter().filter(|&&c| c > 0.0).count();
+        for case in &cases {
+            let started = Instant::now();
+            let frame = render_source_truth(source, setup.scene.domain, &camera, &settings.trace, case)
+                .map_err(|e| e.to_string())?;
+            let ms = started.elapsed().as_secs_f64() * 1e3;
+            let comparison =
+                compare(&frame, truth, settings.trace.background, settings.exposure).map_err(|e| e.to_string())?;
+            let per_pixel = if covered > 0 { ms * 1e3 / covered as f64 } else { f64::INFINITY };
+            out.push(Supersampled {
+                view: *view,
+                rays_per_axis: case.rays_per_axis,
+                jitter: case.jitter,
+                ms,
+                per_pixel,
+                comparison,
+            });
+        }
+    }
+    Ok(out)
+}
+
+fn write_supersampling(rows: &[Supersampled], path: &Path) -> Result<(), String> {
+    let mut csv = String::from("view,rays_per_axis,strata,ms,us_per_covered_pixel,threads,ssim,flip,rmse\n");
+    for r in rows {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{:.3},{:.6},{},{:.6},{:.6},{:.6}",
+            r.view,
+            r.rays_per_axis,
+            if r.jitter { "jittered" } else { "centres (noise floor)" },
+            r.ms,
+            r.per_pixel,
+            threads(),
+            r.comparison.ssim,
+            r.comparison.flip,
+            r.comparison.rmse
+        );
+    }
+    std::fs::write(path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
+/// Per view: the cheapest supersampling rate whose ꟻLIP is at most the masks' ꟻLIP and its
+/// time against the masks' (or, where no rate tried reaches it, a lower bound of the ratio:
+/// the largest rate's), beside the truth's noise floor.
+fn print_equal_error(sampled: &[Supersampled], points: &[(Model, u32, f64, f64)]) {
+    println!("  supersampling on the CPU ({} threads) against the masks on the GPU, at equal ꟻLIP:", threads());
+    for &(_, view, masks_us, masks_flip) in points.iter().filter(|p| p.0 == Model::Masks) {
+        let rates: Vec<&Supersampled> = sampled.iter().filter(|r| r.view == view && r.is_method()).collect();
+        let floor = sampled.iter().find(|r| r.view == view && !r.is_method()).map_or(f64::NAN, |r| r.comparison.flip);
+        let reached = rates.iter().find(|r| r.comparison.flip <= masks_flip);
+        let line = match (reached, rates.last()) {
+            (Some(r), _) => format!(
+                "{k}×{k} rays reach it (ꟻLIP {:.4}) at {:.3}× the masks' time",
+                r.comparison.flip,
+                r.per_pixel / masks_us,
+                k = r.rays_per_axis
+            ),
+            (None, Some(r)) => format!(
+                "{k}×{k} rays do not (ꟻLIP {:.4}): more than {:.3}× the masks' time",
+                r.comparison.flip,
+                r.per_pixel / masks_us,
+                k = r.rays_per_axis
+            ),
+            (None, None) => "no rate below the truth's was tried".to_owned(),
+        };
+        println!(
+            "    view {view}: masks ꟻLIP {masks_flip:.4}, {masks_us:.3} µs/px; {line}; truth noise floor ꟻLIP {floor:.4}"
+        );
+    }
 }
 
 /// Depth of field and soft shadows at the middle view, each against its own truth.
@@ -266,22 +387,35 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
     front
 }
 
-fn chart(path: &Path, points: &[(Model, f64, f64)], adapter: &str, scene: &str) -> Result<(), String> {
+const SUPERSAMPLING_COLOURS: [RGBColor; 2] = [RGBColor(90, 90, 90), RGBColor(150, 60, 160)];
+const FLOOR_GREY: RGBColor = RGBColor(140, 140, 140);
+
+fn chart(
+    path: &Path,
+    points: &[(Model, u32, f64, f64)],
+    sampled: &[Supersampled],
+    adapter: &str,
+    scene: &str,
+) -> Result<(), String> {
     if points.is_empty() {
         return Err("svo: no view covered any pixel, nothing to chart".into());
     }
+    let methods: Vec<&Supersampled> = sampled.iter().filter(|r| r.is_method() && r.per_pixel.is_finite()).collect();
+    let floors: Vec<f64> = sampled.iter().filter(|r| !r.is_method()).map(|r| r.comparison.flip).collect();
     let (mut x_lo, mut x_hi, mut y_hi) = (f64::INFINITY, 0.0_f64, 0.0_f64);
-    for &(_, x, y) in points {
+    let xy = points.iter().map(|p| (p.2, p.3)).chain(methods.iter().map(|r| (r.per_pixel, r.comparison.flip)));
+    for (x, y) in xy {
         x_lo = x_lo.min(x);
         x_hi = x_hi.max(x);
         y_hi = y_hi.max(y);
     }
     let (x_lo, x_hi) = (x_lo * 0.8, x_hi * 1.25);
-    let caption = format!("SVO `{scene}`: error against GPU time ({adapter})");
+    let caption =
+        format!("SVO `{scene}`: error against time (tracer: {adapter}; supersampling: CPU, {} threads)", threads());
     render_png(path, (1100, 750), |root| {
         let e = drawing_error;
         let mut chart = ChartBuilder::on(root)
-            .caption(caption.as_str(), ("sans-serif", 24))
+            .caption(caption.as_str(), ("sans-serif", 22))
             .margin(20)
             .x_label_area_size(50)
             .y_label_area_size(70)
@@ -289,20 +423,18 @@ fn chart(path: &Path, points: &[(Model, f64, f64)], adapter: &str, scene: &str) 
             .map_err(e)?;
         chart
             .configure_mesh()
-            .x_desc("GPU µs per covered pixel (median frame)")
+            .x_desc("µs per covered pixel (tracer: median GPU frame; supersampling: CPU wall clock)")
             .y_desc("FLIP against the supersampled truth")
             .label_style(("sans-serif", 18))
             .draw()
             .map_err(e)?;
-        // Each model's views, thin; its mean over the dolly, large: the fair comparison
-        // (the views differ in cost and error for every model alike).
+        // Each method's views, thin; its mean over the dolly, large: the fair comparison
+        // (the views differ in cost and error for every method alike).
         let mut means = Vec::new();
-        for (k, model) in Model::ALL.into_iter().enumerate() {
-            let series: Vec<(f64, f64)> = points.iter().filter(|p| p.0 == model).map(|p| (p.1, p.2)).collect();
+        let mut series_of = |series: Vec<(f64, f64)>, colour: RGBColor, label: String| -> Result<(), String> {
             if series.is_empty() {
-                continue;
+                return Ok(());
             }
-            let colour = COLOURS[k % COLOURS.len()];
             chart.draw_series(LineSeries::new(series.clone(), colour.mix(0.35).stroke_width(1))).map_err(e)?;
             chart.draw_series(series.iter().map(|&p| Circle::new(p, 3, colour.mix(0.5).filled()))).map_err(e)?;
             let n = series.len() as f64;
@@ -311,15 +443,33 @@ fn chart(path: &Path, points: &[(Model, f64, f64)], adapter: &str, scene: &str) 
             chart
                 .draw_series([Circle::new(mean, 9, colour.filled())])
                 .map_err(e)?
-                .label(format!("{} (dolly mean; small: each view)", model.name()))
+                .label(label)
                 .legend(legend_stroke(colour, 4, 24));
+            Ok(())
+        };
+        for (k, model) in Model::ALL.into_iter().enumerate() {
+            let series = points.iter().filter(|p| p.0 == model).map(|p| (p.2, p.3)).collect();
+            series_of(series, COLOURS[k % COLOURS.len()], format!("{} (dolly mean; small: each view)", model.name()))?;
+        }
+        for (i, rate) in [1, 2].into_iter().enumerate() {
+            let series =
+                methods.iter().filter(|r| r.rays_per_axis == rate).map(|r| (r.per_pixel, r.comparison.flip)).collect();
+            series_of(series, SUPERSAMPLING_COLOURS[i], format!("supersampling {rate}×{rate} rays (CPU)"))?;
+        }
+        if !floors.is_empty() {
+            let floor = floors.iter().sum::<f64>() / floors.len() as f64;
+            chart
+                .draw_series(LineSeries::new([(x_lo, floor), (x_hi, floor)], FLOOR_GREY.stroke_width(1)))
+                .map_err(e)?
+                .label("the truth's noise floor (centred vs jittered strata, dolly mean)")
+                .legend(legend_stroke(FLOOR_GREY, 1, 24));
         }
         chart
             .draw_series(LineSeries::new(pareto_front(&means), BLACK.stroke_width(2)))
             .map_err(e)?
             .label("Pareto front of the means")
             .legend(legend_stroke(BLACK, 2, 24));
-        draw_legend(&mut chart, 18, SeriesLabelPosition::UpperRight)
+        draw_legend(&mut chart, 16, SeriesLabelPosition::UpperRight)
     })
 }
 

@@ -411,7 +411,7 @@ fn svo_light_visibility(tree: OctreeUniforms, table: MaskTableUniforms, surface:
     let r1 = 0.5 * svo_cone_width(cone, first);
     let l1 = max(0.5 * svo_cone_width(cone, first), floor);
     let reach = sqrt(l1 * l1 + 2.0 * (r1 * r1));
-    let lift = reach - first * dot(normal, direction);
+    let lift = reach - first * dot(normal, direction) + SVO_SHADOW_LIFT_VOXELS * tree.voxel_size.x;
     cone.origin = surface + normal * lift;
     var state = svo_march_begin(tree, cone, settings);
     loop {

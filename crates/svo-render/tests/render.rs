@@ -449,6 +449,58 @@ fn shadow_cones_leave_a_lit_convex_surface_lit_and_an_occluder_darkens() {
 }
 
 /// The parallel render is every pixel's `trace_cone`, bit for bit, in row-major order.
+/// (g) Magnified bumps: where the pixel is a fraction of the finest voxel, the shadow cones
+/// start on the finest level's interpolated distance, which departs from the element's plane
+/// by up to `(√3/2) S₀` between its vertex samples; started on the plane itself they covered
+/// their own first elements (the frame 26 % darker with one cone, 42 % with four, in contour
+/// bands, where the truth is lit). They may darken the frame no more than the truth's own
+/// shadow rays darken it, plus three standard errors of the truth's mean visibility
+/// (`s × s` rays per hit, each a Bernoulli of variance at most ¼, over `N` covered pixels:
+/// `3 · ½ / √(s² N)`).
+#[test]
+fn shadow_cones_do_not_shadow_a_magnified_bumpy_surface_the_truth_sees_lit() {
+    let scene = bumpy();
+    let tree = PackedTree::new(&scene.build(BrickSize::Eight, 4).unwrap(), VoxelLayout::Compact16Fine8);
+    let voxel = scene.voxel_size(BrickSize::Eight, 4);
+    // A pixel of about an eighth of a finest voxel at the target, the light beside the view.
+    let dolly = Dolly::towards(&scene, 0.25, 0.0, 1, 32, 32);
+    let camera = dolly.camera(0).unwrap();
+    let pixel = 2.0 * 0.25 * (0.5 * dolly.fov_y).tan() / 32.0;
+    assert!(pixel < voxel / 4.0, "the view is magnified: pixel {pixel}, voxel {voxel}");
+    let light_at = scene.target + (dolly.direction + 0.7 * dolly.up + 0.4 * Vec3::X).normalize() * 8.0;
+    let lit = TraceSettings { light: Light { position: light_at, radius: 0.4, radiance: 3.0 }, ..settings() };
+    let s = 3;
+    let truth = TruthSettings { shadow_rays_per_axis: s, ..TruthSettings::for_voxel(voxel, 2) };
+    let unshadowed_truth = TruthSettings { shadow_rays_per_axis: 0, ..truth };
+    let (source, domain) = (scene.source.as_ref(), scene.domain);
+    let truth_lit = render_source_truth(source, domain, &camera, &lit, &unshadowed_truth).unwrap();
+    let truth_shadowed = render_source_truth(source, domain, &camera, &lit, &truth).unwrap();
+    let covered = truth_lit.coverage.iter().filter(|&&c| c > 0.0).count();
+    assert!(covered > 500, "{covered} covered pixels");
+    let darker = |shadowed: &Frame, unshadowed: &Frame| {
+        1.0 - shadowed.surface_mean(BACKGROUND).element_sum() / unshadowed.surface_mean(BACKGROUND).element_sum()
+    };
+    let truth_darker = darker(&truth_shadowed, &truth_lit);
+    let noise = 3.0 * 0.5 / ((s * s) as f32 * covered as f32).sqrt();
+    let unshadowed = cpu::render(&tree, table(), &camera, &lit);
+    for k in [1, 4] {
+        let frame = cpu::render(&tree, table(), &camera, &TraceSettings { shadow_cones: k, ..lit });
+        let cones_darker = darker(&frame, &unshadowed);
+        println!(
+            "magnified bumps ({:.3} voxels per pixel), K = {k} shadow cones: {:.2} % darker than without; the truth's \
+             shadow rays {:.2} % (± {:.2} %, {covered} px)",
+            pixel / voxel,
+            100.0 * cones_darker,
+            100.0 * truth_darker,
+            100.0 * noise
+        );
+        assert!(
+            cones_darker <= truth_darker + noise,
+            "K = {k}: {cones_darker} darker, the truth {truth_darker} ± {noise}"
+        );
+    }
+}
+
 #[test]
 fn the_parallel_render_is_the_tracer_pixel_by_pixel() {
     let camera = Camera::look_at(Vec3::new(0.5, 0.3, -2.5), Vec3::ZERO, Vec3::Y, 0.6, 16, 12).unwrap();

@@ -91,7 +91,7 @@
 
 use abuffer_mask::{HalfPlane, Mask, MaskTable};
 use glam::Vec3;
-use svo_brick::{EmptyRegion, PackedTree, Voxel};
+use svo_brick::{EmptyRegion, FRACTION_STEPS, PackedTree, Voxel};
 
 use crate::camera::Cone;
 use crate::shading::{Filtering, Material, element_radiance, tangent_frame};
@@ -239,12 +239,19 @@ pub(crate) const SHADOW_LIFT_VOXELS: f32 = 0.866_025_4;
 /// The factor of [`error_bound`]: `√3` and the layouts' quantisation and rounding.
 pub(crate) const ERROR_BOUND_FACTOR: f32 = 1.74;
 
-/// The finest level a sample at `lod` reads: `⌊lod⌋` (quadrilinear reads it and the next),
-/// or the nearest level for [`Model::Nearest`].
+/// The finest level a sample at `lod` depends on through a level it reads: `⌊lod⌋ + 1`, as
+/// quadrilinear sampling blends `⌊lod⌋` towards the next level, unless the blend's weight
+/// (the sampler's fraction, in steps of 2⁻¹¹) is zero and `⌊lod⌋` alone is read — every
+/// magnified cone (`lod ≤ 0`), whose empty nodes at the finest level then count for the
+/// empty-space skip; the nearest level for [`Model::Nearest`].
 fn sampled_level(lod: f32, top: u32, model: Model) -> u32 {
     let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top as f32) };
-    let level = if model == Model::Nearest { libm::floorf(lod + 0.5) } else { libm::floorf(lod) };
-    (level as u32 + u32::from(model != Model::Nearest)).min(top)
+    if model == Model::Nearest {
+        return (libm::floorf(lod + 0.5) as u32).min(top);
+    }
+    let level = libm::floorf(lod);
+    let blended = libm::floorf((lod - level) * FRACTION_STEPS) > 0.0;
+    (level as u32 + u32::from(blended)).min(top)
 }
 
 /// `E(λ)`: how far a sample at `lod` may lie from the source's distance (world units). At

@@ -224,9 +224,12 @@ fn svo_sampled_level(lod: f32, top: u32, model: u32) -> u32 {
     if (bitcast<u32>(lod) & 0x7fffffffu) > 0x7f800000u {
         clamped = 0.0;
     }
-    let nearest = model == SVO_MODEL_NEAREST;
-    let level = select(floor(clamped), floor(clamped + 0.5), nearest);
-    return min(u32(level) + select(1u, 0u, nearest), top);
+    if model == SVO_MODEL_NEAREST {
+        return min(u32(floor(clamped + 0.5)), top);
+    }
+    let level = floor(clamped);
+    let blended = floor((clamped - level) * SVO_FRACTION_STEPS) > 0.0;
+    return min(u32(level) + select(0u, 1u, blended), top);
 }
 
 // Rust: trace::error_bound.

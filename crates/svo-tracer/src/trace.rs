@@ -239,19 +239,27 @@ pub(crate) const SHADOW_LIFT_VOXELS: f32 = 0.866_025_4;
 /// The factor of [`error_bound`]: `√3` and the layouts' quantisation and rounding.
 pub(crate) const ERROR_BOUND_FACTOR: f32 = 1.74;
 
-/// The finest level a sample at `lod` depends on through a level it reads: `⌊lod⌋ + 1`, as
-/// quadrilinear sampling blends `⌊lod⌋` towards the next level, unless the blend's weight
-/// (the sampler's fraction, in steps of 2⁻¹¹) is zero and `⌊lod⌋` alone is read — every
-/// magnified cone (`lod ≤ 0`), whose empty nodes at the finest level then count for the
-/// empty-space skip; the nearest level for [`Model::Nearest`].
-fn sampled_level(lod: f32, top: u32, model: Model) -> u32 {
+/// The coarsest level a quadrilinear sample at `lod` reads: `⌊lod⌋ + 1`, as it blends
+/// `⌊lod⌋` towards the next level, unless the blend's weight (the sampler's fraction, in
+/// steps of 2⁻¹¹) is zero and `⌊lod⌋` alone is read — as for every magnified cone
+/// (`lod ≤ 0`).
+fn coarsest_read_level(lod: f32, top: u32) -> u32 {
     let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top as f32) };
-    if model == Model::Nearest {
-        return (libm::floorf(lod + 0.5) as u32).min(top);
-    }
     let level = libm::floorf(lod);
     let blended = libm::floorf((lod - level) * FRACTION_STEPS) > 0.0;
     (level as u32 + u32::from(blended)).min(top)
+}
+
+/// The finest level a sample at `lod` depends on through a level it reads: the coarsest
+/// level quadrilinear sampling reads ([`coarsest_read_level`]; for a magnified cone the
+/// finest level, whose empty nodes then count for the empty-space skip), or the nearest
+/// level for [`Model::Nearest`].
+fn sampled_level(lod: f32, top: u32, model: Model) -> u32 {
+    if model == Model::Nearest {
+        let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top as f32) };
+        return (libm::floorf(lod + 0.5) as u32).min(top);
+    }
+    coarsest_read_level(lod, top)
 }
 
 /// `E(λ)`: how far a sample at `lod` may lie from the source's distance (world units). At
@@ -259,12 +267,12 @@ fn sampled_level(lod: f32, top: u32, model: Model) -> u32 {
 /// the distance at its centre `c_k` (the distance is 1-Lipschitz); the trilinear weights
 /// keep `Σ w_k |c_k − p| ≤ √(Σ w_k |c_k − p|²) = √(Σ_axes t(1 − t)) S_L ≤ (√3/2) S_L`
 /// (Cauchy–Schwarz), so the interpolation is within `√3 S_L`, and the level blend within
-/// that of the coarser level `S_{⌊λ⌋+1}`. The nearest voxel's centre is within `(√3/2) S_L`
-/// of the point: `√3 S_L` too. 1.74 adds the layouts' quantisation (`2⁻¹¹ S_L`) and rounding.
+/// that of the coarsest level it reads ([`coarsest_read_level`]: `S_{⌊λ⌋+1}`, or `S_⌊λ⌋`
+/// where the blend's weight is zero). The nearest voxel's centre is within `(√3/2) S_L` of
+/// the point: `√3 S_L` too, at the level `round(λ)`, never coarser than that. 1.74 adds the
+/// layouts' quantisation (`2⁻¹¹ S_L`) and rounding.
 fn error_bound(lod: f32, top: u32, voxel: f32) -> f32 {
-    let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top as f32) };
-    let coarse = (libm::floorf(lod) as u32 + 1).min(top);
-    ERROR_BOUND_FACTOR * (1u32 << coarse) as f32 * voxel
+    ERROR_BOUND_FACTOR * (1u32 << coarsest_read_level(lod, top)) as f32 * voxel
 }
 
 /// Marches `cone`, calling `shade(voxel, z, new coverage)` for every element that adds

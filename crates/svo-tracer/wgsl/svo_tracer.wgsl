@@ -218,28 +218,32 @@ fn svo_exact_coverage(theta: f32, v: f32) -> f32 {
     return clamp(abs(twice_area) / 8.0, 0.0, 1.0);
 }
 
-// Rust: trace::sampled_level.
-fn svo_sampled_level(lod: f32, top: u32, model: u32) -> u32 {
+// Rust: trace::coarsest_read_level.
+fn svo_coarsest_read_level(lod: f32, top: u32) -> u32 {
     var clamped = clamp(lod, 0.0, f32(top));
     if (bitcast<u32>(lod) & 0x7fffffffu) > 0x7f800000u {
         clamped = 0.0;
-    }
-    if model == SVO_MODEL_NEAREST {
-        return min(u32(floor(clamped + 0.5)), top);
     }
     let level = floor(clamped);
     let blended = floor((clamped - level) * SVO_FRACTION_STEPS) > 0.0;
     return min(u32(level) + select(0u, 1u, blended), top);
 }
 
+// Rust: trace::sampled_level.
+fn svo_sampled_level(lod: f32, top: u32, model: u32) -> u32 {
+    if model == SVO_MODEL_NEAREST {
+        var clamped = clamp(lod, 0.0, f32(top));
+        if (bitcast<u32>(lod) & 0x7fffffffu) > 0x7f800000u {
+            clamped = 0.0;
+        }
+        return min(u32(floor(clamped + 0.5)), top);
+    }
+    return svo_coarsest_read_level(lod, top);
+}
+
 // Rust: trace::error_bound.
 fn svo_error_bound(lod: f32, top: u32, voxel: f32) -> f32 {
-    var clamped = clamp(lod, 0.0, f32(top));
-    if (bitcast<u32>(lod) & 0x7fffffffu) > 0x7f800000u {
-        clamped = 0.0;
-    }
-    let coarse = min(u32(floor(clamped)) + 1u, top);
-    return SVO_ERROR_BOUND_FACTOR * f32(1u << coarse) * voxel;
+    return SVO_ERROR_BOUND_FACTOR * f32(1u << svo_coarsest_read_level(lod, top)) * voxel;
 }
 
 fn svo_table_mask(table: MaskTableUniforms, theta: f32, v: f32) -> vec4<u32> {

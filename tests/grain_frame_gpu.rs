@@ -75,19 +75,7 @@ fn culling_and_early_z_change_no_pixel_of_a_frame_and_the_mesh_tier_is_the_mesh_
     // Every grain a mesh: the mesh tier against the mesh pass (one sample per pixel).
     let (meshes, _, counters) = render(1e-3, false, false);
     assert_eq!(counters.count[0] as usize, scene.grains.len());
-    let centre = scene.mesh.bounds().centre;
-    let placed: Vec<GrainInstance> = scene
-        .grains
-        .iter()
-        .map(|g| {
-            let rotation = Quat::from_vec4(g.rotation);
-            GrainInstance::new(
-                g.centre_scale.truncate() - rotation * (g.centre_scale.w * centre),
-                g.centre_scale.w,
-                rotation,
-            )
-        })
-        .collect();
+    let placed = scene.mesh_placed(1);
     let target = ScreenGbuffer::new(&gpu.device, SIZE).unwrap();
     let pass = MeshGbufferPass::new(&gpu.device).unwrap();
     let gpu_mesh = GpuMesh::upload(&gpu.device, &scene.mesh).unwrap();

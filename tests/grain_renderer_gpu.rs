@@ -4,9 +4,7 @@
 //! without the software early-Z, with either visibility buffer, with culling on, and when
 //! composited over a mesh render.
 
-use glam::Quat;
 use grain_impostor::mesh_gbuffer::{GpuMesh, MeshGbufferPass, ScreenGbuffer};
-use grain_impostor::scene::GrainInstance;
 use grain_renderer::{ImpostorPath, TierSettings, VisibilityKind};
 use grain_splitter::TierThresholds;
 use integration_tests::gpu;
@@ -148,20 +146,7 @@ fn composited_over_a_mesh_render_each_pixel_keeps_the_nearer_surface() {
     let camera = scene.camera();
     // Meshes: every third grain, placed by its centre as the atlas is (the mesh's bounds
     // centre moved onto the grain centre).
-    let centre = scene.mesh.bounds().centre;
-    let meshes: Vec<GrainInstance> = scene
-        .grains
-        .iter()
-        .step_by(3)
-        .map(|g| {
-            let rotation = Quat::from_vec4(g.rotation);
-            GrainInstance::new(
-                g.centre_scale.truncate() - rotation * (g.centre_scale.w * centre),
-                g.centre_scale.w,
-                rotation,
-            )
-        })
-        .collect();
+    let meshes = scene.mesh_placed(3);
     let gpu_mesh = GpuMesh::upload(&gpu.device, &scene.mesh).unwrap();
     let mesh_pass = MeshGbufferPass::new(&gpu.device).unwrap();
     let mesh_only = ScreenGbuffer::new(&gpu.device, SIZE).unwrap();

@@ -231,3 +231,23 @@ pub fn kinds() -> Vec<VisibilityKind> {
 pub fn covered(image: &GbufferImage) -> usize {
     image.normal_coverage.iter().filter(|n| n.w > 0.0).count()
 }
+
+impl Scene {
+    /// Every `step`-th grain placed by its centre as the atlas is: the mesh's bounds centre
+    /// moved onto the grain centre (the instances the mesh pass draws).
+    pub fn mesh_placed(&self, step: usize) -> Vec<GrainInstance> {
+        let centre = self.mesh.bounds().centre;
+        self.grains
+            .iter()
+            .step_by(step)
+            .map(|g| {
+                let rotation = Quat::from_vec4(g.rotation);
+                GrainInstance::new(
+                    g.centre_scale.truncate() - rotation * (g.centre_scale.w * centre),
+                    g.centre_scale.w,
+                    rotation,
+                )
+            })
+            .collect()
+    }
+}

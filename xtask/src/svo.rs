@@ -36,7 +36,8 @@ use crate::cli::{Args, positive};
 
 const BRICK: BrickSize = BrickSize::Eight;
 const LAYOUT: VoxelLayout = VoxelLayout::Compact16Fine8;
-const COLOURS: [RGBColor; 4] =
+/// One colour per model, in `Model::ALL` order (the stability charts use them too).
+pub const COLOURS: [RGBColor; 4] =
     [RGBColor(200, 30, 30), RGBColor(30, 60, 200), RGBColor(30, 150, 30), RGBColor(200, 140, 0)];
 
 /// The scene of `--scene`, `--obj` or `--height-map` (default `bumpy-sphere`).

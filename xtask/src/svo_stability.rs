@@ -15,9 +15,7 @@ use svo_tracer::Model;
 
 use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
 use crate::cli::Args;
-
-const COLOURS: [RGBColor; 4] =
-    [RGBColor(200, 30, 30), RGBColor(30, 60, 200), RGBColor(30, 150, 30), RGBColor(200, 140, 0)];
+use crate::svo::COLOURS;
 
 pub fn run(args: &Args<'_>) -> Result<(), String> {
     let out = args.out_dir();

@@ -239,12 +239,18 @@ pub(crate) const SHADOW_LIFT_VOXELS: f32 = 0.866_025_4;
 /// The factor of [`error_bound`]: `√3` and the layouts' quantisation and rounding.
 pub(crate) const ERROR_BOUND_FACTOR: f32 = 1.74;
 
+/// `lod` within the levels `[0, top]`, NaN as 0, as the sampler clamps it (its WGSL is
+/// svo-brick's `svo_clamped_lod`).
+fn clamped_lod(lod: f32, top: u32) -> f32 {
+    if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top as f32) }
+}
+
 /// The coarsest level a quadrilinear sample at `lod` reads: `⌊lod⌋ + 1`, as it blends
 /// `⌊lod⌋` towards the next level, unless the blend's weight (the sampler's fraction, in
 /// steps of 2⁻¹¹) is zero and `⌊lod⌋` alone is read — as for every magnified cone
 /// (`lod ≤ 0`).
 fn coarsest_read_level(lod: f32, top: u32) -> u32 {
-    let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top as f32) };
+    let lod = clamped_lod(lod, top);
     let level = libm::floorf(lod);
     let blended = libm::floorf((lod - level) * FRACTION_STEPS) > 0.0;
     (level as u32 + u32::from(blended)).min(top)
@@ -256,8 +262,7 @@ fn coarsest_read_level(lod: f32, top: u32) -> u32 {
 /// level for [`Model::Nearest`].
 fn sampled_level(lod: f32, top: u32, model: Model) -> u32 {
     if model == Model::Nearest {
-        let lod = if lod.is_nan() { 0.0 } else { lod.clamp(0.0, top as f32) };
-        return (libm::floorf(lod + 0.5) as u32).min(top);
+        return (libm::floorf(clamped_lod(lod, top) + 0.5) as u32).min(top);
     }
     coarsest_read_level(lod, top)
 }

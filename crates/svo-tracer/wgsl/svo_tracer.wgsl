@@ -218,32 +218,27 @@ fn svo_exact_coverage(theta: f32, v: f32) -> f32 {
     return clamp(abs(twice_area) / 8.0, 0.0, 1.0);
 }
 
-// Rust: trace::coarsest_read_level.
-fn svo_coarsest_read_level(lod: f32, top: u32) -> u32 {
-    var clamped = clamp(lod, 0.0, f32(top));
-    if (bitcast<u32>(lod) & 0x7fffffffu) > 0x7f800000u {
-        clamped = 0.0;
-    }
+// Rust: trace::coarsest_read_level (`top` the tree's top level; `svo_clamped_lod` is
+// svo-brick's, as the sampler clamps).
+fn svo_coarsest_read_level(tree: OctreeUniforms, lod: f32) -> u32 {
+    let top = tree.shape.x - 1u;
+    let clamped = svo_clamped_lod(tree, lod);
     let level = floor(clamped);
     let blended = floor((clamped - level) * SVO_FRACTION_STEPS) > 0.0;
     return min(u32(level) + select(0u, 1u, blended), top);
 }
 
 // Rust: trace::sampled_level.
-fn svo_sampled_level(lod: f32, top: u32, model: u32) -> u32 {
+fn svo_sampled_level(tree: OctreeUniforms, lod: f32, model: u32) -> u32 {
     if model == SVO_MODEL_NEAREST {
-        var clamped = clamp(lod, 0.0, f32(top));
-        if (bitcast<u32>(lod) & 0x7fffffffu) > 0x7f800000u {
-            clamped = 0.0;
-        }
-        return min(u32(floor(clamped + 0.5)), top);
+        return min(u32(floor(svo_clamped_lod(tree, lod) + 0.5)), tree.shape.x - 1u);
     }
-    return svo_coarsest_read_level(lod, top);
+    return svo_coarsest_read_level(tree, lod);
 }
 
 // Rust: trace::error_bound.
-fn svo_error_bound(lod: f32, top: u32, voxel: f32) -> f32 {
-    return SVO_ERROR_BOUND_FACTOR * f32(1u << svo_coarsest_read_level(lod, top)) * voxel;
+fn svo_error_bound(tree: OctreeUniforms, lod: f32, voxel: f32) -> f32 {
+    return SVO_ERROR_BOUND_FACTOR * f32(1u << svo_coarsest_read_level(tree, lod)) * voxel;
 }
 
 fn svo_table_mask(table: MaskTableUniforms, theta: f32, v: f32) -> vec4<u32> {
@@ -300,7 +295,6 @@ fn svo_half_length(tree: OctreeUniforms, cone: SvoCone, settings: GpuTraceSettin
 fn svo_march_next(tree: OctreeUniforms, table: MaskTableUniforms, cone: SvoCone, settings: GpuTraceSettings, state: ptr<function, SvoMarch>) -> SvoElement {
     var element: SvoElement;
     let voxel = tree.voxel_size.x;
-    let top = tree.shape.x - 1u;
     let model = settings.model_limits.x;
     let skip = settings.model_limits.z != 0u;
     loop {
@@ -315,11 +309,11 @@ fn svo_march_next(tree: OctreeUniforms, table: MaskTableUniforms, cone: SvoCone,
         let l = svo_half_length(tree, cone, settings, z);
         let lod = log2(max(width / voxel, 1.17549435e-38));
         let p = cone.origin + cone.direction * z;
-        let finest = svo_sampled_level(lod, top, model);
+        let finest = svo_sampled_level(tree, lod, model);
         if skip {
             let g = (*state).region;
             let in_region = g.found && g.level >= finest && all(p >= g.min) && all(p < g.max);
-            let far = (*state).has_proof && (*state).proof_lower - (z - (*state).proof_z) - svo_error_bound(lod, top, voxel) > l + 2.0 * r;
+            let far = (*state).has_proof && (*state).proof_lower - (z - (*state).proof_z) - svo_error_bound(tree, lod, voxel) > l + 2.0 * r;
             if in_region || far {
                 (*state).z = z + 2.0 * l;
                 continue;
@@ -347,7 +341,7 @@ fn svo_march_next(tree: OctreeUniforms, table: MaskTableUniforms, cone: SvoCone,
             }
             (*state).region = region;
             (*state).proof_z = z;
-            (*state).proof_lower = select(s.distance - svo_error_bound(lod, top, voxel), s.distance, region.found);
+            (*state).proof_lower = select(s.distance - svo_error_bound(tree, lod, voxel), s.distance, region.found);
             (*state).has_proof = true;
         }
         (*state).z = z + 2.0 * l;

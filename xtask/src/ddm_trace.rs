@@ -48,7 +48,7 @@ use mesostructure::Mesostructure;
 use plotters::prelude::*;
 
 use crate::chart::{draw_legend, drawing_error, render_png};
-use crate::cli::{Args, grid_size};
+use crate::cli::{Args, grid_size, positive};
 
 /// GPU dispatches per method; its time is the fastest.
 const GPU_DISPATCHES: usize = 5;
@@ -63,11 +63,15 @@ pub struct Options {
 }
 
 impl Options {
-    /// `[OUT_DIR] [--quick] [--size WxHxD]` (`--size` replaces the tile, not the view).
+    /// `[OUT_DIR] [--quick] [--size WxHxD] [--timing-rounds N]` (`--size` replaces the tile,
+    /// not the view; `--timing-rounds` the rounds of Table 3's interleaved time ratio).
     pub fn from_args(args: &Args<'_>) -> Result<Self, String> {
         let mut settings = if args.flag("quick") { TraceTablesSettings::quick() } else { TraceTablesSettings::full() };
         if let Some(dims) = args.parse_value("size", grid_size)? {
             settings.dims = dims;
+        }
+        if let Some(rounds) = args.parse_value("timing-rounds", positive::<usize>)? {
+            settings.ratio_rounds = rounds;
         }
         Ok(Self { out: args.out_dir(), settings })
     }

@@ -22,6 +22,9 @@ mod fig9;
 mod impostor_accuracy;
 mod impostor_cloud;
 mod occlusion_check;
+mod octahedral_error;
+mod report_check;
+mod report_page;
 mod showcase;
 mod stackings;
 mod svo;
@@ -143,10 +146,17 @@ pub const COMMANDS: &[Command] = &[
     Command { name: "codegen", flags: &[], exclusive: &[], positional: Positional::None, run: |_| codegen() },
     Command {
         name: "showcase",
+        flags: &[switch("quick"), switch("full"), switch("check")],
+        exclusive: &[("quick", "full"), ("quick", "check"), ("full", "check")],
+        positional: Positional::OutDir("target/showcase"),
+        run: showcase::run,
+    },
+    Command {
+        name: "octahedral-error",
         flags: &[],
         exclusive: &[],
-        positional: Positional::OutDir("target/showcase"),
-        run: showcase,
+        positional: Positional::OutDir("target/octahedral"),
+        run: |args| octahedral_error::run(&args.out_dir()),
     },
     Command {
         name: "fig9",
@@ -171,7 +181,7 @@ pub const COMMANDS: &[Command] = &[
     },
     Command {
         name: "ddm-trace",
-        flags: &[QUICK, SIZE],
+        flags: &[QUICK, SIZE, value("timing-rounds", "N")],
         exclusive: &[],
         positional: Positional::OutDir("target/ddm-trace"),
         run: ddm_trace::run,
@@ -287,41 +297,9 @@ fn bench(args: &Args<'_>) -> Result<(), String> {
     cargo(&command)
 }
 
-/// Everything that can be shown so far, at quick settings: the octahedral layout, impostor
-/// accuracy (Fig. 12-13), the DDM tracer's tables and its renders on a plane and a torus,
-/// the A-buffer masks' coverage error, Fig. 15 (occlusion culling), the multiscale renderer's
-/// dolly over a bean pile, Fig. 9, and the SVO cone tracer's dolly, depth of field, shadows
-/// and stability sweeps.
-fn showcase(args: &Args<'_>) -> Result<(), String> {
-    let out = args.out_dir();
-    showcase::run(&out)?;
-    let out_text = out.to_string_lossy().into_owned();
-    run_command("impostor-accuracy", &[&out_text, "--quick"])?;
-    run_command("ddm-trace", &[&out_text, "--quick"])?;
-    run_command("ddm-render", &[&out_text, "--quick"])?;
-    abuffer_chart::run(&out)?;
-    run_command("culling-chart", &[&out_text, "--quick"])?;
-    run_command("stackings", &[&out_text, "--quick", "--accuracy"])?;
-    run_command("fig9", &[&out_text, "--quick"])?;
-    run_command("svo", &[&out_text, "--quick"])?;
-    // The sweeps' CSV names (`stability.csv`, `grazing.csv`, ...) get a folder of their own.
-    let stability = out.join("svo-stability").to_string_lossy().into_owned();
-    run_command("svo-stability", &[&stability, "--quick"])
-}
-
 /// The command called `name`.
 fn command(name: &str) -> Option<&'static Command> {
     COMMANDS.iter().find(|c| c.name == name)
-}
-
-/// Runs the command `name` with `words` (parsed as if typed).
-fn run_command(name: &str, words: &[&str]) -> Result<(), String> {
-    let command = command(name).ok_or_else(|| format!("unknown command `{name}`"))?;
-    let words: Vec<String> = words.iter().map(|&w| w.to_owned()).collect();
-    match command.parse(&words)? {
-        Parsed::Run(args) => (command.run)(&args),
-        Parsed::Help(usage) => Err(format!("{name}: unexpected --help\nusage: {usage}")),
-    }
 }
 
 fn run(words: &[String]) -> Result<(), String> {
@@ -513,9 +491,12 @@ mod tests {
             options,
             ddm_trace::Options { out: root("target/ddm-trace"), settings: TraceTablesSettings::full() }
         );
-        let options =
-            ddm_trace::Options::from_args(&parse("ddm-trace", "target/x --quick --size 4x4x2").unwrap()).unwrap();
-        let settings = TraceTablesSettings { dims: UVec3::new(4, 4, 2), ..TraceTablesSettings::quick() };
+        let options = ddm_trace::Options::from_args(
+            &parse("ddm-trace", "target/x --quick --size 4x4x2 --timing-rounds 3").unwrap(),
+        )
+        .unwrap();
+        let settings =
+            TraceTablesSettings { dims: UVec3::new(4, 4, 2), ratio_rounds: 3, ..TraceTablesSettings::quick() };
         assert_eq!(options, ddm_trace::Options { out: PathBuf::from("target/x"), settings });
         let options = ddm_compression::Options::from_args(&parse("ddm-compression", "--quick out").unwrap()).unwrap();
         assert_eq!(

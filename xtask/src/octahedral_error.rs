@@ -1,5 +1,5 @@
-//! The showcase: what the project can show so far. For now, the angular error of the
-//! octahedral view layout against `n`, with the eq. 4 validity angles (PNG + CSV).
+//! `cargo xtask octahedral-error [OUT_DIR]`: the angular error of the octahedral view layout
+//! against `n`, with the eq. 4 validity angles (PNG + CSV).
 
 use std::path::Path;
 

@@ -76,7 +76,7 @@ fn bean_pile(count: usize) -> Result<(Stacking, f32, f32), String> {
 pub fn run(args: &Args<'_>) -> Result<(), String> {
     const SVO_ONLY: [&str; 5] = ["height-map", "pixels", "levels", "zoom", "views"];
     if args.subject() == "svo" {
-        for flag in ["grains", "mesh-above", "samples"] {
+        for flag in ["grains", "mesh-above", "samples", "resolution"] {
             if args.value(flag).is_some() {
                 return Err(format!("bench-gpu svo: --{flag} does not apply to `bench-gpu svo`"));
             }
@@ -103,6 +103,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         if gpu.is_software() { vec![20_000, 200_000] } else { vec![20_000, 200_000, 1_600_000, 20_000_000] };
     let counts = args.parse_value("grains", grain_counts)?.unwrap_or(default_sizes);
     let timed = args.parse_value("frames", positive::<u32>)?.unwrap_or(DEFAULT_FRAMES);
+    let size = args.parse_value("resolution", crate::cli::resolution)?.unwrap_or(SIZE);
     let out = args.out_dir();
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let has_64 = GrainSplitter::supports_atomic64(&gpu.device);
@@ -110,8 +111,8 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     if has_64 {
         kinds.insert(0, OccluderMapKind::Atomic64);
     }
-    println!("bench-gpu culling on {} ({} timed frames after {WARM_UP}, {}×{})", gpu.describe(), timed, SIZE.0, SIZE.1);
-    let rows = measure_table(&gpu, &adapter, &counts, &kinds, timed)?;
+    println!("bench-gpu culling on {} ({} timed frames after {WARM_UP}, {}×{})", gpu.describe(), timed, size.0, size.1);
+    let rows = measure_table(&gpu, &adapter, &counts, &kinds, timed, size)?;
     let path = out.join("culling.csv");
     std::fs::write(&path, rows).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     println!("wrote {}", path.display());
@@ -124,6 +125,7 @@ fn measure_table(
     counts: &[usize],
     kinds: &[OccluderMapKind],
     timed: u32,
+    size: (u32, u32),
 ) -> Result<String, String> {
     let mut csv = String::from(
         "adapter,timing,scene,grains,shot,width,height,occluder_map,order,frames,map_ms,split_ms,total_ms,\
@@ -148,7 +150,7 @@ fn measure_table(
             started.elapsed().as_secs_f64()
         );
         for shot in [wide, foreground] {
-            let camera = shot.camera(SIZE).map_err(|e| e.to_string())?;
+            let camera = shot.camera(size).map_err(|e| e.to_string())?;
             for &kind in kinds {
                 for (culling, order) in CULLINGS {
                     let settings = SplitSettings {
@@ -156,7 +158,7 @@ fn measure_table(
                         temporal_occluders: culling == "two-phase",
                         ..base
                     };
-                    let options = SplitterOptions { capacity: grains, size: SIZE, occluder_map: kind, order };
+                    let options = SplitterOptions { capacity: grains, size, occluder_map: kind, order };
                     let splitter = GrainSplitter::new(&gpu.device, settings, options).map_err(|e| e.to_string())?;
                     let bindings = splitter.bind(&gpu.device, &buffer).map_err(|e| e.to_string())?;
                     let frames = BenchFrames { warm_up: WARM_UP, timed };
@@ -183,8 +185,8 @@ fn measure_table(
                     csv,
                     "{adapter},{timing},{scene},{count},{},{},{},{kind:?},{order:?},{},{:.4},{:.4},{:.4},{culling},{},{},{},{},{},{},{},{:.5},{:.5},{:.5}",
                     shot.name,
-                    SIZE.0,
-                    SIZE.1,
+                    size.0,
+                    size.1,
                     result.frames,
                     result.map_ms,
                     result.split_ms,

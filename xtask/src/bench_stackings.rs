@@ -1,7 +1,7 @@
 //! `cargo xtask bench-gpu stackings [OUT_DIR] [--grains LIST] [--frames N] [--scene NAME |
-//! --obj PATH --mesh-above PX] [--samples S]`: the multiscale renderer (`grain-renderer`) stage by stage
-//! (occluder map, split, meshes, impostor and point visibility, resolve, shading) over
-//! a backward dolly of 5 frames at 1920×1080, on piles of coffee beans and of sand grains
+//! --obj PATH --mesh-above PX] [--samples S] [--resolution WxH]`: the multiscale renderer (`grain-renderer`)
+//! stage by stage (occluder map, split, meshes, impostor and point visibility, resolve, shading) over
+//! a backward dolly of 5 frames at 1920×1080 (`--resolution` another size), on piles of coffee beans and of sand grains
 //! (`rock`; `--scene` picks one procedural grain, `--obj` any OBJ grain, whose mesh threshold
 //! `--mesh-above` must give), for each visibility buffer the adapter has (64-bit, 32-bit) and
 //! each impostor path: compute with the software early-Z of the double draw on and off, and
@@ -81,6 +81,7 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
         vec![20_000, 200_000, 1_600_000, 20_000_000]
     });
     let repeats = args.parse_value("frames", positive::<u32>)?.unwrap_or(DEFAULT_REPEATS);
+    let size = args.parse_value("resolution", crate::cli::resolution)?.unwrap_or(SIZE);
     let samples = args.parse_value("samples", samples_per_side)?.unwrap_or(1);
     let out = args.out_dir();
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
@@ -91,10 +92,11 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
     println!(
         "bench-gpu stackings on {} ({DOLLY_FRAMES} dolly frames, median of {repeats} each, {}×{})",
         gpu.describe(),
-        SIZE.0,
-        SIZE.1
+        size.0,
+        size.1
     );
-    let mut csv = String::from("adapter,timing,scene,grains,samples,frame,distance,visibility,path,early_z,");
+    let mut csv =
+        String::from("adapter,timing,scene,grains,samples,width,height,frame,distance,visibility,path,early_z,");
     for stage in Stage::ALL {
         let _ = write!(csv, "{}_ms,", stage.name());
     }
@@ -117,7 +119,7 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
                 .iter()
                 .map(|&visibility| {
                     let options = RendererOptions {
-                        size: SIZE,
+                        size,
                         capacity,
                         mesh_above: *mesh_above,
                         point_below: NO_POINT_TIER,
@@ -149,7 +151,7 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
                 for (path, early_z) in PATHS {
                     let tier = TierSettings { early_z, path, ..TierSettings::default() };
                     for k in 0..DOLLY_FRAMES {
-                        let camera = dolly(&shots, k, DOLLY_FRAMES, SIZE)?;
+                        let camera = dolly(&shots, k, DOLLY_FRAMES, size)?;
                         // One untimed frame: the two-phase history and the hysteresis settle.
                         time_frame(&gpu, renderer, &scene, &camera, &lighting, tier).map_err(|e| e.to_string())?;
                         let mut timings: Vec<StageTimes> = Vec::new();
@@ -159,7 +161,7 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
                                     .map_err(|e| e.to_string())?,
                             );
                         }
-                        let row = Row::measure(&gpu, renderer, &timings)?;
+                        let row = Row::measure(&gpu, renderer, &timings, size)?;
                         let distance = (camera.uniforms.eye.truncate() - shots[0].target).length();
                         let path_name = match path {
                             ImpostorPath::Compute => "compute",
@@ -169,7 +171,8 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
                         let timing = format!("{:?}", timings[0].source);
                         let _ = write!(
                             csv,
-                            "{adapter},{timing},{name},{count},{samples},{k},{distance:.3},{visibility:?},{path_name},{early_z},"
+                            "{adapter},{timing},{name},{count},{samples},{},{},{k},{distance:.3},{visibility:?},{path_name},{early_z},",
+                            size.0, size.1
                         );
                         row.write_csv(&mut csv);
                     }
@@ -188,6 +191,8 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
 
 /// One row's figures.
 struct Row {
+    /// The image, pixels.
+    size: (u32, u32),
     stage_ms: Vec<f64>,
     total: f64,
     counters: SplitCounters,
@@ -195,12 +200,18 @@ struct Row {
 }
 
 impl Row {
-    fn measure(gpu: &gpu_harness::Gpu, renderer: &StackingRenderer, samples: &[StageTimes]) -> Result<Self, String> {
+    fn measure(
+        gpu: &gpu_harness::Gpu,
+        renderer: &StackingRenderer,
+        samples: &[StageTimes],
+        size: (u32, u32),
+    ) -> Result<Self, String> {
         let stage_ms = (0..Stage::ALL.len()).map(|s| median(samples.iter().map(|t| t.ms[s]).collect())).collect();
         let total = median(samples.iter().map(StageTimes::total).collect());
         let stats =
             gpu.read_buffer(renderer.impostor_tier().stats(), u64::from(TIER_STATS) * 4).map_err(|e| e.to_string())?;
         Ok(Self {
+            size,
             stage_ms,
             total,
             counters: renderer.read_counters(gpu).map_err(|e| e.to_string())?,
@@ -209,7 +220,7 @@ impl Row {
     }
 
     fn per_pixel(&self) -> (f64, f64) {
-        let pixels = f64::from(SIZE.0 * SIZE.1);
+        let pixels = f64::from(self.size.0 * self.size.1);
         (f64::from(self.stats[0] + self.stats[1]) / pixels, f64::from(self.stats[2] + self.stats[3]) / pixels)
     }
 

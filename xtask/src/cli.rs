@@ -88,7 +88,7 @@ impl Command {
         match self.positional {
             Positional::None => {}
             Positional::OutDir(_) => words.push("[OUT_DIR]".to_owned()),
-            Positional::PassThrough(placeholder) => words.push(format!("[{placeholder}]")),
+            Positional::PassThrough(_) => {}
             Positional::SubjectThenOutDir(subjects) => {
                 words.push(subjects.join("|"));
                 words.push("[OUT_DIR]".to_owned());
@@ -111,6 +111,10 @@ impl Command {
             let repeat = if matches!(flag.takes, Takes::Values(_)) { "..." } else { "" };
             words.push(format!("[{text}]{repeat}"));
         }
+        // Passed-through words follow the command's own flags.
+        if let Positional::PassThrough(placeholder) = self.positional {
+            words.push(format!("[{placeholder}]"));
+        }
         words.join(" ")
     }
 
@@ -128,6 +132,40 @@ impl Command {
         if let Positional::PassThrough(_) = self.positional {
             if matches!(words, [only] if only == "--help" || only == "-h") {
                 return Ok(Parsed::Help(self.usage()));
+            }
+            // The command's own flags come first; the first other word starts the rest.
+            let mut words = words;
+            while let Some((first, after)) = words.split_first() {
+                let Some(long) = first.strip_prefix("--") else { break };
+                let (name, attached) = long.split_once('=').map_or((long, None), |(n, v)| (n, Some(v)));
+                let Some(flag) = self.flag(name) else { break };
+                let value = match (flag.takes, attached) {
+                    (Takes::Nothing, None) => {
+                        words = after;
+                        String::new()
+                    }
+                    (Takes::Nothing, Some(v)) => return Err(self.error(format!("--{name} takes no value (got `{v}`)"))),
+                    (_, Some(v)) => {
+                        words = after;
+                        v.to_owned()
+                    }
+                    (Takes::Value(placeholder) | Takes::Values(placeholder), None) => match after.split_first() {
+                        Some((v, rest)) if !v.starts_with("--") => {
+                            words = rest;
+                            v.clone()
+                        }
+                        _ => return Err(self.error(format!("--{name} needs a value {placeholder}"))),
+                    },
+                };
+                if !matches!(flag.takes, Takes::Values(_)) && args.values.iter().any(|(n, _)| *n == flag.name) {
+                    return Err(self.error(format!("--{name} given twice")));
+                }
+                args.values.push((flag.name, value));
+            }
+            for &(first, second) in self.exclusive {
+                if args.flag(first) && args.flag(second) {
+                    return Err(self.error(format!("--{first} and --{second} exclude each other")));
+                }
             }
             args.rest = words.to_vec();
             return Ok(Parsed::Run(args));
@@ -276,6 +314,15 @@ pub fn positive<T: std::str::FromStr + PartialOrd + Default>(text: &str) -> Resu
     }
 }
 
+/// An image size `WxH` of two positive integers.
+pub fn resolution(text: &str) -> Result<(u32, u32), String> {
+    let parts: Result<Vec<u32>, _> = text.split('x').map(str::parse).collect();
+    match parts.as_deref() {
+        Ok(&[w, h]) if w > 0 && h > 0 => Ok((w, h)),
+        _ => Err("expected two positive sizes WxH".to_owned()),
+    }
+}
+
 /// A tile size `WxHxD` of three positive integers.
 pub fn grid_size(text: &str) -> Result<glam::UVec3, String> {
     let parts: Result<Vec<u32>, _> = text.split('x').map(str::parse).collect();
@@ -376,5 +423,24 @@ mod tests {
         let Parsed::Run(args) = parsed else { panic!("help") };
         assert_eq!(args.rest(), words("--save-baseline x --bogus"));
         assert_eq!(bench.usage(), "cargo xtask demo [ARGS]");
+    }
+
+    #[test]
+    fn pass_through_commands_read_their_own_flags_first() {
+        const FLAGS: &[Flag] = &[value("save", "NAME"), switch("quick")];
+        let bench = Command { positional: Positional::PassThrough("ARGS"), flags: FLAGS, exclusive: &[], ..TEST };
+        let Ok(Parsed::Run(args)) = bench.parse(&words("--save=a --quick octahedral --save b")) else { panic!() };
+        assert_eq!((args.value("save"), args.flag("quick")), (Some("a"), true));
+        assert_eq!(args.rest(), words("octahedral --save b"));
+        assert_eq!(bench.usage(), "cargo xtask demo [--save NAME] [--quick] [ARGS]");
+        for (text, expected) in [
+            ("--save", "--save needs a value NAME"),
+            ("--save --quick", "--save needs a value NAME"),
+            ("--quick=1", "--quick takes no value"),
+            ("--save a --save b", "--save given twice"),
+        ] {
+            let error = bench.parse(&words(text)).err().unwrap_or_else(|| panic!("`{text}` parsed"));
+            assert!(error.starts_with(&format!("demo: {expected}")), "`{text}`: {error}");
+        }
     }
 }

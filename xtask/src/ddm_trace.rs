@@ -282,7 +282,8 @@ fn trace_structure(
 
 /// The file-name part of a method's image: `ddm4x1_quadric` for `DDM 4x1 + quadric`,
 /// `relief` for relief mapping.
-fn image_name(method: TraceMethod) -> String {
+/// A method's part of an image file name (`ddm4x1_adaptive`, `relief`).
+pub fn image_name(method: TraceMethod) -> String {
     match method {
         TraceMethod::Relief => "relief".to_owned(),
         _ => method.name().replace(' ', "").replace('+', "_").to_lowercase(),
@@ -353,23 +354,13 @@ fn write_tables(out: &Path, settings: &TraceTablesSettings, tables: &Tables) -> 
     Ok(())
 }
 
-/// Writes the view shaded from each hit's normal (misses dark).
+/// Writes the view shaded from each hit's normal (`ddm_experiments::shading`).
 fn write_image(path: &Path, view: &View, normals: &[Option<Vec3>]) -> Result<(), String> {
-    let light = Vec3::new(0.45, 0.3, 0.84).normalize();
-    let mut image = image::RgbImage::new(view.width, view.height);
-    for (pixel, normal) in image.pixels_mut().zip(normals) {
-        *pixel = match normal {
-            Some(n) => {
-                let diffuse = n.dot(light).max(0.0);
-                let shade = 0.2 + 0.8 * diffuse;
-                let base = Vec3::new(0.85, 0.72, 0.5) * 0.6 + (*n * 0.5 + 0.5) * 0.4;
-                let c = base * shade * 255.0;
-                image::Rgb([c.x as u8, c.y as u8, c.z as u8])
-            }
-            None => image::Rgb([20, 24, 40]),
-        };
-    }
-    image.save(path).map_err(|e| format!("cannot write {}: {e}", path.display()))
+    let image = ddm_experiments::shading::shade_normals(view, normals).map_err(|e| e.to_string())?;
+    image::DynamicImage::ImageRgba8(image)
+        .to_rgb8()
+        .save(path)
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
 /// Each method's colour in the charts (`ddm_steps` uses the maps' entries).

@@ -10,6 +10,7 @@
 
 mod abuffer_chart;
 mod bench_gpu;
+mod bench_record;
 mod bench_stackings;
 mod chart;
 mod cli;
@@ -19,12 +20,14 @@ mod ddm_render;
 mod ddm_steps;
 mod ddm_trace;
 mod fig9;
+mod gpu_report;
 mod impostor_accuracy;
 mod impostor_cloud;
 mod occlusion_check;
 mod octahedral_error;
 mod report_check;
 mod report_page;
+mod select;
 mod showcase;
 mod stackings;
 mod svo;
@@ -119,7 +122,7 @@ pub const COMMANDS: &[Command] = &[
     Command { name: "test-gpu", flags: &[], exclusive: &[], positional: Positional::None, run: |_| test_gpu() },
     Command {
         name: "bench",
-        flags: &[],
+        flags: &[value("save", "NAME"), value("compare", "NAME")],
         exclusive: &[],
         positional: Positional::PassThrough("CRITERION ARGS"),
         run: bench,
@@ -138,10 +141,26 @@ pub const COMMANDS: &[Command] = &[
             value("levels", "L"),
             value("zoom", "K"),
             value("views", "N"),
+            value("resolution", "WxH"),
         ],
         exclusive: &[("obj", "scene"), ("obj", "height-map"), ("scene", "height-map")],
         positional: Positional::SubjectThenOutDir(&["culling", "stackings", "svo"]),
         run: bench_gpu::run,
+    },
+    Command {
+        name: "gpu-report",
+        flags: &[QUICK],
+        exclusive: &[],
+        positional: Positional::OutDir("target/gpu-report"),
+        run: gpu_report::run,
+    },
+    Command { name: "select-tables", flags: &[], exclusive: &[], positional: Positional::None, run: select::tables },
+    Command {
+        name: "select",
+        flags: &[repeated("budget", "METRIC:MAX")],
+        exclusive: &[],
+        positional: Positional::OutDir("target/select"),
+        run: select::run,
     },
     Command { name: "codegen", flags: &[], exclusive: &[], positional: Positional::None, run: |_| codegen() },
     Command {
@@ -287,14 +306,35 @@ fn test(_: &Args<'_>) -> Result<(), String> {
     test_gpu()
 }
 
-/// `cargo bench --package benches`, the arguments passed on to criterion.
+/// `cargo bench --package benches`, the arguments passed on to criterion; with `--save`
+/// or `--compare` its figures recorded or compared ([`bench_record`]).
 fn bench(args: &Args<'_>) -> Result<(), String> {
+    let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| workspace_root().join("target"), PathBuf::from);
+    let save = args.value("save").map(|name| bench_record::record_path(&target, name)).transpose()?;
+    let compare = args.value("compare").map(|name| bench_record::record_path(&target, name)).transpose()?;
+    let saved = match &compare {
+        Some(path) => Some(bench_record::Record::read(path)?),
+        None => None,
+    };
+    let started = std::time::SystemTime::now();
     let mut command = vec!["bench", "--package", "benches"];
     if !args.rest().is_empty() {
         command.push("--");
         command.extend(args.rest().iter().map(String::as_str));
     }
-    cargo(&command)
+    cargo(&command)?;
+    if save.is_none() && saved.is_none() {
+        return Ok(());
+    }
+    let record = bench_record::Record::measured(&target, args.value("save").unwrap_or("unsaved"), started)?;
+    if let Some(path) = &save {
+        record.write(path)?;
+        println!("bench: wrote {} ({} figures)", path.display(), record.figures.len());
+    }
+    match saved {
+        Some(saved) => bench_record::print_comparison(&saved, &record),
+        None => Ok(()),
+    }
 }
 
 /// The command called `name`.

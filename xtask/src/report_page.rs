@@ -44,6 +44,8 @@ pub struct Article {
 
 /// The header's facts.
 pub struct Meta<'a> {
+    /// The page's heading.
+    pub title: &'a str,
     /// The adapter the GPU stages ran on.
     pub adapter: &'a str,
     /// The commit (and whether the tree had changes).
@@ -279,9 +281,10 @@ impl Article {
 /// The page.
 pub fn render(meta: &Meta<'_>, sections: &[Section<'_>]) -> String {
     let mut html = String::from("<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
-    html.push_str("<title>Dense stackings, directional distance maps, pre-filtered voxels: the report</title>\n");
+    let title = escape(meta.title);
+    let _ = writeln!(html, "<title>Dense stackings, directional distance maps, pre-filtered voxels: {title}</title>");
     let _ = writeln!(html, "<style>\n{STYLE}</style>\n</head>\n<body>");
-    html.push_str("<h1>The report</h1>\n<p>Every figure below was measured by the command printed above it.</p>\n");
+    let _ = writeln!(html, "<h1>{title}</h1>\n<p>Every figure below was measured by the command printed above it.</p>");
     html.push_str("<table class=\"meta\">\n");
     for (label, value) in [
         ("adapter", meta.adapter.to_owned()),

@@ -28,15 +28,29 @@ pub enum Settings {
     Full,
 }
 
-impl Settings {
-    fn describe(self) -> &'static str {
-        match self {
-            Self::Quick => "quick (CI: every command's --quick settings, the slowest smaller still)",
-            Self::Default => "default (every command's --quick settings)",
-            Self::Full => "full (every command's own settings: paper sizes, for a real GPU)",
-        }
-    }
+/// A page of stages: the showcase, or the GPU report ([`crate::gpu_report`]).
+pub struct Report {
+    /// The page's heading.
+    pub title: &'static str,
+    /// Its sections, in page order: (anchor, heading).
+    pub papers: &'static [(&'static str, &'static str)],
+    /// Its stages, in page order.
+    pub stages: &'static [Stage],
+    /// What [`Settings::Quick`], [`Settings::Default`] and [`Settings::Full`] mean here.
+    pub settings: [&'static str; 3],
 }
+
+/// The showcase: every figure of the project.
+pub const SHOWCASE: Report = Report {
+    title: "The report",
+    papers: &PAPERS,
+    stages: STAGES,
+    settings: [
+        "quick (CI: every command's --quick settings, the slowest smaller still)",
+        "default (every command's --quick settings)",
+        "full (every command's own settings: paper sizes, for a real GPU)",
+    ],
+};
 
 /// The papers, in page order: (anchor, heading).
 const PAPERS: [(&str, &str); 3] = [
@@ -58,7 +72,7 @@ pub struct Stage {
     pub title: &'static str,
     /// What it shows.
     pub about: &'static str,
-    /// The xtask command.
+    /// The xtask command and the words before its `OUT_DIR` (`bench-gpu svo`).
     pub command: &'static str,
     /// Its flags at [`Settings::Quick`], [`Settings::Default`] and [`Settings::Full`].
     pub flags: [&'static [&'static str]; 3],
@@ -147,6 +161,18 @@ pub const STAGES: &[Stage] = &[
         subject: ImageSubject::FirstWords(2),
     },
     Stage {
+        folder: "select",
+        paper: "ddm",
+        title: "Model no more than a scene needs: the cheapest DDM method within a budget",
+        about: "For three ꟻLIP budgets, per mesostructure, the method the selector picks from the committed table \
+                (crates/ddm-experiments/tables/ddm_selection.csv: worst error of four cameras, CPU cost), checked on a \
+                held-out camera: the choice's image, its ꟻLIP map and measured error, and every candidate on the \
+                table's Pareto front.",
+        command: "select",
+        flags: [&[], &[], &[]],
+        subject: ImageSubject::FirstWords(1),
+    },
+    Stage {
         folder: "fig9",
         paper: "svo",
         title: "Micro-visibility against ray-traced truth (Fig. 9)",
@@ -204,7 +230,7 @@ fn run_stage(stage: &Stage, settings: Settings, dir: &Path) -> Result<(String, f
     let exe = std::env::current_exe().map_err(|e| format!("cannot locate xtask's binary: {e}"))?;
     let start = Instant::now();
     let mut child = Command::new(&exe)
-        .arg(stage.command)
+        .args(stage.command.split(' '))
         .arg(dir)
         .args(stage.flags(settings))
         .stdout(Stdio::piped())
@@ -300,7 +326,7 @@ fn article(stage: &Stage, settings: Settings, dir: &Path, output: String, second
 }
 
 /// `git rev-parse HEAD`, marked when the tree has uncommitted changes.
-fn commit() -> String {
+pub fn commit() -> String {
     let git = |args: &[&str]| {
         Command::new("git")
             .args(args)
@@ -318,7 +344,7 @@ fn commit() -> String {
 }
 
 /// Now, as `YYYY-MM-DD HH:MM UTC` (civil from days, Howard Hinnant's algorithm).
-fn utc_now() -> String {
+pub fn utc_now() -> String {
     let seconds = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
     let (days, rest) = ((seconds / 86_400) as i64, seconds % 86_400);
     let z = days + 719_468;
@@ -333,16 +359,17 @@ fn utc_now() -> String {
     format!("{year:04}-{month:02}-{day:02} {:02}:{:02} UTC", rest / 3600, rest % 3600 / 60)
 }
 
-/// Runs every stage into `out` and writes `out/index.html`.
-pub fn write(out: &Path, settings: Settings) -> Result<PathBuf, String> {
+/// Runs every stage of `report` into `out` and writes `out/index.html`.
+pub fn write(out: &Path, report: &Report, settings: Settings) -> Result<PathBuf, String> {
     std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let adapter = gpu_harness::Gpu::new().map_err(|e| e.to_string())?.describe();
     let start = Instant::now();
     let mut articles = Vec::new();
-    for (i, stage) in STAGES.iter().enumerate() {
+    let stages = report.stages;
+    for (i, stage) in stages.iter().enumerate() {
         println!(
             "{} {} — cargo xtask {} {}  ({:.0} s so far)",
-            progress_bar(i, STAGES.len()),
+            progress_bar(i, stages.len()),
             stage.folder,
             stage.command,
             stage.flags(settings).join(" "),
@@ -350,10 +377,11 @@ pub fn write(out: &Path, settings: Settings) -> Result<PathBuf, String> {
         );
         let dir = out.join(stage.folder);
         let (output, seconds) = run_stage(stage, settings, &dir)?;
-        println!("{} {} done in {seconds:.0} s", progress_bar(i + 1, STAGES.len()), stage.folder);
+        println!("{} {} done in {seconds:.0} s", progress_bar(i + 1, stages.len()), stage.folder);
         articles.push((stage.paper, article(stage, settings, &dir, output, seconds)?));
     }
-    let sections: Vec<Section<'_>> = PAPERS
+    let sections: Vec<Section<'_>> = report
+        .papers
         .iter()
         .map(|&(id, title)| Section {
             id,
@@ -363,9 +391,10 @@ pub fn write(out: &Path, settings: Settings) -> Result<PathBuf, String> {
         .collect();
     let cores = std::thread::available_parallelism().map_or(0, usize::from);
     let meta = Meta {
+        title: report.title,
         adapter: &adapter,
         commit: &commit(),
-        settings: settings.describe(),
+        settings: report.settings[settings as usize],
         date: &utc_now(),
         machine: &format!("{cores} CPU threads ({})", std::env::consts::ARCH),
         seconds: start.elapsed().as_secs_f64(),
@@ -387,7 +416,29 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         (_, true) => Settings::Full,
         _ => Settings::Default,
     };
-    write(&out, settings).map(|_| ())
+    write(&out, &SHOWCASE, settings).map(|_| ())
+}
+
+/// Asserts that every stage of `report` is a command whose words parse at every setting,
+/// in one of its sections, with a folder of its own.
+#[cfg(test)]
+pub fn check_stages(report: &Report) {
+    for stage in report.stages {
+        let mut words = stage.command.split(' ');
+        let name = words.next().unwrap_or_default();
+        let command = crate::command(name).unwrap_or_else(|| panic!("{}", stage.command));
+        assert!(report.papers.iter().any(|(id, _)| *id == stage.paper), "{}", stage.folder);
+        for settings in [Settings::Quick, Settings::Default, Settings::Full] {
+            let mut given: Vec<String> = words.clone().map(str::to_owned).collect();
+            given.push("dir".to_owned());
+            given.extend(stage.flags(settings).iter().map(|&f| f.to_owned()));
+            assert!(matches!(command.parse(&given), Ok(crate::cli::Parsed::Run(_))), "{} {given:?}", stage.command);
+        }
+    }
+    let mut folders: Vec<&str> = report.stages.iter().map(|s| s.folder).collect();
+    folders.sort_unstable();
+    folders.dedup();
+    assert_eq!(folders.len(), report.stages.len(), "stage folders are distinct");
 }
 
 #[cfg(test)]
@@ -396,19 +447,7 @@ mod tests {
 
     #[test]
     fn every_stage_is_a_command_whose_flags_parse_at_every_setting() {
-        for stage in STAGES {
-            let command = crate::command(stage.command).unwrap_or_else(|| panic!("{}", stage.command));
-            assert!(PAPERS.iter().any(|(id, _)| *id == stage.paper), "{}", stage.folder);
-            for settings in [Settings::Quick, Settings::Default, Settings::Full] {
-                let mut words = vec!["dir".to_owned()];
-                words.extend(stage.flags(settings).iter().map(|&f| f.to_owned()));
-                assert!(command.parse(&words).is_ok(), "{} {words:?}", stage.command);
-            }
-        }
-        let mut folders: Vec<&str> = STAGES.iter().map(|s| s.folder).collect();
-        folders.sort_unstable();
-        folders.dedup();
-        assert_eq!(folders.len(), STAGES.len(), "stage folders are distinct");
+        check_stages(&SHOWCASE);
     }
 
     #[test]

@@ -375,17 +375,11 @@ fn effects(setup: &Setup, settings: &DollySettings, out: &Path) -> Result<(), St
     std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
-/// The points on the lower-left hull of `(time, error)`: none is both slower and worse.
+/// The points on the lower-left hull of `(time, error)`: none is both slower and worse
+/// (`model_select::pareto_front`, infinities left out).
 pub fn pareto_front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
-    let mut sorted: Vec<(f64, f64)> = points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
-    sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    let mut front: Vec<(f64, f64)> = Vec::new();
-    for p in sorted {
-        if front.last().is_none_or(|last| p.1 < last.1) {
-            front.push(p);
-        }
-    }
-    front
+    let finite: Vec<(f64, f64)> = points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
+    model_select::pareto_front(&finite).into_iter().map(|i| finite[i]).collect()
 }
 
 const SUPERSAMPLING_COLOURS: [RGBColor; 2] = [RGBColor(90, 90, 90), RGBColor(150, 60, 160)];

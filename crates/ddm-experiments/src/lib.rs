@@ -13,7 +13,10 @@
 //! - [`stats`]: outcomes against the ground truth, and two tracings against each other.
 //! - [`timing`]: fastest-of-N CPU timing and the interleaved time ratio (median of
 //!   alternating pairs of passes, so that a drift of the machine's speed cancels).
-//! - [`view`]: the camera rays of the tables' view.
+//! - [`view`]: the camera rays of the tables' view (and of any other camera).
+//! - [`shading`]: a view shaded from its hit normals (the images the metrics compare).
+//! - [`selection`]: the measured table that `model_select` picks the cheapest method
+//!   within an image-error budget from, and the check of its choices on a held-out view.
 //! - [`maps`]: the maps of the tables (plain DM, DDM m×n) by name.
 //! - [`gpu`]: the WGSL tracer's compute pass, timed, and its differences from the CPU's.
 //!
@@ -32,6 +35,8 @@ use std::fmt;
 pub mod compression;
 pub mod gpu;
 pub mod maps;
+pub mod selection;
+pub mod shading;
 pub mod stats;
 pub mod steps;
 pub mod timing;
@@ -59,6 +64,8 @@ pub enum ExperimentError {
     },
     /// The GPU pass failed (the message is the harness's or the registry's).
     Gpu(String),
+    /// An image metric or a selection failed.
+    Selection(String),
 }
 
 impl ExperimentError {
@@ -79,6 +86,7 @@ impl fmt::Display for ExperimentError {
             Self::InvalidSettings { field, reason } => write!(f, "invalid settings: {field}: {reason}"),
             Self::Scene { scene, what } => write!(f, "{scene}: {what}"),
             Self::Gpu(message) => write!(f, "GPU pass: {message}"),
+            Self::Selection(message) => write!(f, "selection: {message}"),
         }
     }
 }

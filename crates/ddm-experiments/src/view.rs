@@ -49,12 +49,26 @@ impl View {
         if dims.cmpeq(UVec3::ZERO).any() {
             return Err(ExperimentError::settings("dims", format!("every size must be positive, not {dims}")));
         }
+        Self::looking(Camera::of_tile(dims), width, height)
+    }
+
+    /// The perspective view from `camera` with `width × height` pixels (square pixels,
+    /// vertical half field of view [`HALF_FOV_Y_DEG`], the image's up toward +z); an
+    /// error for an empty image or a camera that looks straight up or down (or at its
+    /// own eye).
+    pub fn looking(camera: Camera, width: u32, height: u32) -> Result<Self, ExperimentError> {
         if width == 0 || height == 0 {
             return Err(ExperimentError::settings("width/height", format!("empty image {width}x{height}")));
         }
-        let Camera { eye, target } = Camera::of_tile(dims);
-        let forward = (target - eye).normalize();
-        let right = forward.cross(Vec3::Z).normalize();
+        let Camera { eye, target } = camera;
+        let forward = (target - eye).normalize_or_zero();
+        let right = forward.cross(Vec3::Z).normalize_or_zero();
+        if right == Vec3::ZERO {
+            return Err(ExperimentError::settings(
+                "camera",
+                format!("from {eye} toward {target}: no image plane with +z up"),
+            ));
+        }
         let up = right.cross(forward);
         let tan = HALF_FOV_Y_DEG.to_radians().tan();
         let aspect = width as f32 / height as f32;
@@ -67,6 +81,16 @@ impl View {
             }
         }
         Ok(Self { width, height, rays })
+    }
+}
+
+impl Camera {
+    /// Pixels per voxel at the target of a `height`-row view from this camera (the
+    /// focal length in pixels, `height / 2 / tan(HALF_FOV_Y_DEG)`, over the distance):
+    /// how magnified the tile is.
+    pub fn pixels_per_voxel(self, height: u32) -> f64 {
+        let focal = f64::from(height) / 2.0 / f64::from(HALF_FOV_Y_DEG).to_radians().tan();
+        focal / f64::from(self.eye.distance(self.target))
     }
 }
 
@@ -127,5 +151,19 @@ mod tests {
         assert!(error.to_string().contains("width/height"), "{error}");
         let error = View::perspective(UVec3::new(4, 0, 2), 4, 4).unwrap_err();
         assert!(error.to_string().contains("dims"), "{error}");
+        let down = Camera { eye: Vec3::new(1.0, 1.0, 9.0), target: Vec3::ONE };
+        let error = View::looking(down, 4, 4).unwrap_err();
+        assert!(error.to_string().contains("camera"), "{error}");
+    }
+
+    #[test]
+    fn pixels_per_voxel_halve_with_twice_the_distance_and_double_with_twice_the_rows() {
+        let near = Camera { eye: Vec3::new(0.0, -4.0, 3.0), target: Vec3::ZERO };
+        let far = Camera { eye: near.eye * 2.0, ..near };
+        let at = near.pixels_per_voxel(72);
+        // 36 / tan(25°) / 5.
+        assert!((at - 36.0 / 25_f64.to_radians().tan() / 5.0).abs() < 1e-9, "{at}");
+        assert!((far.pixels_per_voxel(72) - at / 2.0).abs() < 1e-9);
+        assert!((near.pixels_per_voxel(144) - 2.0 * at).abs() < 1e-9);
     }
 }

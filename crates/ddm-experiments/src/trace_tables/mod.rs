@@ -39,7 +39,7 @@ use crate::gpu::{GpuRun, GpuTracer};
 use crate::maps::{NamedMaps, TRACE_MAPS, compute_named, find};
 use crate::stats::{HitDifferences, TraceStats, hit_differences, mean_steps, trace_stats};
 use crate::steps::{StepsRow, StepsSettings, steps_vs_angle};
-use crate::timing::{RATIO_ROUNDS, interleaved_time_ratio, timed};
+use crate::timing::{CpuRun, RATIO_ROUNDS, interleaved_time_ratio, timed};
 use crate::view::View;
 
 /// Linear steps of the relief mapping baseline.
@@ -582,6 +582,42 @@ impl TraceScene {
         }
     }
 
+    /// Traces `view` with `method` on the CPU, once for the outcomes and then `passes`
+    /// timed passes (one thread, the fastest kept): the method on another view than the
+    /// tables' (its truth from [`ground_truth`] on [`TraceScene::mesh`]). `None` for relief
+    /// mapping on a structure that is no height field.
+    pub fn trace_view(
+        &self,
+        method: TraceMethod,
+        view: &View,
+        passes: usize,
+    ) -> Result<Option<CpuRun>, ExperimentError> {
+        match method.case(&self.settings) {
+            Some(case) => self.case_run(case, view, passes).map(Some),
+            None if self.height_field => Ok(Some(self.relief_run(&self.relief_height_map()?, view, passes))),
+            None => Ok(None),
+        }
+    }
+
+    /// [`TraceScene::trace_view`] of a map-based method.
+    fn case_run(&self, case: MethodCase, view: &View, passes: usize) -> Result<CpuRun, ExperimentError> {
+        let raw = self.map(case.map)?;
+        let patches = case.patches.map(|kind| self.patches.get(kind));
+        Ok(timed(&view.rays, passes, |o, d| trace(raw, patches, o, d, case.settings)))
+    }
+
+    /// The relief mapping baseline's height map of the mesh.
+    fn relief_height_map(&self) -> Result<HeightMap, ExperimentError> {
+        HeightMap::from_mesh(&self.mesh, self.dims, RELIEF_TEXELS_PER_VOXEL)
+            .map_err(|e| ExperimentError::scene(self.name, format!("the relief height map: {e}")))
+    }
+
+    /// [`TraceScene::trace_view`] of relief mapping.
+    fn relief_run(&self, height_map: &HeightMap, view: &View, passes: usize) -> CpuRun {
+        let size_z = self.dims.z as f32;
+        timed(&view.rays, passes, |o, d| relief_trace(height_map, size_z, o, d, RELIEF_LINEAR, RELIEF_BINARY))
+    }
+
     fn run_case(
         &self,
         method: TraceMethod,
@@ -593,7 +629,7 @@ impl TraceScene {
         let patches = case.patches.map(|kind| self.patches.get(kind));
         let trace_settings = case.settings;
         let rays = &view.rays;
-        let run = timed(rays, settings.timed_passes, |o, d| trace(raw, patches, o, d, trace_settings));
+        let run = self.case_run(case, view, settings.timed_passes)?;
         let pack_error = |what: &str, error: &dyn std::fmt::Display| {
             ExperimentError::scene(self.name, format!("cannot {what} the {} maps: {error}", case.map))
         };
@@ -665,12 +701,8 @@ impl TraceScene {
 
     fn run_relief(&self, gpu: Option<&GpuTracer<'_>>) -> Result<MethodResult, ExperimentError> {
         let (settings, view) = (&self.settings, &self.view);
-        let height_map = HeightMap::from_mesh(&self.mesh, self.dims, RELIEF_TEXELS_PER_VOXEL)
-            .map_err(|e| ExperimentError::scene(self.name, format!("the relief height map: {e}")))?;
-        let size_z = self.dims.z as f32;
-        let run = timed(&view.rays, settings.timed_passes, |o, d| {
-            relief_trace(&height_map, size_z, o, d, RELIEF_LINEAR, RELIEF_BINARY)
-        });
+        let height_map = self.relief_height_map()?;
+        let run = self.relief_run(&height_map, view, settings.timed_passes);
         let gpu_row = match gpu {
             Some(gpu) => {
                 let plain = CompressedMaps::compress(self.map("DM")?, 1)

@@ -1,0 +1,333 @@
+//! *Model no more than a scene needs*, for DDMs: the measured table that
+//! [`model_select`] chooses a tracing method from, per mesostructure, for an image-error
+//! budget, and the check of its choices on a view the table never saw.
+//!
+//! **The table** ([`table_rows`]): every mesostructure of the tables, at the tables'
+//! voxel grid, seen by four cameras ([`calibration_cameras`]: the tables' own and three
+//! more directions, grazing and steep, at the same distance) at each calibration image
+//! size, traced with every [`TraceMethod`]; per method the mean ꟻLIP and 1 − SSIM of its
+//! image ([`shade_normals`] of its hit normals) against the exact mesh's — the worst of
+//! the four cameras — and its cost, CPU nanoseconds per ray (one thread, fastest of the
+//! passes, the mean of the four: the methods run on the CPU here; on a GPU the same table
+//! would be measured with timestamps). The condition of a row is the view's
+//! magnification, pixels per voxel at its target ([`Camera::pixels_per_voxel`]): the
+//! larger, the more of each method's geometric error a pixel shows. One camera was not
+//! enough: calibrated on the tables' view alone, the fitted quadrics' error on the
+//! held-out view was 2.5–5× the table's (maze 0.055 → 0.139, bricks 0.031 → 0.147, ball
+//! 0.075 → 0.120), three of fifteen choices over budget.
+//!
+//! **The check** ([`held_out`]): another camera ([`held_out_camera`]: the other side of
+//! the tile, lower, closer), whose magnification lies between the calibration ones; the
+//! selector picks from the table's rows at the next larger magnification, then every
+//! method is traced on the held-out view, so that the choice's own error there is
+//! measured (within budget or not) and so is whether a candidate the table called dearer
+//! met the budget there too.
+
+use glam::{UVec3, Vec3};
+use image::RgbaImage;
+use model_select::{Budget, Measurement, Table};
+
+use crate::ExperimentError;
+use crate::shading::shade_normals;
+use crate::trace_tables::{TraceMethod, TraceScene, TraceTablesSettings, ground_truth};
+use crate::view::{Camera, View};
+
+/// [`Measurement::condition`]'s unit.
+pub const CONDITION_UNIT: &str = "pixels per voxel at the view's target";
+/// [`Measurement::cost`]'s unit.
+pub const COST_UNIT: &str = "CPU ns per ray (one thread; fastest pass)";
+/// The committed table, relative to the workspace root (`cargo xtask select-tables`).
+pub const TABLE_FILE: &str = "crates/ddm-experiments/tables/ddm_selection.csv";
+/// The table's name.
+pub const TABLE_NAME: &str = "ddm-methods";
+/// The sources that produce the table, relative to the workspace root (its settings and
+/// rows come from this crate: the command only writes them): its
+/// [`model_select::fingerprint`] stamps the table, and a test fails when they change
+/// without the table being measured again.
+pub const TABLE_SOURCES: [&str; 6] = [
+    "crates/ddm-experiments/src",
+    "crates/ddm-tracer/src",
+    "crates/ddm-compress/src",
+    "crates/quadric-fit/src",
+    "crates/mesostructure/src",
+    "crates/image-metrics/src",
+];
+
+/// What the table and its check measure.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SelectionSettings {
+    /// The tiles, maps and patches ([`TraceScene::build`]); its own view is not used.
+    pub tables: TraceTablesSettings,
+    /// Image rows of the calibration views (4:3), in increasing order.
+    pub calibration_rows: Vec<u32>,
+    /// Image rows of the held-out view (4:3).
+    pub held_out_rows: u32,
+    /// Timed CPU passes per method (the fastest is its cost).
+    pub passes: usize,
+}
+
+impl SelectionSettings {
+    /// The committed table's settings: [`TraceTablesSettings::quick`] tiles (12 × 12 × 6
+    /// voxels), calibration views of 96 × 72 and 192 × 144 pixels (3.3 and 6.7 pixels
+    /// per voxel), the held-out view 128 × 96 (5.2 pixels per voxel), 3 timed passes.
+    pub fn standard() -> Self {
+        Self { tables: TraceTablesSettings::quick(), calibration_rows: vec![72, 144], held_out_rows: 96, passes: 3 }
+    }
+
+    /// An error naming the field unless the rows are positive and the calibration rows
+    /// increasing, and there is a timed pass.
+    pub fn validate(&self) -> Result<(), ExperimentError> {
+        self.tables.validate()?;
+        if self.calibration_rows.is_empty()
+            || self.calibration_rows[0] == 0
+            || self.calibration_rows.windows(2).any(|w| w[0] >= w[1])
+        {
+            return Err(ExperimentError::settings(
+                "calibration_rows",
+                format!("{:?} must be positive and increasing", self.calibration_rows),
+            ));
+        }
+        if self.held_out_rows == 0 || self.passes == 0 {
+            return Err(ExperimentError::settings("held_out_rows/passes", "must be positive"));
+        }
+        Ok(())
+    }
+}
+
+/// The check's camera for a tile of `dims` voxels: the tables' target `(L_x, L_y, 0.3 L_z)`
+/// seen from `(1.2 L_x, −0.8 L_y, 0.8 max(L_x, L_y))` beside it — another side (azimuth
+/// −34° where the calibration cameras look from −125°, −60°, 60° and 150°), 29° above the
+/// plane (between the calibrations' 20° and 35°) and 14 % closer than they are.
+pub fn held_out_camera(dims: UVec3) -> Camera {
+    let size = dims.as_vec3();
+    let target = Vec3::new(size.x, size.y, 0.3 * size.z);
+    Camera { eye: target + Vec3::new(1.2 * size.x, -0.8 * size.y, 0.8 * size.x.max(size.y)), target }
+}
+
+/// One method's image of a view and what it measured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MethodImage {
+    /// The method.
+    pub method: TraceMethod,
+    /// Its image ([`shade_normals`]).
+    pub image: RgbaImage,
+    /// Its errors against the truth's image and its cost.
+    pub measurement: Measurement,
+}
+
+/// A view of one scene traced with every method that applies.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ViewMeasurements {
+    /// The exact mesh's image.
+    pub truth: RgbaImage,
+    /// One per method, in [`TraceMethod::ALL`] order (relief only on height fields).
+    pub methods: Vec<MethodImage>,
+}
+
+/// `scene` seen from `camera` with `rows` rows (4:3), traced with every method:
+/// images, errors against the mesh's image, CPU cost (`passes` timed passes).
+pub fn measure_view(
+    scene: &TraceScene,
+    camera: Camera,
+    rows: u32,
+    passes: usize,
+) -> Result<ViewMeasurements, ExperimentError> {
+    let view = View::looking(camera, rows.div_ceil(3) * 4, rows)?;
+    let truth = shade_normals(&view, &ground_truth(&scene.mesh, &view.rays).normals)?;
+    let condition = camera.pixels_per_voxel(rows);
+    let metric_error = |e: image_metrics::MetricError| ExperimentError::Selection(format!("{}: {e}", scene.name));
+    let mut methods = Vec::with_capacity(TraceMethod::ALL.len());
+    for method in TraceMethod::ALL {
+        let Some(run) = scene.trace_view(method, &view, passes)? else { continue };
+        let normals: Vec<Option<Vec3>> = run.outcomes.iter().map(|o| o.hit.map(|h| h.normal)).collect();
+        let image = shade_normals(&view, &normals)?;
+        let flip = image_metrics::flip(&truth, &image).map_err(metric_error)?.mean;
+        let ssim = image_metrics::ssim(&truth, &image).map_err(metric_error)?.mean;
+        let measurement = Measurement {
+            object: scene.name.to_owned(),
+            representation: method.name().to_owned(),
+            condition,
+            flip,
+            ssim_loss: (1.0 - ssim).max(0.0),
+            cost: run.seconds_per_ray * 1e9,
+        };
+        methods.push(MethodImage { method, image, measurement });
+    }
+    Ok(ViewMeasurements { truth, methods })
+}
+
+/// Elevation and azimuth (degrees) of the calibration cameras besides the tables' own
+/// (35°, −125°): two grazing ones (20°) on other sides and a steep one (55°), so that a
+/// row's error is the worst of four directions, not of one.
+pub const CALIBRATION_DIRECTIONS: [(f32, f32); 3] = [(20.0, -60.0), (20.0, 60.0), (55.0, 150.0)];
+
+/// A camera looking at the tables' target from `elevation_deg` above the tile's plane and
+/// `azimuth_deg` around +z (from +x), at the distance of [`Camera::of_tile`] (so the same
+/// image rows give the same magnification).
+pub fn orbit_camera(dims: UVec3, elevation_deg: f32, azimuth_deg: f32) -> Camera {
+    let tables = Camera::of_tile(dims);
+    let distance = tables.eye.distance(tables.target);
+    let (e, a) = (elevation_deg.to_radians(), azimuth_deg.to_radians());
+    let offset = Vec3::new(e.cos() * a.cos(), e.cos() * a.sin(), e.sin()) * distance;
+    Camera { eye: tables.target + offset, target: tables.target }
+}
+
+/// The calibration cameras of a tile: [`Camera::of_tile`] and [`CALIBRATION_DIRECTIONS`].
+pub fn calibration_cameras(dims: UVec3) -> Vec<Camera> {
+    let mut cameras = vec![Camera::of_tile(dims)];
+    cameras.extend(CALIBRATION_DIRECTIONS.iter().map(|&(e, a)| orbit_camera(dims, e, a)));
+    cameras
+}
+
+/// The table's rows: every scene at every calibration magnification, one row per method
+/// holding the worst error over the [`calibration_cameras`] and the mean cost.
+pub fn table_rows(scenes: &[TraceScene], settings: &SelectionSettings) -> Result<Vec<Measurement>, ExperimentError> {
+    settings.validate()?;
+    let mut rows = Vec::new();
+    for scene in scenes {
+        for &height in &settings.calibration_rows {
+            let mut merged: Vec<Measurement> = Vec::new();
+            let cameras = calibration_cameras(scene.dims);
+            for &camera in &cameras {
+                let view = measure_view(scene, camera, height, settings.passes)?;
+                for m in view.methods.into_iter().map(|m| m.measurement) {
+                    match merged.iter_mut().find(|r| r.representation == m.representation) {
+                        Some(row) => {
+                            row.flip = row.flip.max(m.flip);
+                            row.ssim_loss = row.ssim_loss.max(m.ssim_loss);
+                            row.cost += m.cost;
+                        }
+                        None => merged.push(m),
+                    }
+                }
+            }
+            for row in &mut merged {
+                row.cost /= cameras.len() as f64;
+            }
+            rows.extend(merged);
+        }
+    }
+    Ok(rows)
+}
+
+/// A choice of the table checked on the held-out view.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeldOutChoice {
+    /// The budget.
+    pub budget: Budget,
+    /// The object.
+    pub object: String,
+    /// The chosen method's row in the table.
+    pub chosen: Measurement,
+    /// The chosen method on the held-out view.
+    pub measured: Measurement,
+    /// Whether its held-out error is within budget.
+    pub within_budget: bool,
+    /// Methods that met the budget on the held-out view although the table gives them a
+    /// lower cost than the choice (at the condition the choice was made at): empty when
+    /// the choice was also the cheapest there.
+    pub cheaper_within_budget: Vec<String>,
+    /// How many methods the table held at that condition, and how many met the budget.
+    pub candidates: (usize, usize),
+}
+
+/// `table`'s choice for `held_out`'s object within `budget`, checked against every
+/// method measured on it. The table's errors (unknown object, magnification not
+/// measured, nothing within budget) come back as [`ExperimentError::Selection`].
+pub fn held_out(table: &Table, held_out: &ViewMeasurements, budget: Budget) -> Result<HeldOutChoice, ExperimentError> {
+    let first = held_out.methods.first().ok_or_else(|| ExperimentError::Selection("an empty view".into()))?;
+    let (object, condition) = (first.measurement.object.clone(), first.measurement.condition);
+    let choice = table.select(&object, condition, budget).map_err(|e| ExperimentError::Selection(e.to_string()))?;
+    let measured = held_out
+        .methods
+        .iter()
+        .map(|m| &m.measurement)
+        .find(|m| m.representation == choice.measurement.representation)
+        .ok_or_else(|| {
+            ExperimentError::Selection(format!(
+                "{object}: {} not measured on the view",
+                choice.measurement.representation
+            ))
+        })?
+        .clone();
+    let table_cost = |name: &str| {
+        table
+            .rows()
+            .iter()
+            .find(|r| r.object == object && r.condition == choice.condition && r.representation == name)
+            .map(|r| r.cost)
+    };
+    let metric = budget.metric();
+    let cheaper_within_budget = held_out
+        .methods
+        .iter()
+        .map(|m| &m.measurement)
+        .filter(|m| m.error(metric) <= budget.max())
+        .filter(|m| table_cost(&m.representation).is_some_and(|c| c < choice.measurement.cost))
+        .map(|m| m.representation.clone())
+        .collect();
+    Ok(HeldOutChoice {
+        budget,
+        object,
+        chosen: choice.measurement.clone(),
+        within_budget: measured.error(metric) <= budget.max(),
+        measured,
+        cheaper_within_budget,
+        candidates: (choice.candidates, choice.within_budget),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use mesostructure::Mesostructure;
+    use model_select::{Metric, Stamp};
+
+    use super::*;
+
+    fn small() -> SelectionSettings {
+        let tables =
+            TraceTablesSettings { dims: UVec3::new(8, 8, 4), width: 8, height: 6, ..TraceTablesSettings::quick() };
+        SelectionSettings { tables, calibration_rows: vec![24, 48], held_out_rows: 32, passes: 1 }
+    }
+
+    #[test]
+    fn exact_triangles_beat_voxel_entry_points_and_the_held_out_view_lies_between_the_calibrations() {
+        let settings = small();
+        let scene = TraceScene::build(Mesostructure::Ball, &settings.tables).unwrap();
+        let rows = table_rows(std::slice::from_ref(&scene), &settings).unwrap();
+        // Twelve methods (no relief on the ball) at two magnifications.
+        assert_eq!(rows.len(), 24);
+        for camera in calibration_cameras(scene.dims) {
+            let ppv = camera.pixels_per_voxel(24);
+            assert!((ppv - rows[0].condition).abs() < 1e-4 * ppv, "{ppv} vs {}", rows[0].condition);
+        }
+        let at = |name: &str, c: usize| rows.iter().filter(|r| r.representation == name).nth(c).unwrap();
+        for c in 0..2 {
+            // The mesh's own triangles hit the mesh: far nearer its image than sphere
+            // tracing's voxel entry points.
+            assert!(at("DDM 4x1 + triangles", c).flip < at("DM", c).flip / 2.0, "{c}");
+        }
+        let (low, high) = (at("DM", 0).condition, at("DM", 1).condition);
+        let held = held_out_camera(scene.dims).pixels_per_voxel(settings.held_out_rows);
+        assert!(low < held && held < high, "{low} {held} {high}");
+
+        let triangles_flip = at("DDM 4x1 + triangles", 1).flip;
+        let stamp = Stamp { command: "test".into(), commit: "x".into(), adapter: "CPU".into(), sources: "0".into() };
+        let table = Table::new(TABLE_NAME, stamp, CONDITION_UNIT, "ns", rows).unwrap();
+        let view = measure_view(&scene, held_out_camera(scene.dims), settings.held_out_rows, 1).unwrap();
+        let budget = Budget::new(Metric::Flip, triangles_flip * 4.0 + 1e-3).unwrap();
+        let choice = held_out(&table, &view, budget).unwrap();
+        assert_eq!(choice.object, "ball");
+        assert_eq!(choice.chosen.condition, high, "chosen at the next larger magnification");
+        assert!(choice.chosen.flip <= budget.max());
+        assert_eq!(choice.measured.representation, choice.chosen.representation);
+    }
+
+    #[test]
+    fn settings_name_their_bad_field() {
+        let bad = SelectionSettings { calibration_rows: vec![48, 24], ..small() };
+        assert!(bad.validate().unwrap_err().to_string().contains("calibration_rows"));
+        let bad = SelectionSettings { passes: 0, ..small() };
+        assert!(bad.validate().unwrap_err().to_string().contains("passes"));
+    }
+}

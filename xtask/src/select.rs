@@ -1,0 +1,398 @@
+//! `cargo xtask select-tables` and `cargo xtask select [OUT_DIR] [--budget METRIC:MAX]...`:
+//! *model no more than a scene needs*, for the DDM tracing methods
+//! (`ddm_experiments::selection`, `model_select`).
+//!
+//! `select-tables` measures the table the selector reads — every mesostructure, every
+//! method, two magnifications of the tables' view: ꟻLIP and 1 − SSIM of its image
+//! against the exact mesh's, CPU ns per ray — and writes it, stamped with the commit, the
+//! processor and the fingerprint of the sources that produce it, to
+//! `crates/ddm-experiments/tables/ddm_selection.csv` (committed; a test fails when those
+//! sources change and the table is not measured again).
+//!
+//! `select` reads that table (an error when it is stale), and for each budget and
+//! mesostructure lets the selector choose the cheapest method within budget at the
+//! held-out view's magnification, then traces the held-out view (another camera) with
+//! every method: the choice's measured error there, whether it is within budget, and
+//! which methods the table called cheaper met the budget there too. Writes to `OUT_DIR`
+//! (default `target/select`) `selection.csv`, per mesostructure the truth's image, each
+//! chosen method's image and ꟻLIP map, and `<mesostructure>_selection.png`: ꟻLIP against
+//! the table's cost of every candidate at the magnification chosen at, its Pareto front,
+//! the budgets and the choices.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+use ddm_experiments::selection::{
+    CONDITION_UNIT, COST_UNIT, HeldOutChoice, SelectionSettings, TABLE_FILE, TABLE_NAME, TABLE_SOURCES,
+    ViewMeasurements, held_out, held_out_camera, measure_view, table_rows,
+};
+use ddm_experiments::trace_tables::TraceScene;
+use mesostructure::Mesostructure;
+use model_select::{Budget, Metric, Stamp, Table, fingerprint, pareto_front};
+use plotters::prelude::*;
+
+use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
+use crate::cli::Args;
+
+/// The page's three budgets when `--budget` is not given: mean ꟻLIP of the whole image.
+const DEFAULT_BUDGETS: [(Metric, f64); 3] = [(Metric::Flip, 0.35), (Metric::Flip, 0.1), (Metric::Flip, 0.03)];
+
+/// The processor's name (`/proc/cpuinfo`), the adapter of the table's CPU costs.
+fn processor() -> String {
+    let name = std::fs::read_to_string("/proc/cpuinfo").ok().and_then(|text| {
+        text.lines().find_map(|l| {
+            l.strip_prefix("model name").and_then(|r| r.split_once(':')).map(|(_, n)| n.trim().to_owned())
+        })
+    });
+    format!("CPU {} (one thread)", name.unwrap_or_else(|| std::env::consts::ARCH.to_owned())).replace(',', ";")
+}
+
+fn scenes(settings: &SelectionSettings) -> Result<Vec<TraceScene>, String> {
+    Mesostructure::ALL.iter().map(|&s| TraceScene::build(s, &settings.tables).map_err(|e| e.to_string())).collect()
+}
+
+/// `select-tables`: measures and writes the committed table.
+pub fn tables(_: &Args<'_>) -> Result<(), String> {
+    let started = Instant::now();
+    let settings = SelectionSettings::standard();
+    let root = crate::workspace_root();
+    let sources = fingerprint(&root, &TABLE_SOURCES).map_err(|e| e.to_string())?;
+    let rows = table_rows(&scenes(&settings)?, &settings).map_err(|e| e.to_string())?;
+    let stamp = Stamp {
+        command: "cargo xtask select-tables".into(),
+        commit: crate::showcase::commit(),
+        adapter: processor(),
+        sources,
+    };
+    let table = Table::new(TABLE_NAME, stamp, CONDITION_UNIT, COST_UNIT, rows).map_err(|e| e.to_string())?;
+    let path = root.join(TABLE_FILE);
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    }
+    std::fs::write(&path, table.to_csv()).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    for object in table.objects() {
+        let rows: Vec<_> = table.rows().iter().filter(|r| r.object == object).collect();
+        let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.cost, r.flip)).collect();
+        let front: Vec<String> = pareto_front(&points)
+            .into_iter()
+            .map(|i| {
+                format!(
+                    "{} @{:.1} ({:.0} ns, ꟻLIP {:.3})",
+                    rows[i].representation, rows[i].condition, rows[i].cost, rows[i].flip
+                )
+            })
+            .collect();
+        println!("{object}: front over both magnifications: {}", front.join("; "));
+    }
+    println!("wrote {TABLE_FILE} ({} rows) in {:.0} s", table.rows().len(), started.elapsed().as_secs_f64());
+    Ok(())
+}
+
+/// A budget `METRIC:MAX` (`flip:0.05`, `1-ssim:0.02`).
+fn budget(text: &str) -> Result<Budget, String> {
+    let (metric, max) = text.split_once(':').ok_or_else(|| format!("--budget {text}: expected METRIC:MAX"))?;
+    let metric = Metric::from_name(metric).map_err(|e| format!("--budget {text}: {e}"))?;
+    let max: f64 = max.parse().map_err(|_| format!("--budget {text}: `{max}` is not a number"))?;
+    Budget::new(metric, max).map_err(|e| format!("--budget {text}: {e}"))
+}
+
+/// The committed table, or an error when it is missing or stale.
+pub fn fresh_table() -> Result<Table, String> {
+    let root = crate::workspace_root();
+    let table = Table::read(&root.join(TABLE_FILE)).map_err(|e| e.to_string())?;
+    let sources = fingerprint(&root, &TABLE_SOURCES).map_err(|e| e.to_string())?;
+    if !table.is_fresh(&sources) {
+        return Err(format!(
+            "{TABLE_FILE} is stale: measured from sources {} (commit {}), they are now {sources}; \
+             run `cargo xtask select-tables`",
+            table.stamp().sources,
+            table.stamp().commit
+        ));
+    }
+    Ok(table)
+}
+
+/// A file-name part: lowercase letters and digits, `_` for the rest.
+fn file_part(text: &str) -> String {
+    let mut name = String::new();
+    for c in text.chars() {
+        if c.is_ascii_alphanumeric() {
+            name.push(c.to_ascii_lowercase());
+        } else if !name.ends_with('_') {
+            name.push('_');
+        }
+    }
+    name.trim_matches('_').to_owned()
+}
+
+/// `select`: the choices of three budgets checked on the held-out view.
+pub fn run(args: &Args<'_>) -> Result<(), String> {
+    let started = Instant::now();
+    let out = args.out_dir();
+    std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
+    let budgets: Vec<Budget> = match args.values("budget").as_slice() {
+        [] => DEFAULT_BUDGETS
+            .iter()
+            .map(|&(m, max)| Budget::new(m, max))
+            .collect::<Result<_, _>>()
+            .map_err(|e| e.to_string())?,
+        given => given.iter().map(|t| budget(t)).collect::<Result<_, _>>()?,
+    };
+    let table = fresh_table()?;
+    let settings = SelectionSettings::standard();
+    println!(
+        "select: table {} (commit {}, {}), held-out view {}×{} px",
+        TABLE_FILE,
+        table.stamp().commit,
+        table.stamp().adapter,
+        settings.held_out_rows.div_ceil(3) * 4,
+        settings.held_out_rows
+    );
+    let mut csv = String::from(
+        "metric,budget,object,held_out_condition,chosen_at_condition,choice,table_error,table_cost_ns,held_out_error,\
+         within_budget,cheaper_within_budget_on_held_out,candidates,within_budget_in_table,note\n",
+    );
+    let (mut met, mut total) = (0, 0);
+    for scene in scenes(&settings)? {
+        let camera = held_out_camera(scene.dims);
+        let view = measure_view(&scene, camera, settings.held_out_rows, settings.passes).map_err(|e| e.to_string())?;
+        let name = file_part(scene.name);
+        save(&out.join(format!("{name}_truth.png")), &view.truth)?;
+        let condition = camera.pixels_per_voxel(settings.held_out_rows);
+        let mut choices = Vec::new();
+        for &budget in &budgets {
+            total += 1;
+            match held_out(&table, &view, budget) {
+                Ok(choice) => {
+                    met += usize::from(choice.within_budget);
+                    write_choice(&mut csv, &choice, condition);
+                    write_images(&out, &name, &view, &choice)?;
+                    choices.push(choice);
+                }
+                Err(e) => {
+                    println!("  {}: {budget}: {e}", scene.name);
+                    let _ = writeln!(
+                        csv,
+                        "{},{},{},{condition:.3},,,,,,false,,,0,\"{}\"",
+                        budget.metric().name(),
+                        budget.max(),
+                        scene.name,
+                        e.to_string().replace('"', "'")
+                    );
+                }
+            }
+        }
+        chart(&out.join(format!("{name}_selection.png")), &table, scene.name, &view, &choices, &budgets)?;
+    }
+    let path = out.join("selection.csv");
+    std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    println!(
+        "{met} of {total} choices within budget on the held-out view; wrote {} in {:.0} s",
+        path.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+fn save(path: &Path, image: &image::RgbaImage) -> Result<(), String> {
+    image::DynamicImage::ImageRgba8(image.clone())
+        .to_rgb8()
+        .save(path)
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
+fn write_choice(csv: &mut String, c: &HeldOutChoice, condition: f64) {
+    let metric = c.budget.metric();
+    println!(
+        "  {:<10} {}: {} (table {:.4} at {:.2} px/voxel, {:.0} ns/ray) → held-out {:.4} {}{}",
+        c.object,
+        c.budget,
+        c.chosen.representation,
+        c.chosen.error(metric),
+        c.chosen.condition,
+        c.chosen.cost,
+        c.measured.error(metric),
+        if c.within_budget { "within budget" } else { "OVER BUDGET" },
+        if c.cheaper_within_budget.is_empty() {
+            String::new()
+        } else {
+            format!("; cheaper and within budget there: {}", c.cheaper_within_budget.join(", "))
+        }
+    );
+    let _ = writeln!(
+        csv,
+        "{},{},{},{condition:.3},{:.3},{},{:.5},{:.1},{:.5},{},{},{},{},",
+        metric.name(),
+        c.budget.max(),
+        c.object,
+        c.chosen.condition,
+        c.chosen.representation,
+        c.chosen.error(metric),
+        c.chosen.cost,
+        c.measured.error(metric),
+        c.within_budget,
+        c.cheaper_within_budget.join(" / "),
+        c.candidates.0,
+        c.candidates.1
+    );
+}
+
+/// The chosen method's held-out image and its ꟻLIP map.
+fn write_images(out: &Path, name: &str, view: &ViewMeasurements, choice: &HeldOutChoice) -> Result<(), String> {
+    let Some(method) = view.methods.iter().find(|m| m.measurement.representation == choice.chosen.representation)
+    else {
+        return Err(format!("{name}: {} has no image", choice.chosen.representation));
+    };
+    let stem = format!("{name}_{}", crate::ddm_trace::image_name(method.method));
+    save(&out.join(format!("{stem}.png")), &method.image)?;
+    let flip = image_metrics::flip(&view.truth, &method.image).map_err(|e| format!("{stem}: {e}"))?;
+    image_metrics::flip_magma(&flip.map)
+        .save(out.join(format!("{stem}_flip.png")))
+        .map_err(|e| format!("cannot write {stem}_flip.png: {e}"))
+}
+
+const TABLE_GREY: RGBColor = RGBColor(120, 120, 120);
+const HELD_OUT_BLUE: RGBColor = RGBColor(0, 114, 178);
+const BUDGET_COLOURS: [RGBColor; 3] = [RGBColor(0, 158, 115), RGBColor(230, 159, 0), RGBColor(213, 94, 0)];
+
+/// ꟻLIP against the table's cost of every candidate at the magnification the choices
+/// were made at, with the front, the held-out errors, the budgets and the choices.
+fn chart(
+    path: &Path,
+    table: &Table,
+    object: &str,
+    view: &ViewMeasurements,
+    choices: &[HeldOutChoice],
+    budgets: &[Budget],
+) -> Result<(), String> {
+    let condition = choices.first().map_or_else(
+        || table.rows().iter().filter(|r| r.object == object).map(|r| r.condition).fold(0.0, f64::max),
+        |c| c.chosen.condition,
+    );
+    let rows: Vec<_> = table.rows().iter().filter(|r| r.object == object && r.condition == condition).collect();
+    let cost_of = |name: &str| rows.iter().find(|r| r.representation == name).map(|r| r.cost);
+    let table_points: Vec<(f64, f64)> = rows.iter().map(|r| (r.cost, r.flip)).collect();
+    let held: Vec<(f64, f64, &str)> = view
+        .methods
+        .iter()
+        .filter_map(|m| {
+            cost_of(&m.measurement.representation)
+                .map(|c| (c, m.measurement.flip, m.measurement.representation.as_str()))
+        })
+        .collect();
+    let (mut x_lo, mut x_hi, mut y_hi) = (f64::INFINITY, 0.0_f64, 0.0_f64);
+    for (x, y) in table_points.iter().copied().chain(held.iter().map(|&(x, y, _)| (x, y))) {
+        (x_lo, x_hi, y_hi) = (x_lo.min(x), x_hi.max(x), y_hi.max(y));
+    }
+    for b in budgets.iter().filter(|b| b.metric() == Metric::Flip) {
+        y_hi = y_hi.max(b.max());
+    }
+    if !x_lo.is_finite() || x_lo <= 0.0 {
+        return Err(format!("{object}: no positive costs to chart"));
+    }
+    let adapter = table.stamp().adapter.clone();
+    render_png(path, (960, 600), |root| {
+        let e = drawing_error;
+        let caption = format!("{object}: FLIP against cost, table at {condition:.1} px/voxel, held-out view");
+        let mut chart = ChartBuilder::on(root)
+            .caption(caption, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(44)
+            .y_label_area_size(60)
+            .build_cartesian_2d((x_lo / 1.3..x_hi * 1.3).log_scale(), 0.0..y_hi * 1.1)
+            .map_err(e)?;
+        chart
+            .configure_mesh()
+            .x_desc(format!("cost: {COST_UNIT}, {adapter}"))
+            .y_desc("mean FLIP against the exact mesh's image")
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(e)?;
+        chart
+            .draw_series(table_points.iter().map(|&p| Circle::new(p, 4, TABLE_GREY.filled())))
+            .map_err(e)?
+            .label("each method in the table (worst of 4 cameras)")
+            .legend(|(x, y)| Circle::new((x + 12, y), 4, TABLE_GREY.filled()));
+        let front: Vec<(f64, f64)> = pareto_front(&table_points).into_iter().map(|i| table_points[i]).collect();
+        chart
+            .draw_series(LineSeries::new(front, BLACK.stroke_width(2)))
+            .map_err(e)?
+            .label("the table's Pareto front")
+            .legend(legend_stroke(BLACK, 2, 24));
+        chart
+            .draw_series(held.iter().map(|&(x, y, _)| Cross::new((x, y), 5, HELD_OUT_BLUE.stroke_width(2))))
+            .map_err(e)?
+            .label("each method on the held-out view (same cost)")
+            .legend(|(x, y)| Cross::new((x + 12, y), 5, HELD_OUT_BLUE.stroke_width(2)));
+        chart
+            .draw_series(held.iter().map(|&(x, y, name)| {
+                Text::new(name.to_owned(), (x * 1.04, y), ("sans-serif", 11).into_font().color(&TABLE_GREY))
+            }))
+            .map_err(e)?;
+        for (k, b) in budgets.iter().enumerate().filter(|(_, b)| b.metric() == Metric::Flip) {
+            let colour = BUDGET_COLOURS[k % BUDGET_COLOURS.len()];
+            // The bundled font has no ꟻ.
+            let budget = b.to_string().replace('ꟻ', "F");
+            let label = match choices.iter().find(|c| c.budget == *b) {
+                Some(c) => format!("{budget}: {} ({:.3} held out)", c.chosen.representation, c.measured.flip),
+                None => format!("{budget}: nothing within budget"),
+            };
+            chart
+                .draw_series(LineSeries::new([(x_lo / 1.3, b.max()), (x_hi * 1.3, b.max())], colour.stroke_width(1)))
+                .map_err(e)?
+                .label(label)
+                .legend(legend_stroke(colour, 3, 24));
+            if let Some(c) = choices.iter().find(|c| c.budget == *b) {
+                chart
+                    .draw_series([Circle::new((c.chosen.cost, c.measured.flip), 9, colour.stroke_width(3))])
+                    .map_err(e)?;
+            }
+        }
+        draw_legend(&mut chart, 14, SeriesLabelPosition::UpperRight)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn budgets_parse_and_bad_ones_name_the_flag() {
+        assert_eq!(budget("flip:0.05").unwrap(), Budget::new(Metric::Flip, 0.05).unwrap());
+        assert_eq!(budget("1-ssim:0.2").unwrap(), Budget::new(Metric::SsimLoss, 0.2).unwrap());
+        for (text, expected) in [
+            ("flip", "expected METRIC:MAX"),
+            ("psnr:3", "unknown metric `psnr`"),
+            ("flip:x", "`x` is not a number"),
+            ("flip:-1", "is not a positive number"),
+        ] {
+            let error = budget(text).unwrap_err();
+            assert!(error.starts_with(&format!("--budget {text}: ")) && error.contains(expected), "{error}");
+        }
+    }
+
+    #[test]
+    fn file_parts_are_plain() {
+        assert_eq!(file_part("chain mail"), "chain_mail");
+        assert_eq!(file_part("DDM 4x1 + adaptive"), "ddm_4x1_adaptive");
+    }
+
+    #[test]
+    fn the_committed_table_is_fresh_and_complete() {
+        // Fails when a source that produces the table changed since it was measured: run
+        // `cargo xtask select-tables` and commit the table.
+        let table = fresh_table().unwrap_or_else(|e| panic!("{e}"));
+        let settings = SelectionSettings::standard();
+        let objects: Vec<&str> = Mesostructure::ALL.iter().map(|m| m.name()).collect();
+        assert_eq!(table.objects(), objects);
+        // Every method at every calibration magnification: 13 on the height fields
+        // (relief), 12 on the others.
+        let expected: usize = Mesostructure::ALL
+            .iter()
+            .map(|m| if matches!(m, Mesostructure::Maze(_) | Mesostructure::Bricks) { 13 } else { 12 })
+            .sum::<usize>()
+            * settings.calibration_rows.len();
+        assert_eq!(table.rows().len(), expected);
+    }
+}

@@ -19,17 +19,16 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use microsurface_truth::comparison::{AngleComparison, Sweep, compare, compare_models, max_error, max_errors};
+use microsurface_truth::selection::ATTRIBUTE_CHANNELS;
 use microsurface_truth::{
-    CUBIC_DEVIATION_BUDGET, CubicLambdaCorrection, HeightField, LambdaCorrection, Spectrum, SurfaceStatistics,
-    VisibilityCorrection, fit_visibility_correction, generate_cellular, generate_gaussian, generate_ridged,
+    CUBIC_DEVIATION_BUDGET, CubicLambdaCorrection, HeightField, LambdaCorrection, SLOPE_SIGMA, Spectrum, Surface,
+    SurfaceStatistics, VisibilityCorrection, fit_visibility_correction, generate_gaussian, standard_surfaces,
 };
 use plotters::prelude::*;
 
 use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
 use crate::cli::Args;
 
-/// RMS slope of every generated surface: Λ spans 0 … 20 over 0° … 89°.
-const SLOPE_SIGMA: f64 = 0.5;
 const ALL_ANGLES: [f64; 90] = {
     let mut a = [0.0; 90];
     let mut i = 0;
@@ -51,90 +50,19 @@ fn light(azimuth_deg: f64) -> DVec3 {
 /// The view-and-light sweeps: (CSV name, light azimuth relative to the view, degrees).
 const LIGHT_SWEEPS: [(&str, f64); 3] =
     [("view_and_light", 90.0), ("view_and_light_same_azimuth", 0.0), ("view_and_light_opposite_azimuth", 180.0)];
-/// Channels `a_c(h) = base + amplitude · s(h)` of the RGB curves.
-const CHANNELS: [(&str, RGBColor, f64, f64); 3] = [
-    ("R", RGBColor(200, 30, 30), 0.55, 0.35),
-    ("G", RGBColor(30, 150, 30), 0.45, -0.25),
-    ("B", RGBColor(30, 60, 200), 0.35, 0.15),
-];
+/// The RGB curves' names and colours, for `microsurface_truth::selection::ATTRIBUTE_CHANNELS`
+/// (`a_c(h) = base + amplitude · s(h)`).
+const CHANNELS: [(&str, RGBColor); 3] =
+    [("R", RGBColor(200, 30, 30)), ("G", RGBColor(30, 150, 30)), ("B", RGBColor(30, 60, 200))];
 
-struct Surface {
-    name: String,
-    gaussian: bool,
-    field: HeightField,
-    /// Independent realizations of the same generator to fit the model on (empty: fit on
-    /// `field` itself, for textures).
-    fitting_fields: Vec<HeightField>,
-}
-
-/// Seed offsets of the realizations the model of a Gaussian surface is fitted on.
-const FITTING_SEED_OFFSETS: [u64; 2] = [1000, 2000];
-
+/// The generated surfaces (`microsurface_truth::standard_surfaces`), and a height map's.
 fn surfaces(size: usize, height_map: Option<&Path>) -> Result<Vec<Surface>, String> {
-    let mut list = realizations(size, 0)?;
-    for offset in FITTING_SEED_OFFSETS {
-        for (surface, fitting) in list.iter_mut().zip(realizations(size, offset)?) {
-            if surface.gaussian {
-                surface.fitting_fields.push(fitting.field);
-            }
-        }
-    }
+    let mut list = standard_surfaces(size, 0).map_err(|e| e.to_string())?;
     if let Some(path) = height_map {
         let field = HeightField::from_image(path, 16.0).map_err(|e| e.to_string())?;
         let name = path.file_stem().map_or("height_map".into(), |s| s.to_string_lossy().into_owned());
         list.push(Surface { name, gaussian: false, field, fitting_fields: Vec::new() });
     }
-    Ok(list)
-}
-
-/// The generated surfaces, with generator seeds shifted by `seed_offset`.
-fn realizations(size: usize, seed_offset: u64) -> Result<Vec<Surface>, String> {
-    let e = |e: microsurface_truth::HeightFieldError| e.to_string();
-    let list = vec![
-        Surface {
-            name: "gaussian_correlation".into(),
-            gaussian: true,
-            fitting_fields: Vec::new(),
-            field: generate_gaussian(size, Spectrum::Gaussian { wavelength: 16.0 }, SLOPE_SIGMA, 1 + seed_offset)
-                .map_err(e)?,
-        },
-        Surface {
-            name: "fbm_power_law".into(),
-            gaussian: true,
-            fitting_fields: Vec::new(),
-            field: generate_gaussian(
-                size,
-                Spectrum::PowerLaw { min_wavelength: 8.0, max_wavelength: size as f64 / 4.0, exponent: 3.0 },
-                SLOPE_SIGMA,
-                2 + seed_offset,
-            )
-            .map_err(e)?,
-        },
-        Surface {
-            name: "band_pass".into(),
-            gaussian: true,
-            fitting_fields: Vec::new(),
-            field: generate_gaussian(
-                size,
-                Spectrum::BandPass { wavelength: 24.0, width: 0.1 },
-                SLOPE_SIGMA,
-                3 + seed_offset,
-            )
-            .map_err(e)?,
-        },
-        Surface {
-            name: "cellular".into(),
-            gaussian: false,
-            fitting_fields: Vec::new(),
-            field: generate_cellular(size, size / 8, SLOPE_SIGMA, 4 + seed_offset).map_err(e)?,
-        },
-        Surface {
-            name: "ridged".into(),
-            gaussian: false,
-            fitting_fields: Vec::new(),
-            field: generate_ridged(size, 16.0, SLOPE_SIGMA, 5 + seed_offset).map_err(e)?,
-        },
-    ];
     Ok(list)
 }
 
@@ -179,7 +107,7 @@ fn draw(path: &Path, title: &str, rows: &[AngleComparison]) -> Result<(), String
             .label_style(("sans-serif", 18))
             .draw()
             .map_err(drawing_error)?;
-        for (name, color, base, amplitude) in CHANNELS {
+        for ((name, color), (base, amplitude)) in CHANNELS.into_iter().zip(ATTRIBUTE_CHANNELS) {
             let channel = |s: f64| base + amplitude * s;
             let truth: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.truth))).collect();
             let eq17: Vec<(f64, f64)> = rows.iter().map(|r| (r.view_angle_deg, channel(r.eq17))).collect();
@@ -320,12 +248,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         let degenerate = || format!("{}: degenerate surface", surface.name);
         // Gaussian surfaces: fitted on other realizations only. Textures: on their own map,
         // with rays, azimuths and lights other than those of the sweeps below.
-        let fitting = if surface.fitting_fields.is_empty() {
-            std::slice::from_ref(&surface.field)
-        } else {
-            &surface.fitting_fields[..]
-        };
-        let model = fit_visibility_correction(fitting, fit_rays, 31)
+        let model = fit_visibility_correction(surface.fitting(), fit_rays, 31)
             .map_err(|e| format!("{}: cannot fit the visibility model: {e}", surface.name))?;
         models.push((surface.name.clone(), surface.fitting_fields.len(), model));
         // The view table as a cubic (`smith_micro::cubic_correction`), on the sum of the Λs.

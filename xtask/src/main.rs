@@ -154,10 +154,16 @@ pub const COMMANDS: &[Command] = &[
         positional: Positional::OutDir("target/gpu-report"),
         run: gpu_report::run,
     },
-    Command { name: "select-tables", flags: &[], exclusive: &[], positional: Positional::None, run: select::tables },
+    Command {
+        name: "select-tables",
+        flags: &[value("only", "ddm|smith")],
+        exclusive: &[],
+        positional: Positional::None,
+        run: select::tables,
+    },
     Command {
         name: "select",
-        flags: &[repeated("budget", "METRIC:MAX")],
+        flags: &[value("only", "ddm|smith"), repeated("budget", "METRIC:MAX")],
         exclusive: &[],
         positional: Positional::OutDir("target/select"),
         run: select::run,

@@ -19,26 +19,168 @@
 //! the table's cost of every candidate at the magnification chosen at, its Pareto front,
 //! the budgets and the choices.
 
+//! `cargo xtask select-tables [--only TABLE]` and
+//! `cargo xtask select [OUT_DIR] [--only TABLE] [--budget METRIC:MAX]...`: *model no more
+//! than a scene needs* (`model_select`), for the DDM tracing methods
+//! (`ddm_experiments::selection`, table `ddm`) and the Smith appearance models
+//! (`microsurface_truth::selection`, table `smith`).
+//!
+//! `select-tables` measures the tables the selector reads — per object (mesostructure,
+//! surface) and representation (method, model), at each calibration condition (the
+//! view's magnification, its largest view angle): ꟻLIP and 1 − SSIM of its image against
+//! the truth's, CPU ns per ray or per pixel — and writes them, stamped with the commit,
+//! the processor and the fingerprint of the sources that produce them, to
+//! `crates/ddm-experiments/tables/ddm_selection.csv` and
+//! `crates/microsurface-truth/tables/smith_selection.csv` (committed; a test fails when
+//! those sources change and a table is not measured again).
+//!
+//! `select` reads the tables (an error when one is stale), and for each budget and
+//! object lets the selector choose the cheapest representation within budget at the
+//! held-out view's condition, then measures every representation on the held-out view
+//! (another camera; for the Smith models also another realization of each Gaussian
+//! surface): the choice's measured error there, whether it is within budget, and which
+//! representations the table called cheaper met the budget there too. Writes to
+//! `OUT_DIR` (default `target/select`) `selection.csv`, per object the truth's image, each
+//! chosen representation's image and ꟻLIP map, and `<object>_selection.png`: ꟻLIP against
+//! the table's cost of every candidate at the condition chosen at, its Pareto front, the
+//! budgets and the choices.
+
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
-use ddm_experiments::selection::{
-    CONDITION_UNIT, COST_UNIT, HeldOutChoice, SelectionSettings, TABLE_FILE, TABLE_NAME, TABLE_SOURCES,
-    ViewMeasurements, held_out, held_out_camera, measure_view, table_rows,
-};
+use ddm_experiments::selection::SelectionSettings;
 use ddm_experiments::trace_tables::TraceScene;
+use image::RgbaImage;
 use mesostructure::Mesostructure;
-use model_select::{Budget, Metric, Stamp, Table, fingerprint, pareto_front};
+use model_select::{Budget, HeldOutCheck, Measurement, Metric, Stamp, Table, fingerprint, pareto_front};
 use plotters::prelude::*;
 
 use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
 use crate::cli::Args;
 
-/// The page's three budgets when `--budget` is not given: mean ꟻLIP of the whole image.
-const DEFAULT_BUDGETS: [(Metric, f64); 3] = [(Metric::Flip, 0.35), (Metric::Flip, 0.1), (Metric::Flip, 0.03)];
+/// One selector: its table and how its held-out views are measured.
+pub struct Selector {
+    /// Its name for `--only`.
+    pub name: &'static str,
+    /// The table's name.
+    table_name: &'static str,
+    /// The committed table, relative to the workspace root.
+    pub table_file: &'static str,
+    /// The sources that produce it.
+    sources: &'static [&'static str],
+    /// [`Measurement::condition`]'s unit, and a short label of it for charts.
+    condition_unit: (&'static str, &'static str),
+    /// [`Measurement::cost`]'s unit.
+    cost_unit: &'static str,
+    /// What a table row holds, for the chart's legend.
+    row_note: &'static str,
+    /// The three budgets when `--budget` is not given.
+    default_budgets: [(Metric, f64); 3],
+    /// Measures the table's rows.
+    measure: fn() -> Result<Vec<Measurement>, String>,
+    /// Measures the held-out views.
+    held_out: fn() -> Result<Vec<HeldOutView>, String>,
+}
 
-/// The processor's name (`/proc/cpuinfo`), the adapter of the table's CPU costs.
+/// One object seen from the held-out view: the truth's image and every representation's.
+pub struct HeldOutView {
+    /// The object (as in the table).
+    object: String,
+    /// The truth's image.
+    truth: RgbaImage,
+    /// Every representation: its measurement, its image and its file-name part.
+    representations: Vec<(Measurement, RgbaImage, String)>,
+}
+
+/// Every selector, in page order.
+pub const SELECTORS: [Selector; 2] = [
+    Selector {
+        name: "ddm",
+        table_name: ddm_experiments::selection::TABLE_NAME,
+        table_file: ddm_experiments::selection::TABLE_FILE,
+        sources: &ddm_experiments::selection::TABLE_SOURCES,
+        condition_unit: (ddm_experiments::selection::CONDITION_UNIT, "px/voxel"),
+        cost_unit: ddm_experiments::selection::COST_UNIT,
+        row_note: "worst of 4 cameras",
+        default_budgets: [(Metric::Flip, 0.35), (Metric::Flip, 0.1), (Metric::Flip, 0.03)],
+        measure: ddm_table,
+        held_out: ddm_held_out,
+    },
+    Selector {
+        name: "smith",
+        table_name: microsurface_truth::selection::TABLE_NAME,
+        table_file: microsurface_truth::selection::TABLE_FILE,
+        sources: &microsurface_truth::selection::TABLE_SOURCES,
+        condition_unit: (microsurface_truth::selection::CONDITION_UNIT, "° largest view angle"),
+        cost_unit: microsurface_truth::selection::COST_UNIT,
+        row_note: "worst band camera below the angle",
+        default_budgets: [(Metric::Flip, 0.2), (Metric::Flip, 0.1), (Metric::Flip, 0.06)],
+        measure: smith_table,
+        held_out: smith_held_out,
+    },
+];
+
+fn ddm_scenes(settings: &SelectionSettings) -> Result<Vec<TraceScene>, String> {
+    Mesostructure::ALL.iter().map(|&s| TraceScene::build(s, &settings.tables).map_err(|e| e.to_string())).collect()
+}
+
+fn ddm_table() -> Result<Vec<Measurement>, String> {
+    let settings = SelectionSettings::standard();
+    ddm_experiments::selection::table_rows(&ddm_scenes(&settings)?, &settings).map_err(|e| e.to_string())
+}
+
+fn ddm_held_out() -> Result<Vec<HeldOutView>, String> {
+    use ddm_experiments::selection::{held_out_camera, measure_view};
+    let settings = SelectionSettings::standard();
+    let mut views = Vec::new();
+    for scene in ddm_scenes(&settings)? {
+        let camera = held_out_camera(scene.dims);
+        let view = measure_view(&scene, camera, settings.held_out_rows, settings.passes).map_err(|e| e.to_string())?;
+        views.push(HeldOutView {
+            object: scene.name.to_owned(),
+            truth: view.truth,
+            representations: view
+                .methods
+                .into_iter()
+                .map(|m| (m.measurement, m.image, crate::ddm_trace::image_name(m.method)))
+                .collect(),
+        });
+    }
+    Ok(views)
+}
+
+fn smith_table() -> Result<Vec<Measurement>, String> {
+    microsurface_truth::selection::table_rows(&microsurface_truth::selection::SelectionSettings::standard())
+        .map_err(|e| e.to_string())
+}
+
+fn smith_held_out() -> Result<Vec<HeldOutView>, String> {
+    let settings = microsurface_truth::selection::SelectionSettings::standard();
+    let views = microsurface_truth::selection::held_out_rows(&settings).map_err(|e| e.to_string())?;
+    Ok(views
+        .into_iter()
+        .filter_map(|view| {
+            let object = view.models.first()?.measurement.object.clone();
+            let representations =
+                view.models.into_iter().map(|m| (m.measurement, m.image, file_part(m.model.name()))).collect();
+            Some(HeldOutView { object, truth: view.truth, representations })
+        })
+        .collect())
+}
+
+/// The selectors `--only` names (all without it), or an error naming the flag.
+fn selected(args: &Args<'_>) -> Result<Vec<&'static Selector>, String> {
+    match args.value("only") {
+        None => Ok(SELECTORS.iter().collect()),
+        Some(name) => SELECTORS.iter().find(|s| s.name == name).map(|s| vec![s]).ok_or_else(|| {
+            let names: Vec<&str> = SELECTORS.iter().map(|s| s.name).collect();
+            format!("--only {name}: no such table (the tables: {})", names.join(", "))
+        }),
+    }
+}
+
+/// The processor's name (`/proc/cpuinfo`), the adapter of the tables' CPU costs.
 fn processor() -> String {
     let name = std::fs::read_to_string("/proc/cpuinfo").ok().and_then(|text| {
         text.lines().find_map(|l| {
@@ -48,44 +190,47 @@ fn processor() -> String {
     format!("CPU {} (one thread)", name.unwrap_or_else(|| std::env::consts::ARCH.to_owned())).replace(',', ";")
 }
 
-fn scenes(settings: &SelectionSettings) -> Result<Vec<TraceScene>, String> {
-    Mesostructure::ALL.iter().map(|&s| TraceScene::build(s, &settings.tables).map_err(|e| e.to_string())).collect()
-}
-
-/// `select-tables`: measures and writes the committed table.
-pub fn tables(_: &Args<'_>) -> Result<(), String> {
-    let started = Instant::now();
-    let settings = SelectionSettings::standard();
-    let root = crate::workspace_root();
-    let sources = fingerprint(&root, &TABLE_SOURCES).map_err(|e| e.to_string())?;
-    let rows = table_rows(&scenes(&settings)?, &settings).map_err(|e| e.to_string())?;
-    let stamp = Stamp {
-        command: "cargo xtask select-tables".into(),
-        commit: crate::showcase::commit(),
-        adapter: processor(),
-        sources,
-    };
-    let table = Table::new(TABLE_NAME, stamp, CONDITION_UNIT, COST_UNIT, rows).map_err(|e| e.to_string())?;
-    let path = root.join(TABLE_FILE);
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+/// `select-tables`: measures and writes the committed tables.
+pub fn tables(args: &Args<'_>) -> Result<(), String> {
+    for selector in selected(args)? {
+        let started = Instant::now();
+        let root = crate::workspace_root();
+        let sources = fingerprint(&root, selector.sources).map_err(|e| e.to_string())?;
+        let rows = (selector.measure)()?;
+        let stamp = Stamp {
+            command: format!("cargo xtask select-tables --only {}", selector.name),
+            commit: crate::showcase::commit(),
+            adapter: processor(),
+            sources,
+        };
+        let table = Table::new(selector.table_name, stamp, selector.condition_unit.0, selector.cost_unit, rows)
+            .map_err(|e| e.to_string())?;
+        let path = root.join(selector.table_file);
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        }
+        std::fs::write(&path, table.to_csv()).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        for object in table.objects() {
+            let rows: Vec<_> = table.rows().iter().filter(|r| r.object == object).collect();
+            let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.cost, r.flip)).collect();
+            let front: Vec<String> = pareto_front(&points)
+                .into_iter()
+                .map(|i| {
+                    format!(
+                        "{} @{:.1} ({:.1} ns, ꟻLIP {:.3})",
+                        rows[i].representation, rows[i].condition, rows[i].cost, rows[i].flip
+                    )
+                })
+                .collect();
+            println!("{object}: front over every condition: {}", front.join("; "));
+        }
+        println!(
+            "wrote {} ({} rows) in {:.0} s",
+            selector.table_file,
+            table.rows().len(),
+            started.elapsed().as_secs_f64()
+        );
     }
-    std::fs::write(&path, table.to_csv()).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-    for object in table.objects() {
-        let rows: Vec<_> = table.rows().iter().filter(|r| r.object == object).collect();
-        let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.cost, r.flip)).collect();
-        let front: Vec<String> = pareto_front(&points)
-            .into_iter()
-            .map(|i| {
-                format!(
-                    "{} @{:.1} ({:.0} ns, ꟻLIP {:.3})",
-                    rows[i].representation, rows[i].condition, rows[i].cost, rows[i].flip
-                )
-            })
-            .collect();
-        println!("{object}: front over both magnifications: {}", front.join("; "));
-    }
-    println!("wrote {TABLE_FILE} ({} rows) in {:.0} s", table.rows().len(), started.elapsed().as_secs_f64());
     Ok(())
 }
 
@@ -97,17 +242,19 @@ fn budget(text: &str) -> Result<Budget, String> {
     Budget::new(metric, max).map_err(|e| format!("--budget {text}: {e}"))
 }
 
-/// The committed table, or an error when it is missing or stale.
-pub fn fresh_table() -> Result<Table, String> {
+/// `selector`'s committed table, or an error when it is missing or stale.
+pub fn fresh_table(selector: &Selector) -> Result<Table, String> {
     let root = crate::workspace_root();
-    let table = Table::read(&root.join(TABLE_FILE)).map_err(|e| e.to_string())?;
-    let sources = fingerprint(&root, &TABLE_SOURCES).map_err(|e| e.to_string())?;
+    let table = Table::read(&root.join(selector.table_file)).map_err(|e| e.to_string())?;
+    let sources = fingerprint(&root, selector.sources).map_err(|e| e.to_string())?;
     if !table.is_fresh(&sources) {
         return Err(format!(
-            "{TABLE_FILE} is stale: measured from sources {} (commit {}), they are now {sources}; \
-             run `cargo xtask select-tables`",
+            "{} is stale: measured from sources {} (commit {}), they are now {sources}; \
+             run `cargo xtask select-tables --only {}`",
+            selector.table_file,
             table.stamp().sources,
-            table.stamp().commit
+            table.stamp().commit,
+            selector.name
         ));
     }
     Ok(table)
@@ -126,91 +273,96 @@ fn file_part(text: &str) -> String {
     name.trim_matches('_').to_owned()
 }
 
-/// `select`: the choices of three budgets checked on the held-out view.
+/// `select`: the choices of three budgets checked on the held-out views.
 pub fn run(args: &Args<'_>) -> Result<(), String> {
     let started = Instant::now();
     let out = args.out_dir();
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
-    let budgets: Vec<Budget> = match args.values("budget").as_slice() {
-        [] => DEFAULT_BUDGETS
-            .iter()
-            .map(|&(m, max)| Budget::new(m, max))
-            .collect::<Result<_, _>>()
-            .map_err(|e| e.to_string())?,
-        given => given.iter().map(|t| budget(t)).collect::<Result<_, _>>()?,
-    };
-    let table = fresh_table()?;
-    let settings = SelectionSettings::standard();
-    println!(
-        "select: table {} (commit {}, {}), held-out view {}×{} px",
-        TABLE_FILE,
-        table.stamp().commit,
-        table.stamp().adapter,
-        settings.held_out_rows.div_ceil(3) * 4,
-        settings.held_out_rows
-    );
+    let given: Vec<Budget> = args.values("budget").iter().map(|t| budget(t)).collect::<Result<_, _>>()?;
+    let selectors = selected(args)?;
     let mut csv = String::from(
-        "metric,budget,object,held_out_condition,chosen_at_condition,choice,table_error,table_cost_ns,held_out_error,\
-         within_budget,cheaper_within_budget_on_held_out,candidates,within_budget_in_table,note\n",
+        "table,metric,budget,object,held_out_condition,chosen_at_condition,choice,table_error,table_cost,\
+         held_out_error,within_budget,cheaper_within_budget_on_held_out,candidates,within_budget_in_table,note\n",
     );
     let (mut met, mut total) = (0, 0);
-    for scene in scenes(&settings)? {
-        let camera = held_out_camera(scene.dims);
-        let view = measure_view(&scene, camera, settings.held_out_rows, settings.passes).map_err(|e| e.to_string())?;
-        let name = file_part(scene.name);
-        save(&out.join(format!("{name}_truth.png")), &view.truth)?;
-        let condition = camera.pixels_per_voxel(settings.held_out_rows);
-        let mut choices = Vec::new();
-        for &budget in &budgets {
-            total += 1;
-            match held_out(&table, &view, budget) {
-                Ok(choice) => {
-                    met += usize::from(choice.within_budget);
-                    write_choice(&mut csv, &choice, condition);
-                    write_images(&out, &name, &view, &choice)?;
-                    choices.push(choice);
-                }
-                Err(e) => {
-                    println!("  {}: {budget}: {e}", scene.name);
-                    let _ = writeln!(
-                        csv,
-                        "{},{},{},{condition:.3},,,,,,false,,,0,\"{}\"",
-                        budget.metric().name(),
-                        budget.max(),
-                        scene.name,
-                        e.to_string().replace('"', "'")
-                    );
+    for selector in selectors {
+        let budgets: Vec<Budget> = if given.is_empty() {
+            selector
+                .default_budgets
+                .iter()
+                .map(|&(m, max)| Budget::new(m, max))
+                .collect::<Result<_, _>>()
+                .map_err(|e| e.to_string())?
+        } else {
+            given.clone()
+        };
+        let table = fresh_table(selector)?;
+        println!(
+            "select {}: table {} (commit {}, {})",
+            selector.name,
+            selector.table_file,
+            table.stamp().commit,
+            table.stamp().adapter
+        );
+        for view in (selector.held_out)()? {
+            let name = file_part(&view.object);
+            save(&out.join(format!("{name}_truth.png")), &view.truth)?;
+            let measurements: Vec<Measurement> = view.representations.iter().map(|(m, _, _)| m.clone()).collect();
+            let condition = measurements.first().map_or(0.0, |m| m.condition);
+            let mut choices = Vec::new();
+            for &budget in &budgets {
+                total += 1;
+                match table.check_held_out(&measurements, budget) {
+                    Ok(choice) => {
+                        met += usize::from(choice.within_budget);
+                        write_choice(&mut csv, selector, &choice, condition);
+                        write_images(&out, &name, &view, &choice)?;
+                        choices.push(choice);
+                    }
+                    Err(e) => {
+                        println!("  {}: {budget}: {e}", view.object);
+                        let _ = writeln!(
+                            csv,
+                            "{},{},{},{},{condition:.3},,,,,,false,,,0,\"{}\"",
+                            selector.name,
+                            budget.metric().name(),
+                            budget.max(),
+                            view.object,
+                            e.to_string().replace('"', "'")
+                        );
+                    }
                 }
             }
+            chart(&out.join(format!("{name}_selection.png")), selector, &table, &view, &choices, &budgets)?;
         }
-        chart(&out.join(format!("{name}_selection.png")), &table, scene.name, &view, &choices, &budgets)?;
     }
     let path = out.join("selection.csv");
     std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     println!(
-        "{met} of {total} choices within budget on the held-out view; wrote {} in {:.0} s",
+        "{met} of {total} choices within budget on the held-out views; wrote {} in {:.0} s",
         path.display(),
         started.elapsed().as_secs_f64()
     );
     Ok(())
 }
 
-fn save(path: &Path, image: &image::RgbaImage) -> Result<(), String> {
+fn save(path: &Path, image: &RgbaImage) -> Result<(), String> {
     image::DynamicImage::ImageRgba8(image.clone())
         .to_rgb8()
         .save(path)
         .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
-fn write_choice(csv: &mut String, c: &HeldOutChoice, condition: f64) {
+fn write_choice(csv: &mut String, selector: &Selector, c: &HeldOutCheck, condition: f64) {
     let metric = c.budget.metric();
     println!(
-        "  {:<10} {}: {} (table {:.4} at {:.2} px/voxel, {:.0} ns/ray) → held-out {:.4} {}{}",
+        "  {:<22} {}: {} (table {:.4} at {:.2} {}, cost {:.1}) → held-out {:.4} {}{}",
         c.object,
         c.budget,
         c.chosen.representation,
         c.chosen.error(metric),
         c.chosen.condition,
+        selector.condition_unit.1,
         c.chosen.cost,
         c.measured.error(metric),
         if c.within_budget { "within budget" } else { "OVER BUDGET" },
@@ -222,7 +374,8 @@ fn write_choice(csv: &mut String, c: &HeldOutChoice, condition: f64) {
     );
     let _ = writeln!(
         csv,
-        "{},{},{},{condition:.3},{:.3},{},{:.5},{:.1},{:.5},{},{},{},{},",
+        "{},{},{},{},{condition:.3},{:.3},{},{:.5},{:.2},{:.5},{},{},{},{},",
+        selector.name,
         metric.name(),
         c.budget.max(),
         c.object,
@@ -238,15 +391,16 @@ fn write_choice(csv: &mut String, c: &HeldOutChoice, condition: f64) {
     );
 }
 
-/// The chosen method's held-out image and its ꟻLIP map.
-fn write_images(out: &Path, name: &str, view: &ViewMeasurements, choice: &HeldOutChoice) -> Result<(), String> {
-    let Some(method) = view.methods.iter().find(|m| m.measurement.representation == choice.chosen.representation)
+/// The chosen representation's held-out image and its ꟻLIP map.
+fn write_images(out: &Path, name: &str, view: &HeldOutView, choice: &HeldOutCheck) -> Result<(), String> {
+    let Some((_, image, part)) =
+        view.representations.iter().find(|(m, _, _)| m.representation == choice.chosen.representation)
     else {
         return Err(format!("{name}: {} has no image", choice.chosen.representation));
     };
-    let stem = format!("{name}_{}", crate::ddm_trace::image_name(method.method));
-    save(&out.join(format!("{stem}.png")), &method.image)?;
-    let flip = image_metrics::flip(&view.truth, &method.image).map_err(|e| format!("{stem}: {e}"))?;
+    let stem = format!("{name}_{part}");
+    save(&out.join(format!("{stem}.png")), image)?;
+    let flip = image_metrics::flip(&view.truth, image).map_err(|e| format!("{stem}: {e}"))?;
     image_metrics::flip_magma(&flip.map)
         .save(out.join(format!("{stem}_flip.png")))
         .map_err(|e| format!("cannot write {stem}_flip.png: {e}"))
@@ -260,12 +414,13 @@ const BUDGET_COLOURS: [RGBColor; 3] = [RGBColor(0, 158, 115), RGBColor(230, 159,
 /// were made at, with the front, the held-out errors, the budgets and the choices.
 fn chart(
     path: &Path,
+    selector: &Selector,
     table: &Table,
-    object: &str,
-    view: &ViewMeasurements,
-    choices: &[HeldOutChoice],
+    view: &HeldOutView,
+    choices: &[HeldOutCheck],
     budgets: &[Budget],
 ) -> Result<(), String> {
+    let object = view.object.as_str();
     let condition = choices.first().map_or_else(
         || table.rows().iter().filter(|r| r.object == object).map(|r| r.condition).fold(0.0, f64::max),
         |c| c.chosen.condition,
@@ -274,12 +429,9 @@ fn chart(
     let cost_of = |name: &str| rows.iter().find(|r| r.representation == name).map(|r| r.cost);
     let table_points: Vec<(f64, f64)> = rows.iter().map(|r| (r.cost, r.flip)).collect();
     let held: Vec<(f64, f64, &str)> = view
-        .methods
+        .representations
         .iter()
-        .filter_map(|m| {
-            cost_of(&m.measurement.representation)
-                .map(|c| (c, m.measurement.flip, m.measurement.representation.as_str()))
-        })
+        .filter_map(|(m, _, _)| cost_of(&m.representation).map(|c| (c, m.flip, m.representation.as_str())))
         .collect();
     let (mut x_lo, mut x_hi, mut y_hi) = (f64::INFINITY, 0.0_f64, 0.0_f64);
     for (x, y) in table_points.iter().copied().chain(held.iter().map(|&(x, y, _)| (x, y))) {
@@ -294,7 +446,10 @@ fn chart(
     let adapter = table.stamp().adapter.clone();
     render_png(path, (960, 600), |root| {
         let e = drawing_error;
-        let caption = format!("{object}: FLIP against cost, table at {condition:.1} px/voxel, held-out view");
+        let caption = format!(
+            "{object}: FLIP against cost, table at {condition:.1} {}, held-out view",
+            selector.condition_unit.1
+        );
         let mut chart = ChartBuilder::on(root)
             .caption(caption, ("sans-serif", 20))
             .margin(12)
@@ -304,15 +459,15 @@ fn chart(
             .map_err(e)?;
         chart
             .configure_mesh()
-            .x_desc(format!("cost: {COST_UNIT}, {adapter}"))
-            .y_desc("mean FLIP against the exact mesh's image")
+            .x_desc(format!("cost: {}, {adapter}", selector.cost_unit))
+            .y_desc("mean FLIP against the truth's image")
             .label_style(("sans-serif", 14))
             .draw()
             .map_err(e)?;
         chart
             .draw_series(table_points.iter().map(|&p| Circle::new(p, 4, TABLE_GREY.filled())))
             .map_err(e)?
-            .label("each method in the table (worst of 4 cameras)")
+            .label(format!("each representation in the table ({})", selector.row_note))
             .legend(|(x, y)| Circle::new((x + 12, y), 4, TABLE_GREY.filled()));
         let front: Vec<(f64, f64)> = pareto_front(&table_points).into_iter().map(|i| table_points[i]).collect();
         chart
@@ -323,7 +478,7 @@ fn chart(
         chart
             .draw_series(held.iter().map(|&(x, y, _)| Cross::new((x, y), 5, HELD_OUT_BLUE.stroke_width(2))))
             .map_err(e)?
-            .label("each method on the held-out view (same cost)")
+            .label("each representation on the held-out view (same cost)")
             .legend(|(x, y)| Cross::new((x + 12, y), 5, HELD_OUT_BLUE.stroke_width(2)));
         chart
             .draw_series(held.iter().map(|&(x, y, name)| {
@@ -379,10 +534,11 @@ mod tests {
     }
 
     #[test]
-    fn the_committed_table_is_fresh_and_complete() {
-        // Fails when a source that produces the table changed since it was measured: run
-        // `cargo xtask select-tables` and commit the table.
-        let table = fresh_table().unwrap_or_else(|e| panic!("{e}"));
+    fn the_committed_tables_are_fresh_and_complete() {
+        // Fails when a source that produces a table changed since it was measured: run
+        // `cargo xtask select-tables --only NAME` and commit the table.
+        let [ddm, smith] = &SELECTORS;
+        let table = fresh_table(ddm).unwrap_or_else(|e| panic!("{e}"));
         let settings = SelectionSettings::standard();
         let objects: Vec<&str> = Mesostructure::ALL.iter().map(|m| m.name()).collect();
         assert_eq!(table.objects(), objects);
@@ -394,5 +550,26 @@ mod tests {
             .sum::<usize>()
             * settings.calibration_rows.len();
         assert_eq!(table.rows().len(), expected);
+
+        let table = fresh_table(smith).unwrap_or_else(|e| panic!("{e}"));
+        let settings = microsurface_truth::selection::SelectionSettings::standard();
+        let surfaces = microsurface_truth::realizations(64, 0).unwrap();
+        let objects: Vec<&str> = surfaces.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(table.objects(), objects);
+        let models = microsurface_truth::selection::SmithModel::ALL.len();
+        assert_eq!(table.rows().len(), objects.len() * models * settings.band_tops_deg.len());
+    }
+
+    #[test]
+    fn only_names_a_table() {
+        let command = crate::command("select").unwrap();
+        let words = |w: &[&str]| w.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let crate::cli::Parsed::Run(args) = command.parse(&words(&["--only", "smith"])).unwrap() else { panic!() };
+        assert_eq!(selected(&args).unwrap().iter().map(|s| s.name).collect::<Vec<_>>(), ["smith"]);
+        let crate::cli::Parsed::Run(args) = command.parse(&words(&["--only", "grains"])).unwrap() else { panic!() };
+        let error = selected(&args).err().unwrap();
+        assert_eq!(error, "--only grains: no such table (the tables: ddm, smith)");
+        let crate::cli::Parsed::Run(args) = command.parse(&[]).unwrap() else { panic!() };
+        assert_eq!(selected(&args).unwrap().len(), 2);
     }
 }

@@ -169,7 +169,7 @@ pub const STAGES: &[Stage] = &[
                 held-out camera: the choice's image, its ꟻLIP map and measured error, and every candidate on the \
                 table's Pareto front.",
         command: "select",
-        flags: [&[], &[], &[]],
+        flags: [&["--only", "ddm"], &["--only", "ddm"], &["--only", "ddm"]],
         subject: ImageSubject::FirstWords(1),
     },
     Stage {
@@ -189,6 +189,20 @@ pub const STAGES: &[Stage] = &[
         about: "The coverage error of the (θ, v) mask tables against the number of samples N.",
         command: "abuffer-chart",
         flags: [&[], &[], &[]],
+        subject: ImageSubject::FirstWords(1),
+    },
+    Stage {
+        folder: "select-smith",
+        paper: "svo",
+        title: "Model no more than a scene needs: the cheapest Smith model within a budget",
+        about: "For three ꟻLIP budgets, per surface, the appearance model (MIP-mapping, eq. 17, eq. 17 with the cubic or \
+                the table correction, the correlated model) the selector picks from the committed table \
+                (crates/microsurface-truth/tables/smith_selection.csv: a plane seen up to a largest view angle, worst of \
+                16 band cameras and two truths, CPU cost per pixel), checked on a held-out camera over another \
+                realization: the choice's image, its ꟻLIP map and measured error, every candidate on the table's \
+                Pareto front.",
+        command: "select",
+        flags: [&["--only", "smith"], &["--only", "smith"], &["--only", "smith"]],
         subject: ImageSubject::FirstWords(1),
     },
     Stage {

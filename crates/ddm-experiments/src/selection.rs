@@ -16,7 +16,8 @@
 //! held-out view was 2.5–5× the table's (maze 0.055 → 0.139, bricks 0.031 → 0.147, ball
 //! 0.075 → 0.120), three of fifteen choices over budget.
 //!
-//! **The check** ([`held_out`]): another camera ([`held_out_camera`]: the other side of
+//! **The check** ([`measure_view`] from [`held_out_camera`], then
+//! [`model_select::Table::check_held_out`]): another camera ([`held_out_camera`]: the other side of
 //! the tile, lower, closer), whose magnification lies between the calibration ones; the
 //! selector picks from the table's rows at the next larger magnification, then every
 //! method is traced on the held-out view, so that the choice's own error there is
@@ -25,7 +26,7 @@
 
 use glam::{UVec3, Vec3};
 use image::RgbaImage;
-use model_select::{Budget, Measurement, Table};
+use model_select::Measurement;
 
 use crate::ExperimentError;
 use crate::shading::shade_normals;
@@ -210,77 +211,10 @@ pub fn table_rows(scenes: &[TraceScene], settings: &SelectionSettings) -> Result
     Ok(rows)
 }
 
-/// A choice of the table checked on the held-out view.
-#[derive(Clone, Debug, PartialEq)]
-pub struct HeldOutChoice {
-    /// The budget.
-    pub budget: Budget,
-    /// The object.
-    pub object: String,
-    /// The chosen method's row in the table.
-    pub chosen: Measurement,
-    /// The chosen method on the held-out view.
-    pub measured: Measurement,
-    /// Whether its held-out error is within budget.
-    pub within_budget: bool,
-    /// Methods that met the budget on the held-out view although the table gives them a
-    /// lower cost than the choice (at the condition the choice was made at): empty when
-    /// the choice was also the cheapest there.
-    pub cheaper_within_budget: Vec<String>,
-    /// How many methods the table held at that condition, and how many met the budget.
-    pub candidates: (usize, usize),
-}
-
-/// `table`'s choice for `held_out`'s object within `budget`, checked against every
-/// method measured on it. The table's errors (unknown object, magnification not
-/// measured, nothing within budget) come back as [`ExperimentError::Selection`].
-pub fn held_out(table: &Table, held_out: &ViewMeasurements, budget: Budget) -> Result<HeldOutChoice, ExperimentError> {
-    let first = held_out.methods.first().ok_or_else(|| ExperimentError::Selection("an empty view".into()))?;
-    let (object, condition) = (first.measurement.object.clone(), first.measurement.condition);
-    let choice = table.select(&object, condition, budget).map_err(|e| ExperimentError::Selection(e.to_string()))?;
-    let measured = held_out
-        .methods
-        .iter()
-        .map(|m| &m.measurement)
-        .find(|m| m.representation == choice.measurement.representation)
-        .ok_or_else(|| {
-            ExperimentError::Selection(format!(
-                "{object}: {} not measured on the view",
-                choice.measurement.representation
-            ))
-        })?
-        .clone();
-    let table_cost = |name: &str| {
-        table
-            .rows()
-            .iter()
-            .find(|r| r.object == object && r.condition == choice.condition && r.representation == name)
-            .map(|r| r.cost)
-    };
-    let metric = budget.metric();
-    let cheaper_within_budget = held_out
-        .methods
-        .iter()
-        .map(|m| &m.measurement)
-        .filter(|m| m.error(metric) <= budget.max())
-        .filter(|m| table_cost(&m.representation).is_some_and(|c| c < choice.measurement.cost))
-        .map(|m| m.representation.clone())
-        .collect();
-    Ok(HeldOutChoice {
-        budget,
-        object,
-        chosen: choice.measurement.clone(),
-        within_budget: measured.error(metric) <= budget.max(),
-        measured,
-        cheaper_within_budget,
-        candidates: (choice.candidates, choice.within_budget),
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use mesostructure::Mesostructure;
-    use model_select::{Metric, Stamp};
+    use model_select::{Budget, Metric, Stamp, Table};
 
     use super::*;
 
@@ -316,7 +250,8 @@ mod tests {
         let table = Table::new(TABLE_NAME, stamp, CONDITION_UNIT, "ns", rows).unwrap();
         let view = measure_view(&scene, held_out_camera(scene.dims), settings.held_out_rows, 1).unwrap();
         let budget = Budget::new(Metric::Flip, triangles_flip * 4.0 + 1e-3).unwrap();
-        let choice = held_out(&table, &view, budget).unwrap();
+        let held: Vec<Measurement> = view.methods.iter().map(|m| m.measurement.clone()).collect();
+        let choice = table.check_held_out(&held, budget).unwrap();
         assert_eq!(choice.object, "ball");
         assert_eq!(choice.chosen.condition, high, "chosen at the next larger magnification");
         assert!(choice.chosen.flip <= budget.max());

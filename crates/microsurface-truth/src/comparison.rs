@@ -116,6 +116,14 @@ pub fn slope_deviation(stats: &SurfaceStatistics) -> Result<SlopeDeviation, Slop
     SlopeDeviation::new(stats.slope_sigma.x as f32, stats.slope_sigma.y as f32)
 }
 
+/// The attribute `s` as a voxel stores it (§5.2): its mean over the field's heights (in
+/// f64, then as stored) — `ā`, and `a_s` = 1 since the projection `∫ s·a / ∫ s²` of `a = s`
+/// is exactly 1. `None` for a mean `HeightCorrelatedAttribute::new` rejects.
+pub fn stored_attribute(field: &HeightField, stats: &SurfaceStatistics) -> Option<(f64, HeightCorrelatedAttribute)> {
+    let mean = field.heights().iter().map(|&h| attribute_s(stats, h)).sum::<f64>() / field.heights().len() as f64;
+    Some((mean, HeightCorrelatedAttribute::new(mean as f32, 1.0).ok()?))
+}
+
 /// Runs `sweep` on `field`: ground truth, eq. 17 and MIP-mapping at every angle (the
 /// corrected columns equal eq. 17). Returns `None` when the statistics are degenerate (a
 /// flat field).
@@ -145,10 +153,7 @@ pub fn compare_models(
 ) -> Option<Vec<AngleComparison>> {
     let stats = SurfaceStatistics::measure(field);
     let slopes = slope_deviation(&stats).ok()?;
-    let samples: Vec<f64> = field.heights().iter().map(|&h| attribute_s(&stats, h)).collect();
-    let mean = samples.iter().sum::<f64>() / samples.len() as f64;
-    // With a = s, the projection a_s = ∫ s·a / ∫ s² is exactly 1.
-    let stored = HeightCorrelatedAttribute::new(mean as f32, 1.0).ok()?;
+    let (mean, stored) = stored_attribute(field, &stats)?;
     let lambda_light = match sweep.light {
         Some(l) => smith_micro::smith_lambda_direction(l.as_vec3(), slopes)?,
         None => 0.0,

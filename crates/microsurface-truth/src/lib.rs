@@ -14,6 +14,9 @@
 //! to the ground truth of a view-only sweep, and [`fit_visibility_correction`] the
 //! corrected model with separate view and light tables and a light–view correlation term
 //! ([`smith_micro::VisibilityCorrection`]) on several realizations at once.
+//! [`standard_surfaces`] are the five surfaces those experiments measure; [`selection`]
+//! measures the table from which `model-select` picks the cheapest Smith model within an
+//! image-error budget.
 //!
 //! ```
 //! use microsurface_truth::{Spectrum, SurfaceStatistics, VisibleAverage, generate_gaussian};
@@ -34,7 +37,9 @@ mod experiment;
 mod generate;
 mod heightfield;
 mod raycast;
+pub mod selection;
 mod statistics;
+mod surfaces;
 mod visibility_fit;
 
 pub use correction_fit::{
@@ -51,6 +56,7 @@ pub use smith_micro::VisibilityCorrection;
 /// Re-exported: the cubic form of the correction and the deviation up to which it replaces the table.
 pub use smith_micro::{CUBIC_DEVIATION_BUDGET, CubicLambdaCorrection};
 pub use statistics::SurfaceStatistics;
+pub use surfaces::{FITTING_SEED_OFFSETS, SLOPE_SIGMA, Surface, realizations, standard_surfaces};
 pub use visibility_fit::{
     CORRELATION_LIGHTS_DEG, CORRELATION_VIEW_ANGLES_DEG, PairSample, SHRINKAGE_STEPS, VisibilitySamples,
     collect_samples, fit_correlation, fit_samples, fit_visibility_correction,

@@ -57,11 +57,14 @@
 //! - [`Measurement`], [`Stamp`], [`Table`] (validated, CSV in and out: [`Table::to_csv`],
 //!   [`Table::from_csv`]), [`fingerprint`] of source files.
 //! - [`Table::select`] → [`Choice`]; [`pareto_front`].
+//! - [`Table::check_held_out`] → [`HeldOutCheck`]: a choice measured where the table was
+//!   not (another camera, another realization).
 //! - [`SelectError`]: every failure, naming the field, file, line or object.
 
 mod budget;
 mod error;
 mod fingerprint;
+mod held_out;
 mod pareto;
 mod select;
 mod table;
@@ -69,6 +72,7 @@ mod table;
 pub use budget::{Budget, Metric};
 pub use error::SelectError;
 pub use fingerprint::fingerprint;
+pub use held_out::HeldOutCheck;
 pub use pareto::pareto_front;
 pub use select::Choice;
 pub use table::{Measurement, Stamp, Table};

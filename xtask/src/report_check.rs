@@ -210,7 +210,43 @@ fn faults(dir: &Path, report: &Report) -> Result<(Vec<String>, usize, f64), Stri
     Ok((faults, charts, least_share))
 }
 
-/// Checks `dir/index.html` and writes `dir/screenshot.png`.
+/// The gallery of failure modes, relative to the workspace root: its images are links into
+/// the showcase's folder.
+pub const FAILURE_MODES: &str = "docs/failure-modes.md";
+/// How [`FAILURE_MODES`] links an image of the showcase: `../target/showcase/<stage>/<file>`.
+const GALLERY_PREFIX: &str = "../target/showcase/";
+
+/// The showcase images `markdown` links (`![alt](../target/showcase/<stage>/<file>)`), as
+/// paths relative to the showcase's folder, in order.
+pub fn gallery_images(markdown: &str) -> Vec<String> {
+    markdown
+        .split("](")
+        .skip(1)
+        .filter_map(|rest| rest.split(')').next())
+        .filter_map(|link| link.strip_prefix(GALLERY_PREFIX))
+        .map(str::to_owned)
+        .collect()
+}
+
+/// The images of [`FAILURE_MODES`] that `dir` (a showcase run) lacks: the gallery must show
+/// what the showcase writes. An error when the gallery cannot be read or links no image.
+fn missing_gallery_images(dir: &Path) -> Result<(usize, Vec<String>), String> {
+    let path = crate::workspace_root().join(FAILURE_MODES);
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let images = gallery_images(&text);
+    if images.is_empty() {
+        return Err(format!("{FAILURE_MODES} links no image under {GALLERY_PREFIX}"));
+    }
+    let missing = images
+        .iter()
+        .filter(|image| !dir.join(image).is_file())
+        .map(|image| format!("{FAILURE_MODES}: {GALLERY_PREFIX}{image} is not written by the showcase"))
+        .collect();
+    Ok((images.len(), missing))
+}
+
+/// Checks `dir/index.html` and writes `dir/screenshot.png`; checks that every image
+/// [`FAILURE_MODES`] links is in `dir`.
 pub fn run(dir: &Path) -> Result<(), String> {
     let page = dir.join("index.html");
     let page = page.canonicalize().map_err(|e| format!("cannot open {}: {e}", page.display()))?;
@@ -226,7 +262,10 @@ pub fn run(dir: &Path) -> Result<(), String> {
     let dom = chromium(&browser, &["--virtual-time-budget=30000".into(), "--dump-dom".into()], &harness_url);
     let _ = std::fs::remove_dir_all(&harness_dir);
     let report = parse_report(&dom?)?;
-    let (faults, charts, least_share) = faults(&dir, &report)?;
+    let (mut faults, charts, least_share) = faults(&dir, &report)?;
+    let (gallery, missing) = missing_gallery_images(&dir)?;
+    println!("{FAILURE_MODES}: {gallery} image links, {} missing from {}", missing.len(), dir.display());
+    faults.extend(missing);
     println!(
         "{}: {} images ({charts} charts, the least coloured at {:.3} %), {} tables, {} px tall",
         page.display(),
@@ -250,7 +289,10 @@ pub fn run(dir: &Path) -> Result<(), String> {
         image::image_dimensions(&screenshot).map_err(|e| format!("no screenshot at {}: {e}", screenshot.display()))?;
     println!("wrote {} ({} × {} px)", screenshot.display(), shot.0, shot.1);
     if faults.is_empty() {
-        println!("the page is complete: every image loaded, every chart has data, every PNG is shown");
+        println!(
+            "the page is complete: every image loaded, every chart has data, every PNG is shown, \
+             every image of the gallery exists"
+        );
         Ok(())
     } else {
         Err(format!("{} faults on {}:\n  {}", faults.len(), page.display(), faults.join("\n  ")))
@@ -288,6 +330,21 @@ mod tests {
             draw_legend(&mut chart, 18, SeriesLabelPosition::UpperRight)
         })
         .unwrap();
+    }
+
+    #[test]
+    fn the_gallery_links_showcase_images_only() {
+        let markdown = "![a](../target/showcase/fig9/x.png) text [doc](ARCHITECTURE.md) \
+                        ![b](../target/showcase/svo/y_z.png)";
+        assert_eq!(gallery_images(markdown), ["fig9/x.png", "svo/y_z.png"]);
+        let gallery = std::fs::read_to_string(crate::workspace_root().join(FAILURE_MODES)).unwrap();
+        let images = gallery_images(&gallery);
+        assert!(images.len() >= 20, "{} images", images.len());
+        // Each names a stage of the showcase.
+        for image in &images {
+            let stage = image.split('/').next().unwrap();
+            assert!(crate::showcase::STAGES.iter().any(|s| s.folder == stage), "{image}");
+        }
     }
 
     #[test]

@@ -8,14 +8,23 @@
 //! which name the configuration: adapter, scene, grains, …).
 //!
 //! A regression is a benchmark slower than the saved one beyond the spread of this
-//! machine ([`compare`]). The spread is measured on the comparison itself: the robust
+//! machine ([`compare`]). Two spreads are measured. The comparison's own: the robust
 //! deviation (1.4826 × MAD) of the log time ratios about their median (the run's drift)
 //! over every benchmark both runs have — most benchmarks are untouched by a change, so
-//! their ratios are the machine's run-to-run noise. A benchmark is flagged when it is
-//! slower and its log ratio exceeds the drift by more than [`SPREADS`] spreads, and, for
-//! criterion benchmarks, when the confidence intervals of the two means are disjoint too.
-//! A change that slows every benchmark alike shows as the drift, which is printed, not
-//! flagged.
+//! their ratios are the machine's run-to-run noise. And each benchmark's own: `--save`
+//! runs the benchmarks twice, back to back, and records per benchmark the log ratio of
+//! the two runs ([`Figure::run_to_run`]; the record keeps the second run). A benchmark is
+//! flagged when it is slower and its log ratio exceeds the drift by more than [`SPREADS`]
+//! times the larger of the two spreads, and, for criterion benchmarks, when the
+//! confidence intervals of the two means are disjoint too. A change that slows every
+//! benchmark alike shows as the drift, which is printed, not flagged.
+//!
+//! Why both: the first end-to-end run (`--save before smith_micro`, then `--compare
+//! before` on the same commit, 1 s per benchmark) flagged
+//! `smith_micro/visible_mean_attribute_for_directions` at 1.022 while the six benchmarks'
+//! common spread was 0.001 and criterion's intervals were disjoint: criterion's interval
+//! is the noise within a run, and a few benchmarks agreeing closely say nothing of a
+//! noisier one. A benchmark's own run-to-run ratio does.
 
 use std::path::{Path, PathBuf};
 use std::time::SystemTime;
@@ -34,6 +43,9 @@ pub struct Figure {
     pub interval: Option<(f64, f64)>,
     /// `ns` or `ms`.
     pub unit: &'static str,
+    /// |ln(t₂/t₁)| of two back-to-back runs of this benchmark on the machine that saved
+    /// it (`--save` measures it; `None` for a single run).
+    pub run_to_run: Option<f64>,
 }
 
 /// A saved run: its figures and where they came from.
@@ -60,6 +72,9 @@ impl Record {
                 if let Some((lower, upper)) = f.interval {
                     v["lower"] = json!(lower);
                     v["upper"] = json!(upper);
+                }
+                if let Some(spread) = f.run_to_run {
+                    v["run_to_run"] = json!(spread);
                 }
                 v
             })
@@ -93,7 +108,14 @@ impl Record {
                 _ => Some((number("lower")?, number("upper")?)),
             };
             let id = field("id")?.as_str().ok_or_else(|| format!("{source}: figures[{i}].id is not a string"))?;
-            figures.push(Figure { id: id.to_owned(), time: number("time")?, interval, unit });
+            let run_to_run = match f.get("run_to_run") {
+                None => None,
+                Some(_) => Some(number("run_to_run")?)
+                    .filter(|s| *s >= 0.0)
+                    .map(Some)
+                    .ok_or_else(|| format!("{source}: figures[{i}].run_to_run is negative"))?,
+            };
+            figures.push(Figure { id: id.to_owned(), time: number("time")?, interval, unit, run_to_run });
         }
         Ok(Self { name: text("name")?, commit: text("commit")?, date: text("date")?, figures })
     }
@@ -107,6 +129,19 @@ impl Record {
         figures.extend(gpu_figures(&target.join("bench-gpu"))?);
         figures.sort_by(|a, b| a.id.cmp(&b.id));
         Ok(Self { name: name.to_owned(), commit: crate::showcase::commit(), date: crate::showcase::utc_now(), figures })
+    }
+
+    /// The record of a second run, each figure carrying its run-to-run spread against
+    /// `first` (figures `first` lacks keep none).
+    pub fn with_run_to_run(mut self, first: &Record) -> Self {
+        for figure in &mut self.figures {
+            figure.run_to_run = first
+                .figures
+                .iter()
+                .find(|f| f.id == figure.id && f.unit == figure.unit && f.time > 0.0 && figure.time > 0.0)
+                .map(|f| (figure.time / f.time).ln().abs());
+        }
+        self
     }
 
     /// Writes the record as JSON to `path` (its folder created).
@@ -132,13 +167,15 @@ impl Record {
 pub fn print_comparison(saved: &Record, new: &Record) -> Result<(), String> {
     let report = compare(&saved.figures, &new.figures);
     println!("bench: {} against `{}` ({}, {}):", new.commit, saved.name, saved.commit, saved.date);
-    println!("{:>8}  benchmark", "ratio");
+    println!("{:>8} {:>11}  benchmark", "ratio", "run-to-run");
     for row in &report.rows {
-        println!("{:>8.3}  {}{}", row.ratio, row.id, if row.regression { "  REGRESSION" } else { "" });
+        let own = row.run_to_run.map_or_else(|| "-".to_owned(), |s| format!("{s:.3}"));
+        println!("{:>8.3} {own:>11}  {}{}", row.ratio, row.id, if row.regression { "  REGRESSION" } else { "" });
     }
     println!(
         "drift (median ratio) {:.3}, spread (robust, of the log ratios) {:.3}: a regression is slower than \
-         drift × {:.3} with disjoint confidence intervals; {} compared, {} in one run only",
+         drift × exp({SPREADS} × max(spread, its run-to-run)) — at least {:.3} — with disjoint confidence \
+         intervals; {} compared, {} in one run only",
         report.drift.exp(),
         report.spread,
         (SPREADS * report.spread).exp(),
@@ -208,7 +245,7 @@ fn criterion_figure(estimates: &Path, benchmark: &Path) -> Result<Figure, String
     let time = number(&mean["point_estimate"], "point_estimate")?;
     let lower = number(&mean["confidence_interval"]["lower_bound"], "confidence_interval.lower_bound")?;
     let upper = number(&mean["confidence_interval"]["upper_bound"], "confidence_interval.upper_bound")?;
-    Ok(Figure { id, time, interval: Some((lower, upper)), unit: "ns" })
+    Ok(Figure { id, time, interval: Some((lower, upper)), unit: "ns", run_to_run: None })
 }
 
 /// The GPU benchmark figures of the CSV files in `bench_gpu_dir/<subject>/`.
@@ -248,7 +285,13 @@ fn csv_figures(text: &str, prefix: &str) -> Result<Vec<Figure>, String> {
             }
             let time: f64 =
                 field.parse().map_err(|_| format!("row {}: {column} `{field}` is not a number", row + 2))?;
-            figures.push(Figure { id: format!("{prefix}/{key}/{column}"), time, interval: None, unit: "ms" });
+            figures.push(Figure {
+                id: format!("{prefix}/{key}/{column}"),
+                time,
+                interval: None,
+                unit: "ms",
+                run_to_run: None,
+            });
         }
     }
     Ok(figures)
@@ -261,6 +304,8 @@ pub struct Comparison {
     pub id: String,
     /// New time / saved time.
     pub ratio: f64,
+    /// The saved run's own run-to-run spread of this benchmark.
+    pub run_to_run: Option<f64>,
     /// Whether it is a regression beyond the measured spread.
     pub regression: bool,
 }
@@ -301,12 +346,18 @@ pub fn compare(saved: &[Figure], new: &[Figure]) -> Report {
         .iter()
         .zip(&logs)
         .map(|((old, new), &log)| {
-            let beyond_spread = log - drift > SPREADS * spread && log > 0.0;
+            let own = old.run_to_run.unwrap_or(0.0);
+            let beyond_spread = log - drift > SPREADS * spread.max(own) && log > 0.0;
             let disjoint = match (old.interval, new.interval) {
                 (Some((_, old_upper)), Some((new_lower, _))) => new_lower > old_upper,
                 _ => true,
             };
-            Comparison { id: new.id.clone(), ratio: log.exp(), regression: beyond_spread && disjoint }
+            Comparison {
+                id: new.id.clone(),
+                ratio: log.exp(),
+                run_to_run: old.run_to_run,
+                regression: beyond_spread && disjoint,
+            }
         })
         .collect();
     Report { rows, drift, spread, unmatched }
@@ -328,7 +379,44 @@ mod tests {
     use super::*;
 
     fn figure(id: &str, time: f64, interval: Option<(f64, f64)>) -> Figure {
-        Figure { id: id.to_owned(), time, interval, unit: "ns" }
+        Figure { id: id.to_owned(), time, interval, unit: "ns", run_to_run: None }
+    }
+
+    #[test]
+    fn a_noisy_benchmark_is_judged_by_its_own_run_to_run_spread() {
+        // Six quiet benchmarks and one that moved 2 % between the two saved runs: a 2.2 %
+        // slowdown of it is its noise, a 10 % one is not.
+        let first = Record {
+            name: "a".into(),
+            commit: "c".into(),
+            date: "d".into(),
+            figures: (0..7)
+                .map(|i| figure(&format!("b{i}"), if i == 6 { 98.0 } else { 100.0 }, Some((99.9, 100.1))))
+                .collect(),
+        };
+        let second = Record {
+            figures: (0..7).map(|i| figure(&format!("b{i}"), 100.0, Some((99.9, 100.1)))).collect(),
+            ..first.clone()
+        };
+        let saved = second.clone().with_run_to_run(&first);
+        assert!((saved.figures[6].run_to_run.unwrap() - (100.0_f64 / 98.0).ln()).abs() < 1e-12);
+        assert_eq!(saved.figures[0].run_to_run, Some(0.0));
+        let mut new: Vec<Figure> = (0..6)
+            .map(|i| {
+                let t = 100.0 * (1.0 + 0.001 * f64::from(i));
+                figure(&format!("b{i}"), t, Some((t - 0.1, t + 0.1)))
+            })
+            .collect();
+        new.push(figure("b6", 102.2, Some((102.1, 102.3))));
+        assert!(compare(&saved.figures, &new).rows.iter().all(|r| !r.regression));
+        new[6] = figure("b6", 110.0, Some((109.9, 110.1)));
+        let flagged: Vec<String> =
+            compare(&saved.figures, &new).rows.into_iter().filter(|r| r.regression).map(|r| r.id).collect();
+        assert_eq!(flagged, ["b6"]);
+        // Without the saved spread the same 2.2 % is flagged (the first end-to-end run).
+        let unsaved: Vec<Figure> = second.figures.clone();
+        new[6] = figure("b6", 102.2, Some((102.1, 102.3)));
+        assert!(compare(&unsaved, &new).rows.iter().any(|r| r.regression));
     }
 
     #[test]
@@ -383,7 +471,10 @@ mod tests {
             name: "base".into(),
             commit: "abc".into(),
             date: "2026-12-02 23:00 UTC".into(),
-            figures: vec![figure("a/b", 12.5, Some((12.0, 13.0))), Figure { unit: "ms", ..figure("g", 2.0, None) }],
+            figures: vec![
+                Figure { run_to_run: Some(0.01), ..figure("a/b", 12.5, Some((12.0, 13.0))) },
+                Figure { unit: "ms", ..figure("g", 2.0, None) },
+            ],
         };
         assert_eq!(Record::from_json(&record.to_json(), "base.json").unwrap(), record);
         let mut bad = record.to_json();

@@ -1,4 +1,4 @@
-//! `cargo xtask ddm-render [OUT_DIR] [--quick]`: mesostructures mapped onto a base mesh and
+//! `cargo xtask ddm-render [OUT_DIR] [--quick] [--resolution WxH]`: mesostructures mapped onto a base mesh and
 //! rendered as Mehra & Kumar do (§3), with `ddm-render`: the coarse base mesh (a plane of
 //! 4 × 4 tiles, and a torus) is rasterized into a G-buffer (texture coordinates, tangent
 //! frame, world position), then a compute pass builds each covered pixel's ray in the
@@ -15,6 +15,14 @@
 //! within 1e-3 voxel of the mesh's triangles, else the triangles: `ddm_tracer::exact_patches`;
 //! also with voxel-exit stepping, `ddm4x1_adaptive_exit`: `ddm_tracer::Stepping::VoxelExit`)
 //! and relief mapping on the height fields (32 linear + 8 binary steps, 2 texels per voxel).
+//!
+//! **The reference** (`<mesostructure>_<base>_reference.png`): the same pipeline tracing
+//! the mesh's own triangles (DDM 4×1 + triangles, `PatchSurface::Triangles`, voxel-exit
+//! stepping, up to [`REFERENCE_MAX_STEPS`] steps): the exact mesostructure under the same
+//! base mesh, tangent frames, shading and shadows, so that the difference of a method's
+//! image from it is the method's own (its geometry, its steps, its shadow rays). Each
+//! method's image gets its ꟻLIP map against it (`…_<method>_flip.png`) and its mean ꟻLIP
+//! and 1 − SSIM in the CSV.
 //! Shadow rays accept hits up to a tolerance short of the shaded point: 1.75 voxel for
 //! sphere tracing (its hits are voxel entry points, up to a voxel diagonal from where a
 //! shadow ray enters the same voxel), 0.25 voxel for relief, 0.02 voxel for the patches.
@@ -31,7 +39,9 @@
 //! back once per image, after its frames, for the PNG and the counts.
 //!
 //! Writes to `OUT_DIR` (default `target/ddm-render`) `<mesostructure>_<base>_<method>.png`
-//! and `ddm_render_times.csv`: per image the covered, hit and shadowed pixels, mean and
+//! and `ddm_render_times.csv`: per image the covered, hit and shadowed pixels, those
+//! whose primary ray stopped on the step cap, its ꟻLIP
+//! and 1 − SSIM against the reference, mean and
 //! max tracer steps per covered pixel (primary ray), the per-pixel pass's GPU time
 //! (`gpu_ms`, fastest of 3 frames; timestamps where the adapter has them, else the
 //! `trace_wall_ms` below), the wall time of one whole frame (`pass_call_wall_ms`: raster and
@@ -63,6 +73,12 @@ use gpu_harness::Gpu;
 use mesostructure::Mesostructure;
 
 const MAX_STEPS: u32 = 256;
+/// The reference's step cap (16× the methods'): the pixels that still stop on it are
+/// counted (`capped_pixels`; on the torus, rays that run nearly parallel to the slab
+/// through the periodic tiles, drawn as misses by every method).
+const REFERENCE_MAX_STEPS: u32 = 4096;
+/// The reference scene's name.
+const REFERENCE: &str = "reference";
 const RELIEF_LINEAR: u32 = 32;
 const RELIEF_BINARY: u32 = 8;
 const BACKGROUND: [u8; 3] = [18, 20, 30];
@@ -128,12 +144,16 @@ fn submit_and_wait(
     Ok(started.elapsed().as_secs_f64())
 }
 
-/// Runs the renders; `args` are `[OUT_DIR] [--quick]`.
+/// Runs the renders; `args` are `[OUT_DIR] [--quick] [--resolution WxH]`.
 pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
     let (out, quick): (PathBuf, bool) = (args.out_dir(), args.flag("quick"));
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
-    let (dims, width, height) =
-        if quick { (UVec3::new(12, 12, 6), 160, 120) } else { (UVec3::new(16, 16, 8), 320, 240) };
+    let (dims, default_size) =
+        if quick { (UVec3::new(12, 12, 6), (160, 120)) } else { (UVec3::new(16, 16, 8), (640, 480)) };
+    let (width, height) = args.parse_value("resolution", crate::cli::resolution)?.unwrap_or(default_size);
+    if width > 4096 || height > 4096 {
+        return Err(format!("--resolution {width}x{height}: at most 4096 pixels a side"));
+    }
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
     println!(
         "DDM on a base mesh: {}x{}x{} voxels per tile, {width}x{height} pixels, GPU: {}",
@@ -151,12 +171,23 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
     let bases = base_meshes(&gpu, &pipelines, dims, width, height)?;
     let timer = FrameTimer::new(&gpu);
     let mut csv = String::from(
-        "mesostructure,base,method,covered_pixels,hit_pixels,shadowed_pixels,mean_steps,max_steps,gpu_ms,gpu_timing,pass_call_wall_ms,call_overhead_wall_ms,trace_wall_ms,raster_wall_ms\n",
+        "mesostructure,base,method,covered_pixels,hit_pixels,shadowed_pixels,capped_pixels,flip,one_minus_ssim,mean_steps,max_steps,gpu_ms,gpu_timing,pass_call_wall_ms,call_overhead_wall_ms,trace_wall_ms,raster_wall_ms\n",
     );
     let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
     println!(
-        "{:<11} {:<6} {:<20} {:>8} {:>8} {:>8} {:>7} {:>5} {:>9} {:>9}",
-        "structure", "base", "method", "covered", "hits", "shadow", "steps", "max", "GPU ms", "trace ms"
+        "{:<11} {:<6} {:<20} {:>8} {:>8} {:>8} {:>6} {:>7} {:>7} {:>5} {:>9} {:>9}",
+        "structure",
+        "base",
+        "method",
+        "covered",
+        "hits",
+        "shadow",
+        "capped",
+        "ꟻLIP",
+        "steps",
+        "max",
+        "GPU ms",
+        "trace ms"
     );
     let (mut first_frames, mut warm_frames, mut images) = (0.0, 0.0, 0);
     for structure in Mesostructure::ALL {
@@ -186,7 +217,13 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
                 .map_err(|e| failed(&format!("the {method} scene"), &e))
         };
         let exit = TraceSettings { stepping: Stepping::VoxelExit, ..quadric };
+        let triangles_settings = PatchSettings { surface: PatchSurface::Triangles, ..PatchSettings::default() };
+        let exact = VoxelPatches::build(dims, &triangles, &ddm.surface, triangles_settings)
+            .map_err(|e| failed("the triangle patches", &e))?;
+        let reference_settings = TraceSettings { max_steps: REFERENCE_MAX_STEPS, ..exit };
+        // The reference first: every method's image is compared with it.
         let mut scenes: Vec<(&'static str, GpuScene, f32)> = vec![
+            scene(REFERENCE, &ddm_packed, Some(&exact), reference_settings, 0.02)?,
             scene("dm", &plain_packed, None, sphere, 1.75)?,
             scene("ddm4x1", &ddm_packed, None, sphere, 1.75)?,
             scene("ddm4x1_quadric", &ddm_packed, Some(&patches), quadric, 0.02)?,
@@ -209,6 +246,7 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
             })
             .collect::<Result<_, _>>()?;
         for base in &bases {
+            let mut reference: Option<image::RgbaImage> = None;
             for (method, scene, tolerance) in &uploaded {
                 let renderer =
                     DdmRenderer::new(&gpu.device, &pipelines, &base.gbuffer, scene).map_err(|e| e.to_string())?;
@@ -262,16 +300,37 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
                     covered.iter().map(|p| f64::from(p.ray_origin.w)).sum::<f64>() / covered.len().max(1) as f64;
                 let max_steps = covered.iter().map(|p| p.ray_origin.w as u32).max().unwrap_or(0);
                 let image = pixels_to_image(&pixels, width, height, BACKGROUND);
-                let path = out.join(format!("{}_{}_{method}.png", structure.name(), base.name));
+                let stem = format!("{}_{}_{method}", structure.name(), base.name);
+                let path = out.join(format!("{stem}.png"));
                 image.save(&path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                let rgba = image::DynamicImage::ImageRgb8(image).to_rgba8();
+                let cap = if *method == REFERENCE { REFERENCE_MAX_STEPS } else { MAX_STEPS };
+                let capped = covered.iter().filter(|p| p.ray_origin.w as u32 >= cap).count();
+                let (flip, ssim_loss) = match &reference {
+                    None => {
+                        reference = Some(rgba);
+                        (0.0, 0.0)
+                    }
+                    Some(truth) => {
+                        let flip = image_metrics::flip(truth, &rgba).map_err(|e| format!("{stem}: {e}"))?;
+                        let flip_path = out.join(format!("{stem}_flip.png"));
+                        image_metrics::flip_magma(&flip.map)
+                            .save(&flip_path)
+                            .map_err(|e| format!("cannot write {}: {e}", flip_path.display()))?;
+                        let ssim = image_metrics::ssim(truth, &rgba).map_err(|e| format!("{stem}: {e}"))?.mean;
+                        (flip.mean, (1.0 - ssim).max(0.0))
+                    }
+                };
                 println!(
-                    "{:<11} {:<6} {:<20} {:>8} {:>8} {:>8} {:>7.2} {:>5} {:>9.3} {:>9.1}",
+                    "{:<11} {:<6} {:<20} {:>8} {:>8} {:>8} {:>6} {:>7.4} {:>7.2} {:>5} {:>9.3} {:>9.1}",
                     structure.name(),
                     base.name,
                     method,
                     covered.len(),
                     hits,
                     shadowed,
+                    capped,
+                    flip,
                     mean_steps,
                     max_steps,
                     gpu_seconds * 1e3,
@@ -279,7 +338,7 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
                 );
                 writeln!(
                     csv,
-                    "{},{},{method},{},{hits},{shadowed},{mean_steps:.3},{max_steps},{:.4},{timing_name},{:.2},{:.2},{:.2},{:.3}",
+                    "{},{},{method},{},{hits},{shadowed},{capped},{flip:.5},{ssim_loss:.5},{mean_steps:.3},{max_steps},{:.4},{timing_name},{:.2},{:.2},{:.2},{:.3}",
                     structure.name(),
                     base.name,
                     covered.len(),

@@ -213,7 +213,7 @@ pub const COMMANDS: &[Command] = &[
     },
     Command {
         name: "ddm-render",
-        flags: &[QUICK],
+        flags: &[QUICK, value("resolution", "WxH")],
         exclusive: &[],
         positional: Positional::OutDir("target/ddm-render"),
         run: ddm_render::run,

@@ -155,9 +155,10 @@ pub const STAGES: &[Stage] = &[
         paper: "ddm",
         title: "Mesostructures on a base mesh (§3)",
         about: "The tiles mapped onto a plane of 4 × 4 tiles and a torus: rasterized base mesh, per-pixel trace in \
-                tangent space, shading and shadow rays.",
+                tangent space, shading and shadow rays; each method beside the reference (the mesh's own triangles \
+                through the same pipeline) with its ꟻLIP map.",
         command: "ddm-render",
-        flags: [Q, Q, &[]],
+        flags: [Q, &["--quick", "--resolution", "480x360"], &[]],
         subject: ImageSubject::FirstWords(2),
     },
     Stage {

@@ -134,40 +134,23 @@ impl Command {
                 return Ok(Parsed::Help(self.usage()));
             }
             // The command's own flags come first; the first other word starts the rest.
-            let mut words = words;
-            while let Some((first, after)) = words.split_first() {
+            let mut rest = words;
+            while let Some((first, after)) = rest.split_first() {
                 let Some(long) = first.strip_prefix("--") else { break };
-                let (name, attached) = long.split_once('=').map_or((long, None), |(n, v)| (n, Some(v)));
+                let (name, attached) = long.split_once('=').map_or((long, None), |(n, v)| (n, Some(v.to_owned())));
                 let Some(flag) = self.flag(name) else { break };
-                let value = match (flag.takes, attached) {
-                    (Takes::Nothing, None) => {
-                        words = after;
-                        String::new()
+                rest = after;
+                let value = self.value_of(name, flag, attached, || match rest.split_first() {
+                    Some((v, tail)) if !looks_like_flag(v) => {
+                        rest = tail;
+                        Some(v.clone())
                     }
-                    (Takes::Nothing, Some(v)) => return Err(self.error(format!("--{name} takes no value (got `{v}`)"))),
-                    (_, Some(v)) => {
-                        words = after;
-                        v.to_owned()
-                    }
-                    (Takes::Value(placeholder) | Takes::Values(placeholder), None) => match after.split_first() {
-                        Some((v, rest)) if !v.starts_with("--") => {
-                            words = rest;
-                            v.clone()
-                        }
-                        _ => return Err(self.error(format!("--{name} needs a value {placeholder}"))),
-                    },
-                };
-                if !matches!(flag.takes, Takes::Values(_)) && args.values.iter().any(|(n, _)| *n == flag.name) {
-                    return Err(self.error(format!("--{name} given twice")));
-                }
-                args.values.push((flag.name, value));
+                    _ => None,
+                })?;
+                self.push_value(&mut args, flag, value)?;
             }
-            for &(first, second) in self.exclusive {
-                if args.flag(first) && args.flag(second) {
-                    return Err(self.error(format!("--{first} and --{second} exclude each other")));
-                }
-            }
-            args.rest = words.to_vec();
+            self.check_exclusive(&args)?;
+            args.rest = rest.to_vec();
             return Ok(Parsed::Run(args));
         }
         let mut parser = lexopt::Parser::from_args(words);
@@ -204,43 +187,64 @@ impl Command {
                 }
             };
             let flag = self.flag(&name).ok_or_else(|| self.error(format!("unknown flag --{name}")))?;
-            let given = match flag.takes {
-                Takes::Nothing => match parser.optional_value() {
-                    Some(v) => {
-                        return Err(self.error(format!("--{name} takes no value (got `{}`)", v.to_string_lossy())));
-                    }
-                    None => String::new(),
-                },
-                Takes::Value(placeholder) | Takes::Values(placeholder) => {
-                    // `--flag=VALUE` takes any value; a detached one must not look like a flag.
-                    let attached = parser.optional_value();
-                    let detached = || {
-                        parser.try_raw_args()?.next_if(|next| {
-                            let next = next.to_string_lossy();
-                            !(next.starts_with('-') && next.len() > 1)
-                        })
-                    };
-                    match attached.or_else(detached) {
-                        Some(v) => v.to_string_lossy().into_owned(),
-                        None => return Err(self.error(format!("--{name} needs a value {placeholder}"))),
-                    }
-                }
-            };
-            if !matches!(flag.takes, Takes::Values(_)) && args.values.iter().any(|(n, _)| *n == flag.name) {
-                return Err(self.error(format!("--{name} given twice")));
-            }
-            args.values.push((flag.name, given));
+            let attached = parser.optional_value().map(|v| v.to_string_lossy().into_owned());
+            let value = self.value_of(&name, flag, attached, || {
+                parser
+                    .try_raw_args()?
+                    .next_if(|next| !looks_like_flag(&next.to_string_lossy()))
+                    .map(|v| v.to_string_lossy().into_owned())
+            })?;
+            self.push_value(&mut args, flag, value)?;
         }
         if let (Positional::SubjectThenOutDir(subjects), None) = (self.positional, &args.subject) {
             return Err(self.error(format!("needs a subject: {}", subjects.join(", "))));
         }
-        for &(first, second) in self.exclusive {
-            if args.flag(first) && args.flag(second) {
-                return Err(self.error(format!("--{first} and --{second} exclude each other")));
-            }
-        }
+        self.check_exclusive(&args)?;
         Ok(Parsed::Run(args))
     }
+
+    /// The value `--name` (declared as `flag`) takes, by the rules every command shares: a
+    /// switch takes none (`--name=VALUE` is an error); a flag with a value takes the
+    /// attached one (`--name=VALUE`, anything), else the next word (`next`, which takes
+    /// it only when it does not look like a flag), else it is an error.
+    fn value_of(
+        &self,
+        name: &str,
+        flag: &Flag,
+        attached: Option<String>,
+        next: impl FnOnce() -> Option<String>,
+    ) -> Result<String, String> {
+        match (flag.takes, attached) {
+            (Takes::Nothing, None) => Ok(String::new()),
+            (Takes::Nothing, Some(v)) => Err(self.error(format!("--{name} takes no value (got `{v}`)"))),
+            (_, Some(v)) => Ok(v),
+            (Takes::Value(placeholder) | Takes::Values(placeholder), None) => {
+                next().ok_or_else(|| self.error(format!("--{name} needs a value {placeholder}")))
+            }
+        }
+    }
+
+    /// Records `flag`'s value: an error when a flag that is not repeated comes twice.
+    fn push_value(&self, args: &mut Args<'_>, flag: &'static Flag, value: String) -> Result<(), String> {
+        if !matches!(flag.takes, Takes::Values(_)) && args.values.iter().any(|(n, _)| *n == flag.name) {
+            return Err(self.error(format!("--{} given twice", flag.name)));
+        }
+        args.values.push((flag.name, value));
+        Ok(())
+    }
+
+    /// An error when two flags that exclude each other are both given.
+    fn check_exclusive(&self, args: &Args<'_>) -> Result<(), String> {
+        match self.exclusive.iter().find(|&&(first, second)| args.flag(first) && args.flag(second)) {
+            Some((first, second)) => Err(self.error(format!("--{first} and --{second} exclude each other"))),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Whether a word looks like a flag (`-x`, `--name`), and so is not a flag's value.
+fn looks_like_flag(word: &str) -> bool {
+    word.starts_with('-') && word.len() > 1
 }
 
 /// The outcome of [`Command::parse`].

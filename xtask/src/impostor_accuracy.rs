@@ -30,7 +30,8 @@ fn mode_colour(mode: SamplingMode) -> RGBColor {
     }
 }
 
-fn grains(quick: bool, objs: &[PathBuf]) -> Result<Vec<(String, GrainMesh)>, String> {
+/// The procedural grains (ball and bean; with rock and nut unless `quick`) and the OBJ files.
+pub(crate) fn grains(quick: bool, objs: &[PathBuf]) -> Result<Vec<(String, GrainMesh)>, String> {
     let error = |e: grain_mesh::MeshError| e.to_string();
     let mut grains = vec![
         ("ball".to_owned(), Ball::default().mesh().map_err(error)?),

@@ -23,7 +23,9 @@
 //! `cargo xtask select [OUT_DIR] [--only TABLE] [--budget METRIC:MAX]...`: *model no more
 //! than a scene needs* (`model_select`), for the DDM tracing methods
 //! (`ddm_experiments::selection`, table `ddm`) and the Smith appearance models
-//! (`microsurface_truth::selection`, table `smith`).
+//! (`microsurface_truth::selection`, table `smith`) and the grains' impostor atlases
+//! (`grain_impostor::selection`, table `grains`: `(n, p)`, sampling mode and layout, the
+//! cost the atlas's GPU memory).
 //!
 //! `select-tables` measures the tables the selector reads — per object (mesostructure,
 //! surface) and representation (method, model), at each calibration condition (the
@@ -77,11 +79,14 @@ pub struct Selector {
     row_note: &'static str,
     /// The three budgets when `--budget` is not given.
     default_budgets: [(Metric, f64); 3],
-    /// Measures the table's rows.
-    measure: fn() -> Result<Vec<Measurement>, String>,
+    /// Measures the table's rows; returns them with the adapter that measured them.
+    measure: fn() -> Result<MeasuredTable, String>,
     /// Measures the held-out views.
     held_out: fn() -> Result<Vec<HeldOutView>, String>,
 }
+
+/// A table's rows and the adapter that measured them.
+type MeasuredTable = (Vec<Measurement>, String);
 
 /// One object seen from the held-out view: the truth's image and every representation's.
 pub struct HeldOutView {
@@ -93,8 +98,11 @@ pub struct HeldOutView {
     representations: Vec<(Measurement, RgbaImage, String)>,
 }
 
+/// The grains' default budgets (mean ꟻLIP of the comparison image).
+const GRAIN_BUDGETS: [(Metric, f64); 3] = [(Metric::Flip, 0.2), (Metric::Flip, 0.1), (Metric::Flip, 0.05)];
+
 /// Every selector, in page order.
-pub const SELECTORS: [Selector; 2] = [
+pub const SELECTORS: [Selector; 3] = [
     Selector {
         name: "ddm",
         table_name: ddm_experiments::selection::TABLE_NAME,
@@ -119,15 +127,28 @@ pub const SELECTORS: [Selector; 2] = [
         measure: smith_table,
         held_out: smith_held_out,
     },
+    Selector {
+        name: "grains",
+        table_name: grain_impostor::selection::TABLE_NAME,
+        table_file: grain_impostor::selection::TABLE_FILE,
+        sources: &grain_impostor::selection::TABLE_SOURCES,
+        condition_unit: (grain_impostor::selection::CONDITION_UNIT, "px wide"),
+        cost_unit: grain_impostor::selection::COST_UNIT,
+        row_note: "64 view directions, worst size up to it",
+        default_budgets: GRAIN_BUDGETS,
+        measure: grains_table,
+        held_out: grains_held_out,
+    },
 ];
 
 fn ddm_scenes(settings: &SelectionSettings) -> Result<Vec<TraceScene>, String> {
     Mesostructure::ALL.iter().map(|&s| TraceScene::build(s, &settings.tables).map_err(|e| e.to_string())).collect()
 }
 
-fn ddm_table() -> Result<Vec<Measurement>, String> {
+fn ddm_table() -> Result<MeasuredTable, String> {
     let settings = SelectionSettings::standard();
-    ddm_experiments::selection::table_rows(&ddm_scenes(&settings)?, &settings).map_err(|e| e.to_string())
+    let rows = ddm_experiments::selection::table_rows(&ddm_scenes(&settings)?, &settings).map_err(|e| e.to_string())?;
+    Ok((rows, processor()))
 }
 
 fn ddm_held_out() -> Result<Vec<HeldOutView>, String> {
@@ -150,9 +171,46 @@ fn ddm_held_out() -> Result<Vec<HeldOutView>, String> {
     Ok(views)
 }
 
-fn smith_table() -> Result<Vec<Measurement>, String> {
-    microsurface_truth::selection::table_rows(&microsurface_truth::selection::SelectionSettings::standard())
-        .map_err(|e| e.to_string())
+fn smith_table() -> Result<MeasuredTable, String> {
+    let rows = microsurface_truth::selection::table_rows(&microsurface_truth::selection::SelectionSettings::standard())
+        .map_err(|e| e.to_string())?;
+    Ok((rows, processor()))
+}
+
+/// The grains of the atlas table: the four procedural ones.
+fn selection_grains() -> Result<Vec<(String, grain_mesh::GrainMesh)>, String> {
+    crate::impostor_accuracy::grains(false, &[])
+}
+
+fn grains_table() -> Result<MeasuredTable, String> {
+    let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
+    let settings = grain_impostor::selection::SelectionSettings::standard();
+    let rows = grain_impostor::selection::table_rows(&gpu.device, &gpu.queue, &selection_grains()?, &settings)
+        .map_err(|e| e.to_string())?;
+    // The cost is memory; the errors are of images rendered on this adapter.
+    Ok((rows, format!("atlas memory; images rendered on {}", gpu.describe()).replace(',', ";")))
+}
+
+fn grains_held_out() -> Result<Vec<HeldOutView>, String> {
+    let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
+    let settings = grain_impostor::selection::SelectionSettings::standard();
+    let views = grain_impostor::selection::held_out_views(&gpu.device, &gpu.queue, &selection_grains()?, &settings)
+        .map_err(|e| e.to_string())?;
+    Ok(views
+        .into_iter()
+        .filter_map(|view| {
+            let object = view.configurations.first()?.0.object.clone();
+            let representations = view
+                .configurations
+                .into_iter()
+                .map(|(m, image)| {
+                    let part = file_part(&m.representation);
+                    (m, image, part)
+                })
+                .collect();
+            Some(HeldOutView { object, truth: view.truth, representations })
+        })
+        .collect())
 }
 
 fn smith_held_out() -> Result<Vec<HeldOutView>, String> {
@@ -196,11 +254,11 @@ pub fn tables(args: &Args<'_>) -> Result<(), String> {
         let started = Instant::now();
         let root = crate::workspace_root();
         let sources = fingerprint(&root, selector.sources).map_err(|e| e.to_string())?;
-        let rows = (selector.measure)()?;
+        let (rows, adapter) = (selector.measure)()?;
         let stamp = Stamp {
             command: format!("cargo xtask select-tables --only {}", selector.name),
             commit: crate::showcase::commit(),
-            adapter: processor(),
+            adapter,
             sources,
         };
         let table = Table::new(selector.table_name, stamp, selector.condition_unit.0, selector.cost_unit, rows)
@@ -217,7 +275,7 @@ pub fn tables(args: &Args<'_>) -> Result<(), String> {
                 .into_iter()
                 .map(|i| {
                     format!(
-                        "{} @{:.1} ({:.1} ns, ꟻLIP {:.3})",
+                        "{} @{:.1} (cost {:.2}, ꟻLIP {:.3})",
                         rows[i].representation, rows[i].condition, rows[i].cost, rows[i].flip
                     )
                 })
@@ -284,7 +342,8 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         "table,metric,budget,object,held_out_condition,chosen_at_condition,choice,table_error,table_cost,\
          held_out_error,within_budget,cheaper_within_budget_on_held_out,candidates,within_budget_in_table,note\n",
     );
-    let (mut met, mut total) = (0, 0);
+    // Choices made, those within budget held out, and budgets the table could not meet.
+    let (mut made, mut met, mut unmet) = (0, 0, 0);
     for selector in selectors {
         let budgets: Vec<Budget> = if given.is_empty() {
             selector
@@ -311,15 +370,16 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
             let condition = measurements.first().map_or(0.0, |m| m.condition);
             let mut choices = Vec::new();
             for &budget in &budgets {
-                total += 1;
                 match table.check_held_out(&measurements, budget) {
                     Ok(choice) => {
+                        made += 1;
                         met += usize::from(choice.within_budget);
                         write_choice(&mut csv, selector, &choice, condition);
                         write_images(&out, &name, &view, &choice)?;
                         choices.push(choice);
                     }
                     Err(e) => {
+                        unmet += 1;
                         println!("  {}: {budget}: {e}", view.object);
                         let _ = writeln!(
                             csv,
@@ -339,7 +399,8 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     let path = out.join("selection.csv");
     std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     println!(
-        "{met} of {total} choices within budget on the held-out views; wrote {} in {:.0} s",
+        "{met} of {made} choices within budget on the held-out views ({unmet} budgets met by no measured \
+         representation); wrote {} in {:.0} s",
         path.display(),
         started.elapsed().as_secs_f64()
     );
@@ -480,8 +541,11 @@ fn chart(
             .map_err(e)?
             .label("each representation on the held-out view (same cost)")
             .legend(|(x, y)| Cross::new((x + 12, y), 5, HELD_OUT_BLUE.stroke_width(2)));
+        // Names where they stay legible (the grain atlases are 32 points: the legend names
+        // the choices).
+        let labelled = if held.len() <= 16 { &held[..] } else { &[] };
         chart
-            .draw_series(held.iter().map(|&(x, y, name)| {
+            .draw_series(labelled.iter().map(|&(x, y, name)| {
                 Text::new(name.to_owned(), (x * 1.04, y), ("sans-serif", 11).into_font().color(&TABLE_GREY))
             }))
             .map_err(e)?;
@@ -537,7 +601,7 @@ mod tests {
     fn the_committed_tables_are_fresh_and_complete() {
         // Fails when a source that produces a table changed since it was measured: run
         // `cargo xtask select-tables --only NAME` and commit the table.
-        let [ddm, smith] = &SELECTORS;
+        let [ddm, smith, grains] = &SELECTORS;
         let table = fresh_table(ddm).unwrap_or_else(|e| panic!("{e}"));
         let settings = SelectionSettings::standard();
         let objects: Vec<&str> = Mesostructure::ALL.iter().map(|m| m.name()).collect();
@@ -558,6 +622,13 @@ mod tests {
         assert_eq!(table.objects(), objects);
         let models = microsurface_truth::selection::SmithModel::ALL.len();
         assert_eq!(table.rows().len(), objects.len() * models * settings.band_tops_deg.len());
+
+        let table = fresh_table(grains).unwrap_or_else(|e| panic!("{e}"));
+        let settings = grain_impostor::selection::SelectionSettings::standard();
+        assert_eq!(table.objects(), ["ball", "bean", "rock", "nut"]);
+        let configurations =
+            settings.subdivisions.len() * settings.texels.len() * settings.modes.len() * settings.layouts.len();
+        assert_eq!(table.rows().len(), 4 * configurations * settings.diameters.len());
     }
 
     #[test]
@@ -566,10 +637,10 @@ mod tests {
         let words = |w: &[&str]| w.iter().map(|s| s.to_string()).collect::<Vec<_>>();
         let crate::cli::Parsed::Run(args) = command.parse(&words(&["--only", "smith"])).unwrap() else { panic!() };
         assert_eq!(selected(&args).unwrap().iter().map(|s| s.name).collect::<Vec<_>>(), ["smith"]);
-        let crate::cli::Parsed::Run(args) = command.parse(&words(&["--only", "grains"])).unwrap() else { panic!() };
+        let crate::cli::Parsed::Run(args) = command.parse(&words(&["--only", "grain"])).unwrap() else { panic!() };
         let error = selected(&args).err().unwrap();
-        assert_eq!(error, "--only grains: no such table (the tables: ddm, smith)");
+        assert_eq!(error, "--only grain: no such table (the tables: ddm, smith, grains)");
         let crate::cli::Parsed::Run(args) = command.parse(&[]).unwrap() else { panic!() };
-        assert_eq!(selected(&args).unwrap().len(), 2);
+        assert_eq!(selected(&args).unwrap().len(), 3);
     }
 }

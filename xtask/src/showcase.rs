@@ -132,6 +132,19 @@ pub const STAGES: &[Stage] = &[
         subject: ImageSubject::LastWord,
     },
     Stage {
+        folder: "select-grains",
+        paper: "stackings",
+        title: "Model no more than a scene needs: the least atlas within a budget",
+        about: "For three ꟻLIP budgets, per grain, the impostor atlas (n, p, sampling mode, layout) the selector picks \
+                from the committed table (crates/grain-impostor/tables/grain_selection.csv: 64 grains seen from 64 \
+                directions at 16, 32 and 64 px against the supersampled mesh; cost the atlas's GPU memory), checked \
+                on other directions at 24 px: the choice's image, its ꟻLIP map and measured error, every candidate on \
+                the table's Pareto front.",
+        command: "select",
+        flags: [&["--only", "grains"], &["--only", "grains"], &["--only", "grains"]],
+        subject: ImageSubject::FirstWords(1),
+    },
+    Stage {
         folder: "ddm-compression",
         paper: "ddm",
         title: "Compression of directional distance maps (Table 3)",

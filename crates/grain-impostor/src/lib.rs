@@ -35,6 +35,8 @@
 //!   sampling with `octahedral_map::sampling`).
 //! - [`choice`]: the atlas `(n, p)` and sampling mode for a screen size and an SSIM budget
 //!   (eq. 4, and the cheapest measured configuration).
+//! - [`selection`]: the table `model-select` chooses an atlas from (ꟻLIP and standard SSIM
+//!   against the supersampled mesh, the atlas's memory as the cost) and its held-out check.
 //! - [`shading`]: deferred shading of the G-buffer into a displayable image.
 //! - [`accuracy`]: the view set, comparison scene and image metrics of the accuracy
 //!   experiment (SSIM, RMSE against the mesh).
@@ -58,4 +60,5 @@ pub mod mesh_gbuffer;
 pub mod mips;
 pub mod packed;
 pub mod scene;
+pub mod selection;
 pub mod shading;

@@ -17,8 +17,9 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::DVec3;
-use microsurface_truth::comparison::{AngleComparison, Sweep, compare, compare_models, max_error, max_errors};
+use microsurface_truth::comparison::{
+    AngleComparison, EVERY_DEGREE, Sweep, compare, compare_models, light_at_60_deg, max_error, max_errors,
+};
 use microsurface_truth::selection::ATTRIBUTE_CHANNELS;
 use microsurface_truth::{
     CUBIC_DEVIATION_BUDGET, CubicLambdaCorrection, HeightField, LambdaCorrection, SLOPE_SIGMA, Spectrum, Surface,
@@ -29,24 +30,8 @@ use plotters::prelude::*;
 use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
 use crate::cli::Args;
 
-const ALL_ANGLES: [f64; 90] = {
-    let mut a = [0.0; 90];
-    let mut i = 0;
-    while i < 90 {
-        a[i] = i as f64;
-        i += 1;
-    }
-    a
-};
 const LIGHT_ANGLES: [f64; 18] =
     [0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0, 85.0];
-/// The light of a view-and-light sweep: 60° from the normal, `azimuth_deg` from the view's
-/// (the view azimuth is 0).
-fn light(azimuth_deg: f64) -> DVec3 {
-    let (t, p) = (60_f64.to_radians(), azimuth_deg.to_radians());
-    DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
-}
-
 /// The view-and-light sweeps: (CSV name, light azimuth relative to the view, degrees).
 const LIGHT_SWEEPS: [(&str, f64); 3] =
     [("view_and_light", 90.0), ("view_and_light_same_azimuth", 0.0), ("view_and_light_opposite_azimuth", 180.0)];
@@ -255,14 +240,14 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         let cubic = CubicLambdaCorrection::fit_to_table(&model.view())
             .map_err(|e| format!("{}: no cubic through the view table: {e}", surface.name))?;
         let identity = LambdaCorrection::IDENTITY;
-        let view_sweep = Sweep { angles_deg: &ALL_ANGLES, view_azimuth: 0.0, light: None, rays, seed: 17 };
+        let view_sweep = Sweep { angles_deg: &EVERY_DEGREE, view_azimuth: 0.0, light: None, rays, seed: 17 };
         let view = compare_models(&surface.field, &view_sweep, &identity, &model).ok_or_else(degenerate)?;
         let mut lit = Vec::new();
         for (k, &(_, azimuth)) in LIGHT_SWEEPS.iter().enumerate() {
             let sweep = Sweep {
                 angles_deg: &LIGHT_ANGLES,
                 view_azimuth: 0.0,
-                light: Some(light(azimuth)),
+                light: Some(light_at_60_deg(azimuth)),
                 rays: rays / 2,
                 seed: 23 + k as u64,
             };

@@ -90,6 +90,25 @@ impl AngleComparison {
     }
 }
 
+/// Every degree of view angle from 0° to 89°: the sweeps of Fig. 9 and of the Smith-model
+/// selector.
+pub const EVERY_DEGREE: [f64; 90] = {
+    let mut a = [0.0; 90];
+    let mut i = 0;
+    while i < 90 {
+        a[i] = i as f64;
+        i += 1;
+    }
+    a
+};
+
+/// The light of a view-and-light sweep: 60° from the mean normal, `azimuth_deg` from the
+/// view's azimuth (0).
+pub fn light_at_60_deg(azimuth_deg: f64) -> DVec3 {
+    let (t, p) = (60_f64.to_radians(), azimuth_deg.to_radians());
+    DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+}
+
 /// Settings of one sweep.
 #[derive(Clone, Copy, Debug)]
 pub struct Sweep {

@@ -53,7 +53,9 @@ use image::{Rgba, RgbaImage};
 use model_select::Measurement;
 use smith_micro::{CubicLambdaCorrection, HeightCorrelatedAttribute, SlopeDeviation, VisibilityCorrection};
 
-use crate::comparison::{AngleComparison, Sweep, compare_models, slope_deviation, stored_attribute};
+use crate::comparison::{
+    AngleComparison, EVERY_DEGREE, Sweep, compare_models, light_at_60_deg, slope_deviation, stored_attribute,
+};
 use crate::statistics::SurfaceStatistics;
 use crate::surfaces::{FITTING_SEED_OFFSETS, Surface, standard_surfaces};
 use crate::visibility_fit::fit_visibility_correction;
@@ -79,23 +81,11 @@ pub const ATTRIBUTE_CHANNELS: [(f64, f64); 3] = [(0.55, 0.35), (0.45, -0.25), (0
 /// The light of the images: 60° from the mean normal, 90° of azimuth from the view
 /// (Fig. 9's view-and-light sweep).
 pub fn light_direction() -> DVec3 {
-    let (t, p) = (60_f64.to_radians(), 90_f64.to_radians());
-    DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+    light_at_60_deg(90.0)
 }
 
 /// The largest view angle the sweeps measure, degrees.
-pub const MAX_VIEW_ANGLE_DEG: f64 = 89.0;
-
-/// Every degree from 0 to [`MAX_VIEW_ANGLE_DEG`].
-const SWEEP_ANGLES: [f64; 90] = {
-    let mut a = [0.0; 90];
-    let mut i = 0;
-    while i < 90 {
-        a[i] = i as f64;
-        i += 1;
-    }
-    a
-};
+pub const MAX_VIEW_ANGLE_DEG: f64 = EVERY_DEGREE[EVERY_DEGREE.len() - 1];
 
 /// Why a selection experiment cannot run.
 #[derive(Clone, Debug, PartialEq)]
@@ -472,7 +462,7 @@ pub fn measure_surfaces(
         .map(|surface| {
             let material = Material::fit(surface, settings.fit_rays)?;
             let sweep = Sweep {
-                angles_deg: &SWEEP_ANGLES,
+                angles_deg: &EVERY_DEGREE,
                 view_azimuth: 0.0,
                 light: Some(light_direction()),
                 rays: settings.rays,

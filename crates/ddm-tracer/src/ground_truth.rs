@@ -36,6 +36,19 @@ pub struct MeshHit {
     pub normal: DVec3,
 }
 
+/// One crossing of a ray with the mesh ([`MeshRaycaster::crossings`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshCrossing {
+    /// Ray parameter of the crossing.
+    pub t: f64,
+    /// Whether the ray leaves the solid there: it runs along the triangle's normal
+    /// `(b − a) × (c − a)`, which points out of the solid in an outward-oriented mesh.
+    pub exiting: bool,
+    /// The smallest barycentric coordinate of the crossing in its triangle: near 0 at an
+    /// edge or a vertex, where a neighbouring triangle may report the same crossing.
+    pub margin: f64,
+}
+
 /// A periodic triangle mesh with a ray hierarchy.
 #[derive(Clone, Debug)]
 pub struct MeshRaycaster {
@@ -71,18 +84,42 @@ impl MeshRaycaster {
     /// The first hit of the ray `origin + t direction`, `t ∈ [0, t_max]`, with the mesh and
     /// all its periodic copies, or `None`.
     pub fn first_hit(&self, origin: DVec3, direction: DVec3, t_max: f64) -> Option<MeshHit> {
+        let (t0, t1) = self.z_range(origin, direction, 0.0, t_max)?;
+        let copies = self.copies(origin + direction * t0, origin + direction * t1);
+        let mut best: Option<(f64, usize, DVec3)> = None;
+        let mut stack = Vec::with_capacity(64);
+        for shift in copies {
+            let local = origin - shift;
+            let limit = best.map_or(t1, |b| b.0);
+            if let Some((t, index)) = self.first_hit_local(local, direction, t0, limit, &mut stack)
+                && best.is_none_or(|b| t < b.0)
+            {
+                best = Some((t, index, shift));
+            }
+        }
+        let (t, index, _) = best?;
+        let [a, b, c] = self.triangles[index];
+        let mut normal = (b - a).cross(c - a).normalize_or_zero();
+        if normal.dot(direction) > 0.0 {
+            normal = -normal;
+        }
+        Some(MeshHit { t, point: origin + direction * t, normal })
+    }
+
+    /// The part `[t0, t1]` of `[t_min, t_max]` where the ray is within the mesh's z range
+    /// (widened by a little, so that hits on the bounding planes are not lost to rounding),
+    /// or `None`.
+    fn z_range(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
         let root = self.nodes.first()?;
         if !(origin.is_finite() && direction.is_finite() && direction != DVec3::ZERO) {
             return None;
         }
-        // The segment of the ray inside the mesh's z range.
-        let (mut t0, mut t1) = (0.0_f64, t_max);
+        let (mut t0, mut t1) = (t_min, t_max);
         if direction.z == 0.0 {
             if origin.z < root.min.z || origin.z > root.max.z {
                 return None;
             }
         } else {
-            // Widened by a little, so that hits on the bounding planes are not lost to rounding.
             let (lo, hi) = (root.min.z - 1e-9, root.max.z + 1e-9);
             let (a, b) = ((lo - origin.z) / direction.z, (hi - origin.z) / direction.z);
             t0 = t0.max(a.min(b));
@@ -92,7 +129,12 @@ impl MeshRaycaster {
         if t0.partial_cmp(&t1).is_none_or(|o| o == core::cmp::Ordering::Greater) {
             return None;
         }
-        let (p0, p1) = (origin + direction * t0, origin + direction * t1);
+        Some((t0, t1))
+    }
+
+    /// The shifts of the tile's copies whose boxes the segment `p0`–`p1` can reach.
+    fn copies(&self, p0: DVec3, p1: DVec3) -> Vec<DVec3> {
+        let Some(root) = self.nodes.first() else { return Vec::new() };
         let span = |axis: usize, period: f32| -> (i64, i64) {
             if !(period > 0.0 && period.is_finite()) {
                 return (0, 0);
@@ -106,28 +148,50 @@ impl MeshRaycaster {
         };
         let (x0, x1) = span(0, self.period.x);
         let (y0, y1) = span(1, self.period.y);
-        let mut best: Option<(f64, usize, DVec3)> = None;
-        let mut stack = Vec::with_capacity(64);
+        let copy = |k: i64, period: f32| if k == 0 { 0.0 } else { k as f64 * f64::from(period) };
+        let mut shifts = Vec::new();
         for ky in y0..=y1 {
             for kx in x0..=x1 {
-                let copy = |k: i64, period: f32| if k == 0 { 0.0 } else { k as f64 * f64::from(period) };
-                let shift = DVec3::new(copy(kx, self.period.x), copy(ky, self.period.y), 0.0);
-                let local = origin - shift;
-                let limit = best.map_or(t1, |b| b.0);
-                if let Some((t, index)) = self.first_hit_local(local, direction, t0, limit, &mut stack)
-                    && best.is_none_or(|b| t < b.0)
-                {
-                    best = Some((t, index, shift));
+                shifts.push(DVec3::new(copy(kx, self.period.x), copy(ky, self.period.y), 0.0));
+            }
+        }
+        shifts
+    }
+
+    /// Every crossing of the ray `origin + t direction`, `t ∈ [t_min, t_max]`, with the mesh
+    /// and its periodic copies, appended to `out` in no particular order. A ray through an
+    /// edge or a vertex may report one crossing per triangle there; [`MeshCrossing::margin`]
+    /// tells such crossings apart.
+    pub fn crossings(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64, out: &mut Vec<MeshCrossing>) {
+        let Some((t0, t1)) = self.z_range(origin, direction, t_min, t_max) else { return };
+        let mut stack = Vec::with_capacity(64);
+        for shift in self.copies(origin + direction * t0, origin + direction * t1) {
+            let local = origin - shift;
+            let inverse = direction.recip();
+            stack.clear();
+            stack.push(0);
+            while let Some(index) = stack.pop() {
+                let node = self.nodes[index as usize];
+                if !slab_test(node.min, node.max, local, inverse, t0, t1) {
+                    continue;
+                }
+                if node.count == 0 {
+                    stack.push(node.first);
+                    stack.push(node.first + 1);
+                    continue;
+                }
+                for triangle in &self.triangles[node.first as usize..(node.first + node.count) as usize] {
+                    if let Some((t, margin)) = ray_triangle_margin(triangle, local, direction)
+                        && t >= t0
+                        && t <= t1
+                    {
+                        let [a, b, c] = *triangle;
+                        let exiting = (b - a).cross(c - a).dot(direction) > 0.0;
+                        out.push(MeshCrossing { t, exiting, margin });
+                    }
                 }
             }
         }
-        let (t, index, _) = best?;
-        let [a, b, c] = self.triangles[index];
-        let mut normal = (b - a).cross(c - a).normalize_or_zero();
-        if normal.dot(direction) > 0.0 {
-            normal = -normal;
-        }
-        Some(MeshHit { t, point: origin + direction * t, normal })
     }
 
     fn first_hit_local(
@@ -189,6 +253,11 @@ fn slab_test(min: DVec3, max: DVec3, origin: DVec3, inverse: DVec3, t_min: f64, 
 /// Möller–Trumbore in `f64`, edges inclusive: the ray parameter of the hit, or `None`
 /// for a miss or a ray parallel to the triangle.
 pub fn ray_triangle(triangle: &[DVec3; 3], origin: DVec3, direction: DVec3) -> Option<f64> {
+    ray_triangle_margin(triangle, origin, direction).map(|(t, _)| t)
+}
+
+/// [`ray_triangle`] with the hit's smallest barycentric coordinate.
+fn ray_triangle_margin(triangle: &[DVec3; 3], origin: DVec3, direction: DVec3) -> Option<(f64, f64)> {
     let [a, b, c] = *triangle;
     let (e1, e2) = (b - a, c - a);
     let p = direction.cross(e2);
@@ -207,7 +276,7 @@ pub fn ray_triangle(triangle: &[DVec3; 3], origin: DVec3, direction: DVec3) -> O
     if v < -1e-12 || u + v > 1.0 + 1e-12 {
         return None;
     }
-    Some(e2.dot(q) * inv)
+    Some((e2.dot(q) * inv, u.min(v).min(1.0 - u - v)))
 }
 
 fn build(tris: &mut [[DVec3; 3]], start: usize, end: usize, nodes: &mut Vec<Node>) {

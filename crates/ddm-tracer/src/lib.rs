@@ -39,6 +39,8 @@
 //! - [`trace`](mod@trace): Algorithm 3.1–3.3 and plain sphere tracing, with the paper's stepping,
 //!   or (beyond the paper) block cells on compressed maps or voxel-exit stepping.
 //! - [`relief`]: the relief mapping baseline on height fields.
+//! - [`solid`]: the side of the tile's mesh at each grid corner and the mesh's crossing of
+//!   each grid edge, the shared decisions of the watertight patches.
 //! - [`ground_truth`]: exact ray–triangle intersection of the periodic mesh (BVH).
 //! - [`gpu_scene`]: the scene packed into the buffers of the WGSL twin.
 //! - [`tangent_space`]: the per-pixel ray of a mesostructure mapped on a base mesh.
@@ -98,6 +100,7 @@ pub mod maps;
 pub mod patch;
 pub mod patches;
 pub mod relief;
+pub mod solid;
 pub mod tangent_space;
 pub mod trace;
 pub mod voxel;
@@ -105,7 +108,7 @@ pub mod voxel;
 mod wgsl;
 
 pub use gpu_scene::{GpuScene, GpuSceneError, TraceConeMap, TraceResult, TraceUniforms};
-pub use ground_truth::{MeshHit, MeshRaycaster};
+pub use ground_truth::{MeshCrossing, MeshHit, MeshRaycaster};
 pub use maps::{CompressMapsError, CompressedMaps, ConeDistances, ConeSelector, DistanceSource, RawConeMap};
 pub use patch::TracePatch;
 pub use patches::{MAX_PATCH_VOXELS, PatchError, PatchSettings, PatchSurface, VoxelPatches};

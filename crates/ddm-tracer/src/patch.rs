@@ -57,6 +57,27 @@ pub fn inside_polygon(patch: &TracePatch, p: Vec3) -> bool {
     true
 }
 
+/// How far inside the patch's polygon the voxel-local point `p` lies, seen along its
+/// Newell normal as [`inside_polygon`] sees it: the smallest signed distance to the lines
+/// of its edges (positive inside), in voxels. [`inside_polygon`] accepts down to
+/// `-POLYGON_TOLERANCE`; a hit with a negative margin lies in the band where neighbouring
+/// patches overlap.
+pub fn polygon_margin(patch: &TracePatch, p: Vec3) -> f32 {
+    let n = patch.normal.truncate();
+    let corners = patch.corners.map(Vec4::truncate);
+    let count = if patch.ij_corners.z > 3.5 { 4 } else { 3 };
+    let mut margin = f32::INFINITY;
+    for i in 0..count {
+        let a = corners[i];
+        let edge = corners[(i + 1) % count] - a;
+        let length = edge.length();
+        if length > 0.0 {
+            margin = margin.min(edge.cross(p - a).dot(n) / length);
+        }
+    }
+    margin
+}
+
 /// The nearest hit of the ray `local + t direction`, `t ∈ [-NUDGE, t_exit]`, with
 /// `patches` (voxel-local): `(t, patch index)`. With one unbounded patch any hit in the
 /// segment counts; with several, or on a bounded patch ([`BOUNDED_PATCH`]:

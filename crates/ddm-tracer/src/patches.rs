@@ -23,7 +23,8 @@
 //! that patch's polygon (see [`inside_polygon`](crate::patch::inside_polygon)).
 //!
 //! [`PatchSettings::surface`] picks what a voxel keeps: the C⁰ patches above (the
-//! paper), the fitted quadric of step a alone, the mesh's own triangles (exact, bounded
+//! paper), the watertight C⁰ patches from decisions shared by neighbours (beyond the
+//! paper: [`PatchSurface::Watertight`]), the fitted quadric of step a alone, the mesh's own triangles (exact, bounded
 //! by their polygon even when alone: [`crate::exact_patches`]), or per voxel the cheaper
 //! of the fitted quadric and the triangles that meets an error budget.
 
@@ -32,18 +33,28 @@ use alloc::vec::Vec;
 use core::fmt;
 
 use ddm_compress::Triangle;
-use glam::{DVec3, UVec3, Vec3, Vec4};
+use glam::{DVec3, UVec3, Vec2, Vec3, Vec4};
 use quadric_fit::surface::{C0Surface, Skipped};
-use quadric_fit::{GpuQuadric, Quadric, build_surface, fit_plane, fit_quadric};
+use quadric_fit::{GpuQuadric, Quadric, build_surface, build_watertight, fit_plane, fit_quadric};
 
 use crate::exact_patches::{probe_directions, representation_error, voxel_triangle_patches};
+use crate::ground_truth::MeshRaycaster;
 use crate::patch::{BOUNDED_PATCH, TracePatch};
+use crate::solid::MeshSides;
 
 /// What replaces the mesostructure inside a zero-distance voxel.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PatchSurface {
     /// The C⁰ patches of §3.1 steps b–c (the paper's construction).
     C0,
+    /// The watertight C⁰ surface (beyond the paper): the side of every grid corner from
+    /// the mesh's ray winding number, the mesh's own crossing of every edge whose corners
+    /// differ, ambiguous faces decided once at their centres ([`crate::solid`]), and the
+    /// triangle / bilinear patches of Appendix B through the resulting polygons
+    /// ([`quadric_fit::watertight`]). Neighbouring voxels share every decision, so the
+    /// patches leave no crack; a feature that crosses no edge (thinner than a voxel
+    /// between two corners of one side) is not represented.
+    Watertight,
     /// Each voxel keeps its fitted quadric of step a as its only patch, intersected
     /// anywhere inside the voxel (Algorithm 3.2 on `Q_V` itself; not C⁰ across voxels, but
     /// it follows sharp edges and corners that the sign-based polygons of step c cut off).
@@ -146,6 +157,10 @@ pub struct VoxelPatches {
     pub quadric_voxels: u32,
     /// Voxels whose patches are exact triangles.
     pub triangle_voxels: u32,
+    /// Voxels with patches that are not surface voxels (their distance is not 0), so the
+    /// tracer never intersects those patches: 0 unless the mesh's sides were decided
+    /// wrongly ([`PatchSurface::Watertight`]) or a fitted surface reaches into them.
+    pub patch_voxels_off_surface: u32,
 }
 
 impl VoxelPatches {
@@ -221,7 +236,7 @@ impl VoxelPatches {
         // triangles).
         let mut quadrics = BTreeMap::new();
         let mut points = Vec::new();
-        let fit_needed = settings.surface != PatchSurface::Triangles;
+        let fit_needed = !matches!(settings.surface, PatchSurface::Triangles | PatchSurface::Watertight);
         for (&(i, j, k), list) in bins.iter().filter(|_| fit_needed) {
             let lo = DVec3::new(f64::from(i), f64::from(j), f64::from(k)) - f64::from(settings.margin);
             let hi = lo + 1.0 + 2.0 * f64::from(settings.margin);
@@ -238,10 +253,17 @@ impl VoxelPatches {
         } else {
             None
         };
+        let watertight = (settings.surface == PatchSurface::Watertight).then(|| {
+            let mesh = MeshRaycaster::new(triangles, Vec2::new(sx, sy));
+            let mut sides = MeshSides::new(&mesh, dims);
+            let voxels = (0..dims.z).flat_map(|z| (0..dims.y).flat_map(move |y| (0..dims.x).map(move |x| (x, y, z))));
+            build_watertight(voxels, &mut sides)
+        });
         let directions = probe_directions();
         let mut offsets = Vec::with_capacity(voxels + 1);
         let mut patches = Vec::new();
         let (mut voxels_without_patch, mut quadric_voxels, mut triangle_voxels) = (0, 0, 0);
+        let mut patch_voxels_off_surface = 0;
         let mut exact = Vec::new();
         offsets.push(0);
         for z in 0..dims.z {
@@ -264,6 +286,23 @@ impl VoxelPatches {
                                         if let Some(p) = trace_patch(&patch.quadric, &patch.polygon, origin) {
                                             patches.push(p);
                                         }
+                                    }
+                                }
+                            }
+                        }
+                        PatchSurface::Watertight => {
+                            let tile_origin = DVec3::new(f64::from(x), f64::from(y), f64::from(z));
+                            if let Some(voxel) = watertight.as_ref().and_then(|b| b.voxels.get(&(x, y, z))) {
+                                let single = voxel.loops.len() == 1 && voxel.loops[0].points.len() <= 4;
+                                for surface_loop in &voxel.loops {
+                                    if single {
+                                        for patch in &surface_loop.patches {
+                                            if let Some(p) = trace_patch(&patch.quadric, &patch.polygon, tile_origin) {
+                                                patches.push(p);
+                                            }
+                                        }
+                                    } else {
+                                        triangle_fan(&surface_loop.points, tile_origin, &mut patches);
                                     }
                                 }
                             }
@@ -292,11 +331,22 @@ impl VoxelPatches {
                     if surface[index] && added.is_empty() {
                         voxels_without_patch += 1;
                     }
+                    if !surface[index] && !added.is_empty() {
+                        patch_voxels_off_surface += 1;
+                    }
                     offsets.push(patches.len() as u32);
                 }
             }
         }
-        Ok(Self { dims, offsets, patches, voxels_without_patch, quadric_voxels, triangle_voxels })
+        Ok(Self {
+            dims,
+            offsets,
+            patches,
+            voxels_without_patch,
+            quadric_voxels,
+            triangle_voxels,
+            patch_voxels_off_surface,
+        })
     }
 
     /// The bytes the tracer reads for the patches: the patches and the offsets.
@@ -390,6 +440,23 @@ fn trace_patch(quadric: &Quadric, polygon: &[DVec3], origin: DVec3) -> Option<Tr
         normal: normal.extend(0.0),
         corners: [corner(0), corner(1), corner(2), corner(3)],
     })
+}
+
+/// The polygon `points` (grid coordinates) as the fan of bounded triangles
+/// `C, Pi, Pi+1` around the mean `C` of its points (inside the voxel, which is convex and
+/// holds the points on its border), relative to the voxel corner `origin`; degenerate
+/// triangles are left out. A fan around a corner of the polygon folds over where the
+/// polygon is not convex seen from that corner.
+fn triangle_fan(points: &[DVec3], origin: DVec3, out: &mut Vec<TracePatch>) {
+    let centre = points.iter().sum::<DVec3>() / points.len() as f64;
+    for i in 0..points.len() {
+        let corners = [centre, points[i], points[(i + 1) % points.len()]];
+        let Ok(quadric) = quadric_fit::triangle_quadric(corners[0], corners[1], corners[2]) else { continue };
+        if let Some(mut patch) = trace_patch(&quadric, &corners, origin) {
+            patch.ij_corners.w = BOUNDED_PATCH;
+            out.push(patch);
+        }
+    }
 }
 
 /// Barycentric samples of `triangle` on an `n`-step grid, kept when inside `[lo, hi]`.

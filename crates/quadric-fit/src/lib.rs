@@ -37,6 +37,8 @@
 //! - [`gpu_quadric`]: the single-precision GPU layout of a quadric.
 //! - [`surface`]: the per-voxel C⁰ construction of §3.1 (steps a–c): edge hits, averaged
 //!   representative points, face-ordered polygons and their triangle/bilinear patches.
+//! - [`watertight`]: the same polygons and patches from corner signs, edge points and face
+//!   decisions taken once for the grid, so that neighbours never disagree (beyond the paper).
 //!
 //! # Using the WGSL twin
 //!
@@ -73,7 +75,7 @@
 //! # Features
 //!
 //! - `std` (default): enables `std` in the dependencies. The crate is `#![no_std]`; only
-//!   [`surface`] allocates (through `alloc`); `cargo check -p quadric-fit --no-default-features` builds it.
+//!   [`surface`] and [`watertight`] allocate (through `alloc`); `cargo check -p quadric-fit --no-default-features` builds it.
 //! - `wgsl`: [`WGSL`], the WGSL twin (its sources are embedded; no extra dependency).
 #![no_std]
 
@@ -86,6 +88,7 @@ pub mod intersect;
 pub mod patch;
 pub mod quadric;
 pub mod surface;
+pub mod watertight;
 #[cfg(feature = "wgsl")]
 mod wgsl;
 
@@ -95,5 +98,6 @@ pub use intersect::{first_hit, normal};
 pub use patch::{bilinear_quadric, triangle_quadric};
 pub use quadric::{Quadric, QuadricError};
 pub use surface::{C0Surface, build_surface};
+pub use watertight::{SignedGrid, build_watertight};
 #[cfg(feature = "wgsl")]
 pub use wgsl::WGSL;

@@ -74,6 +74,25 @@ impl GridEdge {
     }
 }
 
+/// A face of the voxel grid: the unit square at `corner` spanned by the two axes other
+/// than `normal`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct GridFace {
+    /// 0, 1 or 2: the axis the face is perpendicular to.
+    pub normal: u8,
+    /// The face's lowest corner.
+    pub corner: GridPoint,
+}
+
+impl GridFace {
+    /// The centre of the face.
+    pub fn centre(&self) -> DVec3 {
+        let mut p = grid_point(self.corner) + DVec3::splat(0.5);
+        p[usize::from(self.normal % 3)] -= 0.5;
+        p
+    }
+}
+
 /// How a quadric meets one edge (§3.1 a, the intersection of `Q_V` with the edges of `V`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum EdgeCrossing {
@@ -147,11 +166,11 @@ pub struct C0Surface {
 /// `|α|` below this fraction of `|β| + |γ|` makes the edge polynomial linear.
 const LINEAR: f64 = 1e-12;
 
-fn grid_point(p: GridPoint) -> DVec3 {
+pub(crate) fn grid_point(p: GridPoint) -> DVec3 {
     DVec3::new(f64::from(p.0), f64::from(p.1), f64::from(p.2))
 }
 
-fn offset(p: GridPoint, d: [u32; 3]) -> GridPoint {
+pub(crate) fn offset(p: GridPoint, d: [u32; 3]) -> GridPoint {
     (p.0 + d[0], p.1 + d[1], p.2 + d[2])
 }
 
@@ -163,7 +182,7 @@ fn local_edge(axis: usize, off: [u32; 3]) -> usize {
 }
 
 /// The offsets (0 or 1 per axis) of the lower end of local edge `l`.
-fn edge_offsets(l: usize) -> (usize, [u32; 3]) {
+pub(crate) fn edge_offsets(l: usize) -> (usize, [u32; 3]) {
     let axis = l / 4;
     let mut off = [0; 3];
     off[(axis + 1) % 3] = (l & 1) as u32;
@@ -171,7 +190,7 @@ fn edge_offsets(l: usize) -> (usize, [u32; 3]) {
     (axis, off)
 }
 
-fn corner_index(off: [u32; 3]) -> usize {
+pub(crate) fn corner_index(off: [u32; 3]) -> usize {
     (off[0] + 2 * off[1] + 4 * off[2]) as usize
 }
 
@@ -280,8 +299,16 @@ fn voxel_crossings(voxel: GridPoint, quadric: &Quadric) -> VoxelCrossings {
 }
 
 /// The neighbours (local edge indices) of each crossed local edge, two per edge when the
-/// faces close, from the face traversal of §3.1 c.
-fn face_links(voxel: GridPoint, quadric: &Quadric, crossings: &VoxelCrossings) -> [Vec<usize>; 12] {
+/// faces close, from the face traversal of §3.1 c. `corner_negative` are the corners'
+/// sides, `crossed` the edges crossed, and `centre_negative(normal, side)` decides an
+/// ambiguous face (four crossed edges) by the side of its centre: corners with the
+/// centre's side are joined through the centre, so each segment cuts off one corner of
+/// the other side.
+pub(crate) fn face_links(
+    corner_negative: &[bool; 8],
+    crossed: &[bool; 12],
+    mut centre_negative: impl FnMut(usize, u32) -> bool,
+) -> [Vec<usize>; 12] {
     let mut links: [Vec<usize>; 12] = Default::default();
     let mut link = |a: usize, b: usize| {
         links[a].push(b);
@@ -299,19 +326,16 @@ fn face_links(voxel: GridPoint, quadric: &Quadric, crossings: &VoxelCrossings) -
                 local_edge(axis, off)
             };
             let edges = [edge_at(p, q, 0), edge_at(p, q, 1), edge_at(q, p, 0), edge_at(q, p, 1)];
-            let crossed: Vec<usize> = edges.iter().copied().filter(|&l| crossings.t[l].is_some()).collect();
-            match crossed.len() {
-                2 => link(crossed[0], crossed[1]),
+            let face_crossed: Vec<usize> = edges.iter().copied().filter(|&l| crossed[l]).collect();
+            match face_crossed.len() {
+                2 => link(face_crossed[0], face_crossed[1]),
                 4 => {
-                    // Ambiguous face: decide at its centre with the voxel's quadric.
-                    let mut centre = grid_point(voxel) + DVec3::splat(0.5);
-                    centre[normal] = grid_point(voxel)[normal] + f64::from(side);
-                    let centre_negative = negative(quadric.value(centre));
+                    let centre = centre_negative(normal, side);
                     for (a, b) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
                         let mut off = face_off;
                         off[p] = a;
                         off[q] = b;
-                        if negative(crossings.corners[corner_index(off)]) != centre_negative {
+                        if corner_negative[corner_index(off)] != centre {
                             // Cut off this corner: join its edge along p and its edge along q.
                             link(edge_at(p, q, b), edge_at(q, p, a));
                         }
@@ -326,7 +350,7 @@ fn face_links(voxel: GridPoint, quadric: &Quadric, crossings: &VoxelCrossings) -
 
 /// Closed polygons through the crossed local edges, or `None` when a point does not have
 /// exactly two neighbours.
-fn trace_loops(links: &[Vec<usize>; 12], crossed: &[bool; 12]) -> Option<Vec<Vec<usize>>> {
+pub(crate) fn trace_loops(links: &[Vec<usize>; 12], crossed: &[bool; 12]) -> Option<Vec<Vec<usize>>> {
     if (0..12).any(|l| crossed[l] && links[l].len() != 2) {
         return None;
     }
@@ -354,6 +378,32 @@ fn trace_loops(links: &[Vec<usize>; 12], crossed: &[bool; 12]) -> Option<Vec<Vec
         loops.push(cycle);
     }
     Some(loops)
+}
+
+/// The polygons of `voxel` through the representative points of its local edge `cycles`
+/// (a cycle whose edges lack a point is left out), with their patches.
+pub(crate) fn surface_loops(
+    voxel: GridPoint,
+    cycles: &[Vec<usize>],
+    edge_points: &BTreeMap<GridEdge, DVec3>,
+) -> Vec<SurfaceLoop> {
+    let mut loops = Vec::new();
+    for cycle in cycles {
+        let edges: Vec<GridEdge> = cycle
+            .iter()
+            .map(|&l| {
+                let (axis, off) = edge_offsets(l);
+                GridEdge { axis: axis as u8, corner: offset(voxel, off) }
+            })
+            .collect();
+        let points: Vec<DVec3> = edges.iter().filter_map(|e| edge_points.get(e).copied()).collect();
+        if points.len() != edges.len() {
+            continue;
+        }
+        let patches = polygon_patches(&points);
+        loops.push(SurfaceLoop { edges, points, patches });
+    }
+    loops
 }
 
 /// The patches through a polygon (§3.1 c, Appendix B): see [`SurfaceLoop::patches`].
@@ -424,28 +474,19 @@ pub fn build_surface(quadrics: &BTreeMap<GridPoint, Quadric>) -> C0Surface {
     surface.edge_points = lists.into_iter().map(|(e, (sum, n))| (e, sum / f64::from(n))).collect();
     // Step c: polygons by face traversal, then patches.
     for (voxel, quadric, crossings) in per_voxel {
-        let links = face_links(voxel, quadric, &crossings);
         let crossed = crossings.t.map(|t| t.is_some());
+        let corner_negative = crossings.corners.map(negative);
+        // An ambiguous face is decided at its centre with the voxel's own quadric.
+        let links = face_links(&corner_negative, &crossed, |normal, side| {
+            let mut centre = grid_point(voxel) + DVec3::splat(0.5);
+            centre[normal] = grid_point(voxel)[normal] + f64::from(side);
+            negative(quadric.value(centre))
+        });
         let Some(cycles) = trace_loops(&links, &crossed) else {
             surface.skipped.insert(voxel, Skipped::Open);
             continue;
         };
-        let mut loops = Vec::new();
-        for cycle in cycles {
-            let edges: Vec<GridEdge> = cycle
-                .iter()
-                .map(|&l| {
-                    let (axis, off) = edge_offsets(l);
-                    GridEdge { axis: axis as u8, corner: offset(voxel, off) }
-                })
-                .collect();
-            let points: Vec<DVec3> = edges.iter().filter_map(|e| surface.edge_points.get(e).copied()).collect();
-            if points.len() != edges.len() {
-                continue;
-            }
-            let patches = polygon_patches(&points);
-            loops.push(SurfaceLoop { edges, points, patches });
-        }
+        let loops = surface_loops(voxel, &cycles, &surface.edge_points);
         surface.voxels.insert(voxel, VoxelSurface { loops, double_hits: crossings.double_hits });
     }
     surface

@@ -1,0 +1,227 @@
+//! Watertightness without the maps: along random segments between voxels that hold no
+//! surface, the number of crossings with the union of all patches, as the tracer
+//! intersects them ([`ddm_tracer::patch`]'s rules, in `f32`), is odd exactly when the two
+//! ends lie on different sides of the mesh. A crack between two voxels' patches lets a
+//! segment through it cross once too few.
+//!
+//! **A regression pin, not yet the goal of 0.** Of 10⁵ segments per tile at 12 × 12 × 6,
+//! the parity is wrong on maze 1, bricks 0, beads 1, ball 0, chain mail 7 (pinned; a change
+//! that makes one worse fails, one that improves it should lower the pin). The cases
+//! examined were counting ambiguities of `f32` crossings rather than cracks: a crossing
+//! within rounding of a voxel wall, where the segment also grazes a crease, and neighbouring
+//! triangles of a fan both accepting one crossing in their tolerance bands. Two faults of
+//! earlier constructions were found by this test and removed: bilinear pieces of a fan
+//! (the paper's fan of quads) accept ghost hits of their quadrics inside each other's
+//! polygons (24 % of the beads' segments wrong), and fans around a corner of a non-convex
+//! polygon fold over; polygons of more than four points, and voxels with several
+//! polygons, are now fans of triangles around the polygon's mean point.
+//!
+//! The ends are points in the middle of voxels whose eight corners lie on one side, and
+//! whose centre and end point lie on that side too ([`MeshSides`]): such a voxel has no
+//! patch, and the end's side is the same for the patches (which separate the corners by
+//! their sides) and for the mesh. Segments run in any direction and cross the tile's
+//! borders.
+
+use ddm_compress::{DistanceMapSettings, MapKind, compute_distance_maps};
+use ddm_tracer::patch::{inside_polygon, polygon_margin, quadric_of};
+use ddm_tracer::solid::MeshSides;
+use ddm_tracer::voxel::{NUDGE, voxel_entry, voxel_exit};
+use ddm_tracer::{MeshRaycaster, PatchSettings, PatchSurface, TracePatch, VoxelPatches};
+use glam::{IVec3, UVec3, Vec2, Vec3};
+use mesostructure::Mesostructure;
+use quadric_fit::first_hit;
+use quadric_fit::watertight::SignedGrid;
+
+const DIMS: UVec3 = UVec3::new(12, 12, 6);
+
+/// Segments per mesostructure.
+const SEGMENTS: usize = 100_000;
+
+/// Two hits on neighbouring patches of a voxel (sharing an edge of their polygons) this
+/// close along the segment (voxels) are one crossing when one of them lies only in the
+/// polygon test's tolerance band ([`ddm_tracer::patch::POLYGON_TOLERANCE`] outside its polygon): the patches
+/// overlap there so that no crack opens between them. Two hits strictly inside their
+/// polygons are two crossings.
+const OVERLAP: f32 = 1e-2;
+
+/// After a root at `t`, the second root of a quadric is searched from `t` + this.
+const NEXT_ROOT: f32 = 1e-6;
+
+struct Xorshift(u64);
+
+impl Xorshift {
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    fn below(&mut self, n: u32) -> u32 {
+        ((self.next() * n as f32) as u32).min(n - 1)
+    }
+}
+
+/// Every crossing of the voxel-local segment `local + t direction`, `t ∈ [0, t_exit)`, with
+/// `patches`: both roots of each quadric, accepted as [`ddm_tracer::patch::patch_hit`]
+/// accepts a hit (inside the polygon where the voxel has several patches or the patch is
+/// bounded), counted once where neighbouring patches overlap (see [`OVERLAP`]).
+///
+/// The tracer looks [`NUDGE`] before the entry wall too (so that a floor on the wall is
+/// not lost to rounding); counting crossings, that would count a crossing on a wall in
+/// both voxels, and a patch's plane continued past a crease on the wall, so the count
+/// starts at the wall.
+fn voxel_crossings(patches: &[TracePatch], local: Vec3, direction: Vec3, t_exit: f32, out: &mut Vec<f32>) {
+    // (t, patch, strictly inside its polygon).
+    let mut hits: Vec<(f32, usize, bool)> = Vec::new();
+    for (index, patch) in patches.iter().enumerate() {
+        let quadric = quadric_of(patch);
+        let clipped = patches.len() > 1 || patch.ij_corners.w == ddm_tracer::patch::BOUNDED_PATCH;
+        let mut from = 0.0;
+        // A quadric meets a line at most twice.
+        for _ in 0..2 {
+            let Some(t) = first_hit(&quadric, local, direction, from, t_exit) else { break };
+            let at = local + direction * t;
+            if t < t_exit && (!clipped || inside_polygon(patch, at)) {
+                hits.push((t, index, !clipped || polygon_margin(patch, at) >= 0.0));
+            }
+            from = t + NEXT_ROOT;
+        }
+    }
+    hits.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let adjacent = |a: usize, b: usize| {
+        let shared = patches[a].corners.iter().filter(|c| patches[b].corners.contains(c)).count();
+        a != b && shared >= 2
+    };
+    let mut kept: Vec<(f32, usize, bool)> = Vec::new();
+    for hit in hits {
+        let same = kept.iter().any(|k| (k.0 - hit.0).abs() <= OVERLAP && adjacent(k.1, hit.1) && !(k.2 && hit.2));
+        if !same {
+            kept.push(hit);
+        }
+    }
+    out.extend(kept.iter().map(|k| k.0));
+}
+
+/// The crossings of the segment from `a` to `b` with the patches, in the tracer's voxel
+/// walk (a voxel's patches are intersected from where the segment enters it).
+fn segment_crossings(patches: &VoxelPatches, a: Vec3, b: Vec3) -> usize {
+    let length = (b - a).length();
+    let d = (b - a) / length;
+    let dims = patches.dims.as_ivec3();
+    let mut count = 0;
+    let mut local_ts = Vec::new();
+    let mut t = 0.0_f32;
+    while t < length {
+        let probe = a + d * (t + NUDGE);
+        let v = probe.floor().as_ivec3();
+        let corner = v.as_vec3();
+        let start_local = a - corner;
+        let t_in = voxel_entry(start_local, d);
+        let entry = start_local + d * t_in;
+        let t_exit = voxel_exit(entry, d);
+        let wrapped = IVec3::new(v.x.rem_euclid(dims.x), v.y.rem_euclid(dims.y), v.z).as_uvec3();
+        local_ts.clear();
+        voxel_crossings(patches.of_voxel(wrapped), entry, d, t_exit, &mut local_ts);
+        count += local_ts.iter().filter(|&&th| t_in + th < length).count();
+        t = t.max(t_in + t_exit);
+    }
+    count
+}
+
+#[test]
+fn the_watertight_patches_have_the_meshs_crossing_parity_up_to_a_pinned_few_segments() {
+    let mut failures = Vec::new();
+    for which in Mesostructure::ALL {
+        let triangles = which.triangles(DIMS);
+        let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+        let maps = compute_distance_maps(DIMS, &triangles, MapKind::Plain, settings).unwrap();
+        let surface = PatchSettings { surface: PatchSurface::Watertight, ..PatchSettings::default() };
+        let patches = VoxelPatches::build(DIMS, &triangles, &maps.surface, surface).unwrap();
+        let mesh = MeshRaycaster::new(&triangles, Vec2::new(DIMS.x as f32, DIMS.y as f32));
+        let mut sides = MeshSides::new(&mesh, DIMS);
+        // The voxels that can end a segment, with their side.
+        let mut ends = Vec::new();
+        for z in 0..DIMS.z {
+            for y in 0..DIMS.y {
+                for x in 0..DIMS.x {
+                    let corners: Vec<bool> =
+                        (0..8).map(|c| sides.inside((x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2)))).collect();
+                    let centre = glam::DVec3::new(f64::from(x), f64::from(y), f64::from(z)) + 0.5;
+                    if corners.iter().all(|&s| s == corners[0]) && sides.point_inside(centre) == corners[0] {
+                        ends.push((UVec3::new(x, y, z), corners[0]));
+                    }
+                }
+            }
+        }
+        let (inside_ends, outside_ends) = (ends.iter().filter(|e| e.1).count(), ends.iter().filter(|e| !e.1).count());
+        // Chain mail's tubes are thinner than a voxel is wide: segments between two outside
+        // ends still cross a tube twice, or once through a crack.
+        let least_inside = if matches!(which, Mesostructure::ChainMail | Mesostructure::Ball) { 0 } else { 50 };
+        assert!(
+            inside_ends >= least_inside && outside_ends > 50,
+            "{}: {inside_ends} inside, {outside_ends} outside",
+            which.name()
+        );
+        let mut random = Xorshift(0x5eed_0000 + ends.len() as u64);
+        let (mut mismatches, mut crossing_total, mut odd, mut skipped) = (0, 0, 0, 0);
+        for _ in 0..SEGMENTS {
+            let (va, sa) = ends[random.below(ends.len() as u32) as usize];
+            let (vb, sb) = ends[random.below(ends.len() as u32) as usize];
+            // The far end in this tile or a neighbouring copy.
+            let shift = Vec3::new(
+                (random.below(3) as f32 - 1.0) * DIMS.x as f32,
+                (random.below(3) as f32 - 1.0) * DIMS.y as f32,
+                0.0,
+            );
+            // Anywhere in the middle of the end voxels: segments between voxel centres
+            // would run exactly through grid lines.
+            let mut jitter = || Vec3::new(random.next(), random.next(), random.next()) * 0.6 + 0.2;
+            let a = va.as_vec3() + jitter();
+            let b = vb.as_vec3() + jitter() + shift;
+            let on_their_sides =
+                sides.point_inside(a.as_dvec3()) == sa && sides.point_inside((b - shift).as_dvec3()) == sb;
+            if !on_their_sides || (b - a).length() < 0.5 {
+                skipped += 1;
+                continue;
+            }
+            let crossings = segment_crossings(&patches, a, b);
+            crossing_total += crossings;
+            odd += usize::from(sa != sb);
+            if (crossings % 2 == 1) != (sa != sb) {
+                mismatches += 1;
+                if mismatches <= 5 {
+                    println!("{}: {a} -> {b}: {crossings} crossings, sides {sa} {sb}", which.name());
+                }
+            }
+        }
+        println!(
+            "{}: {} voxels with patches ({} off the surface voxels), {} patches; {SEGMENTS} segments ({skipped} skipped: an end \
+             across a thin feature, or too short) between {} ends ({inside_ends} inside), {odd} with ends on different sides, {crossing_total} crossings; parity wrong on \
+             {mismatches}; sides: {} points on the mesh, {} ambiguous, {} edges without a crossing",
+            which.name(),
+            patches.quadric_voxels,
+            patches.patch_voxels_off_surface,
+            patches.patches.len(),
+            ends.len(),
+            sides.points_on_surface,
+            sides.ambiguous_points,
+            sides.edges_without_crossing,
+        );
+        assert!(skipped < SEGMENTS / 100, "{}: {skipped} segments skipped", which.name());
+        if least_inside > 0 {
+            assert!(odd > SEGMENTS / 10, "{}: only {odd} segments join the two sides", which.name());
+        }
+        assert!(crossing_total > SEGMENTS / 4, "{}: only {crossing_total} crossings", which.name());
+        assert_eq!(patches.patch_voxels_off_surface, 0, "{}", which.name());
+        let pin = match which {
+            Mesostructure::Maze(_) | Mesostructure::Beads => 1,
+            Mesostructure::Bricks | Mesostructure::Ball => 0,
+            Mesostructure::ChainMail => 7,
+        };
+        if mismatches > pin {
+            failures.push((which.name(), mismatches, pin));
+        }
+    }
+    assert!(failures.is_empty(), "segments with the wrong parity (tile, count, pin): {failures:?}");
+}

@@ -7,11 +7,6 @@
 //!
 //! Vertex numbers in errors (and in the loaded mesh) count from 0 in order of first use by
 //! a face, not in the file's `v` order; errors about a vertex also print its position.
-//! Errors that a line of the file causes — text that is not OBJ, a face with an index past
-//! the vertices, a face using a NaN or infinite vertex (the face's line, not the `v`
-//! line's: a vertex no face uses is not an error) — also name that line
-//! ([`ObjError::line`]): the first line `n` such that the file's first `n` lines already
-//! fail to load (found by bisection, re-reading prefixes of the file with `tobj`).
 
 use std::fmt;
 use std::io::{self, BufRead, Write};
@@ -27,9 +22,6 @@ use crate::mesh::GrainMesh;
 pub struct ObjError {
     /// The file.
     pub path: PathBuf,
-    /// The line (counting from 1) that causes the problem, where one does (see the
-    /// module's documentation); `None` for problems of the whole file or mesh.
-    pub line: Option<usize>,
     /// What went wrong with it.
     pub problem: ObjProblem,
 }
@@ -47,34 +39,12 @@ pub enum ObjProblem {
 
 impl fmt::Display for ObjError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "grain OBJ file {}", self.path.display())?;
-        if let Some(line) = self.line {
-            write!(f, ", line {line}")?;
+        let path = self.path.display();
+        match &self.problem {
+            ObjProblem::Io(error) => write!(f, "grain OBJ file {path}: {error}"),
+            ObjProblem::Parse(error) => write!(f, "grain OBJ file {path}: not valid OBJ: {error}"),
+            ObjProblem::Mesh(error) => write!(f, "grain OBJ file {path}: {error}"),
         }
-        write!(f, ": {}", self.problem)
-    }
-}
-
-impl fmt::Display for ObjProblem {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ObjProblem::Io(error) => write!(f, "{error}"),
-            ObjProblem::Parse(error) => write!(f, "not valid OBJ: {error}"),
-            ObjProblem::Mesh(error) => write!(f, "{error}"),
-        }
-    }
-}
-
-impl ObjProblem {
-    /// Whether one line of the file causes the problem, so that every longer prefix of
-    /// the file fails too: text that is not OBJ, a face index past the vertices, a face
-    /// using a non-finite vertex.
-    fn is_of_a_line(&self) -> bool {
-        matches!(
-            self,
-            ObjProblem::Parse(_)
-                | ObjProblem::Mesh(MeshError::IndexOutOfRange { .. } | MeshError::NonFiniteVertex { .. })
-        )
     }
 }
 
@@ -91,40 +61,9 @@ impl std::error::Error for ObjError {
 /// Loads a grain from the OBJ file at `path`.
 pub fn load_obj(path: impl AsRef<Path>) -> Result<GrainMesh, ObjError> {
     let path = path.as_ref();
-    let error = |line, problem| ObjError { path: path.to_path_buf(), line, problem };
-    let bytes = std::fs::read(path).map_err(|e| error(None, ObjProblem::Io(e)))?;
-    parse_obj(&mut bytes.as_slice()).map_err(|problem| {
-        let line = if problem.is_of_a_line() { failing_line(&bytes) } else { None };
-        error(line, problem)
-    })
-}
-
-/// The first line `n` (from 1) such that the first `n` lines of `bytes` fail to load with
-/// a problem of a line ([`ObjProblem::is_of_a_line`]), or `None` if the whole text does
-/// not. Such a failure persists in every longer prefix, so the lines are bisected.
-fn failing_line(bytes: &[u8]) -> Option<usize> {
-    // `ends[k]`: the length of the first `k + 1` lines, newline included.
-    let ends: Vec<usize> = bytes
-        .iter()
-        .enumerate()
-        .filter(|&(_, &b)| b == b'\n')
-        .map(|(i, _)| i + 1)
-        .chain((bytes.last() != Some(&b'\n') && !bytes.is_empty()).then_some(bytes.len()))
-        .collect();
-    let fails = |lines: usize| {
-        let prefix = &bytes[..ends[lines - 1]];
-        parse_obj(&mut &prefix[..]).err().is_some_and(|p| p.is_of_a_line())
-    };
-    if ends.is_empty() || !fails(ends.len()) {
-        return None;
-    }
-    // Invariant: the first `lo` lines load (or fail otherwise), the first `hi` fail.
-    let (mut lo, mut hi) = (0, ends.len());
-    while hi - lo > 1 {
-        let mid = lo + (hi - lo) / 2;
-        if fails(mid) { hi = mid } else { lo = mid }
-    }
-    Some(hi)
+    let error = |problem| ObjError { path: path.to_path_buf(), problem };
+    let bytes = std::fs::read(path).map_err(|e| error(ObjProblem::Io(e)))?;
+    parse_obj(&mut bytes.as_slice()).map_err(error)
 }
 
 /// Parses a grain from OBJ text.
@@ -165,7 +104,7 @@ pub fn parse_obj(reader: &mut impl BufRead) -> Result<GrainMesh, ObjProblem> {
 /// so [`load_obj`] gives back the same triangles. Materials are not written.
 pub fn write_obj(mesh: &GrainMesh, path: impl AsRef<Path>) -> Result<(), ObjError> {
     let path = path.as_ref();
-    let error = |e| ObjError { path: path.to_path_buf(), line: None, problem: ObjProblem::Io(e) };
+    let error = |e| ObjError { path: path.to_path_buf(), problem: ObjProblem::Io(e) };
     let file = std::fs::File::create(path).map_err(error)?;
     let mut writer = io::BufWriter::new(file);
     write_obj_to(mesh, &mut writer).and_then(|()| writer.flush()).map_err(error)

@@ -7,8 +7,9 @@
 //! command's default grid), the slab `[0, X] × [0, Y] × [0, Z]`, repeated with period `X`
 //! in x and `Y` in y (the tracers and maps treat every tile as periodic in x and y).
 //!
-//! - `--obj PATH`: a Wavefront OBJ file (read with `grain_mesh::load_obj`, the workspace's
-//!   one OBJ reader: polygons are triangulated, every object of the file is merged) whose
+//! - `--obj PATH`: a Wavefront OBJ file (read with `grain_mesh::parse_obj`, the workspace's
+//!   one OBJ reader, `tobj` inside: polygons are triangulated, every object of the file is
+//!   merged, materials ignored) whose
 //!   coordinates are voxels of that grid. `--scale S` multiplies every coordinate by `S`
 //!   (about the origin; `S` positive and finite). `--fit-slab` moves the mesh's bounding
 //!   box's lower corner to the origin and scales it uniformly (keeping its aspect) by the
@@ -25,7 +26,8 @@
 //!   mapping runs on it, as on the maze and bricks; it does not on an OBJ tile).
 //!
 //! **Checks**, each an error naming the flag and the file (and for OBJ text that does not
-//! parse, its line): an unreadable file, text that is not OBJ, no triangles, a NaN or
+//! parse, a face index past the vertices or a face using a NaN vertex, the line: see
+//! [`failing_line`]): an unreadable file, text that is not OBJ, no triangles, a NaN or
 //! infinite coordinate, `--scale` not positive and finite, `--height` missing, not
 //! positive and finite, or above `Z`, a PNG that does not decode or has fewer than 2 × 2
 //! pixels, `--obj` with `--height-map` and `--scale` with `--fit-slab` (they exclude each
@@ -51,6 +53,7 @@ use std::path::{Path, PathBuf};
 
 use ddm_compress::Triangle;
 use glam::{UVec3, Vec3};
+use grain_mesh::{MeshError, ObjProblem};
 use mesostructure::{HeightField, Mesostructure};
 
 use crate::cli::{Args, Flag, switch, value};
@@ -205,9 +208,18 @@ pub fn describe(source: Option<&TileSource>) -> String {
 /// text that is not OBJ) the line.
 fn obj_triangles(path: &Path, placement: Placement, dims: UVec3) -> Result<Vec<Triangle>, String> {
     let named = format!("--obj {}", path.display());
-    let mesh = grain_mesh::load_obj(path).map_err(|e| match e.line {
-        Some(line) => format!("{named}, line {line}: {}", e.problem),
-        None => format!("{named}: {}", e.problem),
+    let bytes = std::fs::read(path).map_err(|e| format!("{named}: {e}"))?;
+    let mesh = grain_mesh::parse_obj(&mut bytes.as_slice()).map_err(|problem| {
+        let line = if is_of_a_line(&problem) { failing_line(&bytes) } else { None };
+        let message = match problem {
+            ObjProblem::Io(e) => e.to_string(),
+            ObjProblem::Parse(e) => format!("not valid OBJ: {e}"),
+            ObjProblem::Mesh(e) => e.to_string(),
+        };
+        match line {
+            Some(line) => format!("{named}, line {line}: {message}"),
+            None => format!("{named}: {message}"),
+        }
     })?;
     let positions = mesh.positions();
     let (lo, hi) = positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
@@ -261,6 +273,47 @@ fn obj_triangles(path: &Path, placement: Placement, dims: UVec3) -> Result<Vec<T
         ));
     }
     Ok(mesh.triangles().iter().map(|t| Triangle(t.map(|i| place(positions[i as usize])))).collect())
+}
+
+/// Whether one line of the file causes `problem`, so that every longer prefix of the file
+/// fails too: text that is not OBJ, a face index past the vertices, a face using a
+/// non-finite vertex.
+fn is_of_a_line(problem: &ObjProblem) -> bool {
+    matches!(
+        problem,
+        ObjProblem::Parse(_) | ObjProblem::Mesh(MeshError::IndexOutOfRange { .. } | MeshError::NonFiniteVertex { .. })
+    )
+}
+
+/// The first line `n` (from 1) such that the first `n` lines of `bytes` fail to parse with
+/// a problem of a line ([`is_of_a_line`]), or `None` if the whole text does not: such a
+/// failure persists in every longer prefix, so the lines are bisected, each prefix parsed
+/// again by `grain_mesh::parse_obj` (the reader reports no line itself). For a non-finite
+/// vertex this is the first face that uses it (a vertex no face uses is no error).
+fn failing_line(bytes: &[u8]) -> Option<usize> {
+    // `ends[k]`: the length of the first `k + 1` lines, newline included.
+    let mut ends: Vec<usize> = bytes.iter().enumerate().filter(|&(_, &b)| b == b'\n').map(|(i, _)| i + 1).collect();
+    if ends.last() != Some(&bytes.len()) && !bytes.is_empty() {
+        ends.push(bytes.len());
+    }
+    let fails = |lines: usize| {
+        let prefix = &bytes[..ends[lines - 1]];
+        grain_mesh::parse_obj(&mut &prefix[..]).err().is_some_and(|p| is_of_a_line(&p))
+    };
+    if ends.is_empty() || !fails(ends.len()) {
+        return None;
+    }
+    // The first `lo` lines parse (or fail otherwise), the first `hi` fail.
+    let (mut lo, mut hi) = (0, ends.len());
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if fails(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Some(hi)
 }
 
 /// The height map's triangles: `W × H` pixels as `W × H` cells over the slab's `X × Y`,
@@ -518,8 +571,16 @@ mod tests {
         let dir = TempDir::new("bad-obj");
         let missing = dir.0.join("missing.obj");
         load_error(&obj(&missing), DIMS, &["--obj ", "missing.obj: "]);
-        let path = dir.file("text.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n");
-        load_error(&obj(&path), DIMS, &["--obj ", "text.obj, line 4: not valid OBJ"]);
+        for (file, contents, line) in [
+            ("text.obj", &b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n"[..], 4),
+            ("index.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 7", 5),
+            ("coordinates.obj", b"v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 1),
+            ("binary.obj", &[0xff, 0xfe, 0x00, 0x13, 0x37, b'\n', 0xc3, 0x28], 1),
+            ("late.obj", b"# fine\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nv 1 1 zero\nf 1 2 3\n", 6),
+        ] {
+            let path = dir.file(file, contents);
+            load_error(&obj(&path), DIMS, &["--obj ", &format!("{file}, line {line}: not valid OBJ")]);
+        }
         let path = dir.file("empty.obj", b"v 0 0 0\nv 1 0 0\n");
         load_error(&obj(&path), DIMS, &["empty.obj: the mesh has no triangles"]);
         let path = dir.file("nan.obj", b"v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");

@@ -287,6 +287,11 @@ impl Args<'_> {
         self.value(name).map(|v| convert(v).map_err(|e| self.command.error(format!("--{name} {v}: {e}")))).transpose()
     }
 
+    /// `message` followed by the command's usage, as every parse error reads.
+    pub fn error(&self, message: impl std::fmt::Display) -> String {
+        self.command.error(message)
+    }
+
     /// The `OUT_DIR` given, else the command's default under the workspace root.
     pub fn out_dir(&self) -> PathBuf {
         match (&self.out_dir, self.command.positional) {

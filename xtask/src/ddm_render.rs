@@ -1,4 +1,5 @@
-//! `cargo xtask ddm-render [OUT_DIR] [--quick] [--resolution WxH]`: mesostructures mapped onto a base mesh and
+//! `cargo xtask ddm-render [OUT_DIR] [--quick] [--size WxHxD] [--resolution WxH] [--obj PATH |
+//! --height-map PNG] [--scale S | --fit-slab] [--height H]`: mesostructures mapped onto a base mesh and
 //! rendered as Mehra & Kumar do (§3), with `ddm-render`: the coarse base mesh (a plane of
 //! 4 × 4 tiles, and a torus) is rasterized into a G-buffer (texture coordinates, tangent
 //! frame, world position), then a compute pass builds each covered pixel's ray in the
@@ -15,6 +16,9 @@
 //! within 1e-3 voxel of the mesh's triangles, else the triangles: `ddm_tracer::exact_patches`;
 //! also with voxel-exit stepping, `ddm4x1_adaptive_exit`: `ddm_tracer::Stepping::VoxelExit`)
 //! and relief mapping on the height fields (32 linear + 8 binary steps, 2 texels per voxel).
+//! The tiles are 16 × 16 × 8 voxels (12 × 12 × 6 with `--quick`, any grid with `--size`);
+//! with `--obj` or `--height-map` the user's tile is rendered instead of the five
+//! ([`crate::ddm_input`] says what the coordinates mean and what is checked).
 //!
 //! **The reference** (`<mesostructure>_<base>_reference.png`): the same pipeline tracing
 //! the mesh's own triangles (DDM 4×1 + triangles, `PatchSurface::Triangles`, voxel-exit
@@ -70,7 +74,8 @@ use ddm_tracer::{
 };
 use glam::{UVec2, UVec3, Vec2, Vec3};
 use gpu_harness::Gpu;
-use mesostructure::Mesostructure;
+
+use crate::ddm_input::{self, TileSource};
 
 const MAX_STEPS: u32 = 256;
 /// The reference's step cap (16× the methods'): the pixels that still stop on it are
@@ -144,22 +149,27 @@ fn submit_and_wait(
     Ok(started.elapsed().as_secs_f64())
 }
 
-/// Runs the renders; `args` are `[OUT_DIR] [--quick] [--resolution WxH]`.
+/// Runs the renders; `args` are `[OUT_DIR] [--quick] [--size WxHxD] [--resolution WxH]`
+/// and the tile flags of [`crate::ddm_input`].
 pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
     let (out, quick): (PathBuf, bool) = (args.out_dir(), args.flag("quick"));
-    std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let (dims, default_size) =
         if quick { (UVec3::new(12, 12, 6), (160, 120)) } else { (UVec3::new(16, 16, 8), (640, 480)) };
+    let dims = args.parse_value("size", crate::cli::grid_size)?.unwrap_or(dims);
     let (width, height) = args.parse_value("resolution", crate::cli::resolution)?.unwrap_or(default_size);
     if width > 4096 || height > 4096 {
         return Err(format!("--resolution {width}x{height}: at most 4096 pixels a side"));
     }
+    let source = TileSource::from_args(args)?;
+    let tiles = ddm_input::tiles(source.as_ref(), dims)?;
+    std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
     println!(
-        "DDM on a base mesh: {}x{}x{} voxels per tile, {width}x{height} pixels, GPU: {}",
+        "DDM on a base mesh: {}x{}x{} voxels per tile, {width}x{height} pixels, {}, GPU: {}",
         dims.x,
         dims.y,
         dims.z,
+        ddm_input::describe(source.as_ref()),
         gpu.describe()
     );
     if gpu.is_software() {
@@ -190,21 +200,20 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
         "trace ms"
     );
     let (mut first_frames, mut warm_frames, mut images) = (0.0, 0.0, 0);
-    for structure in Mesostructure::ALL {
-        let triangles = structure.triangles(dims);
-        let name = structure.name();
+    for tile in &tiles {
+        let (name, triangles) = (tile.name, &tile.triangles);
         // Every error names the mesostructure and the map or scene it is about.
         let failed = |what: &str, error: &dyn std::fmt::Display| format!("{name}: {what}: {error}");
         let plain =
-            compute_distance_maps(dims, &triangles, MapKind::Plain, settings).map_err(|e| failed("the DM maps", &e))?;
+            compute_distance_maps(dims, triangles, MapKind::Plain, settings).map_err(|e| failed("the DM maps", &e))?;
         let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).map_err(|e| failed("the DDM 4x1 cones", &e))?);
         let ddm =
-            compute_distance_maps(dims, &triangles, ddm4x1, settings).map_err(|e| failed("the DDM 4x1 maps", &e))?;
-        let patches = VoxelPatches::build(dims, &triangles, &ddm.surface, PatchSettings::default())
+            compute_distance_maps(dims, triangles, ddm4x1, settings).map_err(|e| failed("the DDM 4x1 maps", &e))?;
+        let patches = VoxelPatches::build(dims, triangles, &ddm.surface, PatchSettings::default())
             .map_err(|e| failed("the C0 patches", &e))?;
         let adaptive_settings =
             PatchSettings { surface: PatchSurface::Adaptive { max_error: 1e-3 }, ..PatchSettings::default() };
-        let adaptive = VoxelPatches::build(dims, &triangles, &ddm.surface, adaptive_settings)
+        let adaptive = VoxelPatches::build(dims, triangles, &ddm.surface, adaptive_settings)
             .map_err(|e| failed("the adaptive patches", &e))?;
         let sphere =
             TraceSettings { method: Method::SphereTracing, max_steps: MAX_STEPS, stepping: Stepping::Distance };
@@ -218,7 +227,7 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
         };
         let exit = TraceSettings { stepping: Stepping::VoxelExit, ..quadric };
         let triangles_settings = PatchSettings { surface: PatchSurface::Triangles, ..PatchSettings::default() };
-        let exact = VoxelPatches::build(dims, &triangles, &ddm.surface, triangles_settings)
+        let exact = VoxelPatches::build(dims, triangles, &ddm.surface, triangles_settings)
             .map_err(|e| failed("the triangle patches", &e))?;
         let reference_settings = TraceSettings { max_steps: REFERENCE_MAX_STEPS, ..exit };
         // The reference first: every method's image is compared with it.
@@ -230,8 +239,8 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
             scene("ddm4x1_adaptive", &ddm_packed, Some(&adaptive), quadric, 0.02)?,
             scene("ddm4x1_adaptive_exit", &ddm_packed, Some(&adaptive), exit, 0.02)?,
         ];
-        if matches!(structure, Mesostructure::Maze(_) | Mesostructure::Bricks) {
-            let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));
+        if tile.height_field {
+            let mesh = MeshRaycaster::new(triangles, Vec2::new(dims.x as f32, dims.y as f32));
             let height_map = HeightMap::from_mesh(&mesh, dims, 2).map_err(|e| failed("the relief height map", &e))?;
             let scene = GpuScene::new(&plain_packed, None, sphere)
                 .and_then(|s| s.with_relief(&height_map, RELIEF_LINEAR, RELIEF_BINARY))
@@ -300,7 +309,7 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
                     covered.iter().map(|p| f64::from(p.ray_origin.w)).sum::<f64>() / covered.len().max(1) as f64;
                 let max_steps = covered.iter().map(|p| p.ray_origin.w as u32).max().unwrap_or(0);
                 let image = pixels_to_image(&pixels, width, height, BACKGROUND);
-                let stem = format!("{}_{}_{method}", structure.name(), base.name);
+                let stem = format!("{name}_{}_{method}", base.name);
                 let path = out.join(format!("{stem}.png"));
                 image.save(&path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
                 let rgba = image::DynamicImage::ImageRgb8(image).to_rgba8();
@@ -323,7 +332,7 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
                 };
                 println!(
                     "{:<11} {:<6} {:<20} {:>8} {:>8} {:>8} {:>6} {:>7.4} {:>7.2} {:>5} {:>9.3} {:>9.1}",
-                    structure.name(),
+                    name,
                     base.name,
                     method,
                     covered.len(),
@@ -339,7 +348,7 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
                 writeln!(
                     csv,
                     "{},{},{method},{},{hits},{shadowed},{capped},{flip:.5},{ssim_loss:.5},{mean_steps:.3},{max_steps},{:.4},{timing_name},{:.2},{:.2},{:.2},{:.3}",
-                    structure.name(),
+                    name,
                     base.name,
                     covered.len(),
                     gpu_seconds * 1e3,

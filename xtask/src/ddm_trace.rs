@@ -1,6 +1,10 @@
-//! `cargo xtask ddm-trace [OUT_DIR] [--quick] [--size WxHxD]`: Mehra & Kumar's Tables 1–3,
+//! `cargo xtask ddm-trace [OUT_DIR] [--quick] [--size WxHxD] [--timing-rounds N] [--obj PATH |
+//! --height-map PNG] [--scale S | --fit-slab] [--height H]`: Mehra & Kumar's Tables 1–3,
 //! measured by `ddm_experiments::trace_tables` (24×24×8 voxel tiles by default, 12×12×6
 //! with `--quick`, any grid with `--size`); this command writes the rows, images and charts.
+//! With `--obj` or `--height-map`, on the user's tile instead of the five procedural ones
+//! ([`crate::ddm_input`] says what the coordinates mean and what is checked; relief
+//! mapping runs on height maps only).
 //!
 //! For each mesostructure (maze, bricks: height fields; beads, ball, chain mail: not) one
 //! perspective view is traced per pixel with every `ddm_experiments::TraceMethod` (plain
@@ -44,11 +48,11 @@ use ddm_experiments::trace_tables::{
 use ddm_experiments::view::View;
 use glam::Vec3;
 use gpu_harness::Gpu;
-use mesostructure::Mesostructure;
 use plotters::prelude::*;
 
 use crate::chart::{draw_legend, drawing_error, render_png};
 use crate::cli::{Args, grid_size, positive};
+use crate::ddm_input::{self, Tile, TileSource};
 
 /// GPU dispatches per method; its time is the fastest.
 const GPU_DISPATCHES: usize = 5;
@@ -60,11 +64,14 @@ pub struct Options {
     pub out: PathBuf,
     /// The tables' settings.
     pub settings: TraceTablesSettings,
+    /// The user's tile, else the procedural ones.
+    pub tile: Option<TileSource>,
 }
 
 impl Options {
     /// `[OUT_DIR] [--quick] [--size WxHxD] [--timing-rounds N]` (`--size` replaces the tile,
-    /// not the view; `--timing-rounds` the rounds of Table 3's interleaved time ratio).
+    /// not the view; `--timing-rounds` the rounds of Table 3's interleaved time ratio) and
+    /// the tile flags of [`crate::ddm_input`].
     pub fn from_args(args: &Args<'_>) -> Result<Self, String> {
         let mut settings = if args.flag("quick") { TraceTablesSettings::quick() } else { TraceTablesSettings::full() };
         if let Some(dims) = args.parse_value("size", grid_size)? {
@@ -73,7 +80,7 @@ impl Options {
         if let Some(rounds) = args.parse_value("timing-rounds", positive::<usize>)? {
             settings.ratio_rounds = rounds;
         }
-        Ok(Self { out: args.out_dir(), settings })
+        Ok(Self { out: args.out_dir(), settings, tile: TileSource::from_args(args)? })
     }
 }
 
@@ -210,15 +217,17 @@ fn gpu_columns(row: &MethodRow) -> (String, String) {
 
 /// Runs the experiment.
 pub fn run(args: &Args<'_>) -> Result<(), String> {
-    let Options { out, settings } = Options::from_args(args)?;
+    let Options { out, settings, tile } = Options::from_args(args)?;
+    let (dims, width, height) = (settings.dims, settings.width, settings.height);
+    let tiles = ddm_input::tiles(tile.as_ref(), dims)?;
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
-    let (dims, width, height) = (settings.dims, settings.width, settings.height);
     println!(
-        "DDM tracing (Tables 1-3): {}x{}x{} voxels per tile, {width}x{height} rays, GPU: {}",
+        "DDM tracing (Tables 1-3): {}x{}x{} voxels per tile, {width}x{height} rays, {}, GPU: {}",
         dims.x,
         dims.y,
         dims.z,
+        ddm_input::describe(tile.as_ref()),
         gpu.describe()
     );
     if gpu.is_software() {
@@ -226,22 +235,22 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     }
     let tracer = GpuTracer::new(&gpu, GPU_DISPATCHES).map_err(|e| e.to_string())?;
     let mut tables = Tables::new(tracer.timing_name());
-    for structure in Mesostructure::ALL {
-        trace_structure(structure, &settings, &tracer, &out, &mut tables)?;
+    for tile in tiles {
+        trace_structure(tile, &settings, &tracer, &out, &mut tables)?;
     }
     write_tables(&out, &settings, &tables)
 }
 
 /// Every table's rows of one structure, its images, and its printed method table.
 fn trace_structure(
-    structure: Mesostructure,
+    tile: Tile,
     settings: &TraceTablesSettings,
     tracer: &GpuTracer<'_>,
     out: &Path,
     tables: &mut Tables,
 ) -> Result<(), String> {
     let error = |e: ddm_experiments::ExperimentError| e.to_string();
-    let scene = TraceScene::build(structure, settings).map_err(error)?;
+    let scene = TraceScene::from_triangles(tile.name, tile.triangles, tile.height_field, settings).map_err(error)?;
     let view = &scene.view;
     write_image(&out.join(format!("{}_truth.png", scene.name)), view, &scene.truth.normals)?;
     let patches = &scene.patches;

@@ -16,6 +16,7 @@ mod chart;
 mod cli;
 mod culling_chart;
 mod ddm_compression;
+mod ddm_input;
 mod ddm_render;
 mod ddm_steps;
 mod ddm_trace;
@@ -199,22 +200,48 @@ pub const COMMANDS: &[Command] = &[
     },
     Command {
         name: "ddm-compression",
-        flags: &[QUICK, SIZE],
-        exclusive: &[],
+        flags: &[
+            QUICK,
+            SIZE,
+            ddm_input::OBJ,
+            ddm_input::SCALE,
+            ddm_input::FIT_SLAB,
+            ddm_input::HEIGHT_MAP,
+            ddm_input::HEIGHT,
+        ],
+        exclusive: ddm_input::EXCLUSIVE,
         positional: Positional::OutDir("target/ddm-compression"),
         run: ddm_compression::run,
     },
     Command {
         name: "ddm-trace",
-        flags: &[QUICK, SIZE, value("timing-rounds", "N")],
-        exclusive: &[],
+        flags: &[
+            QUICK,
+            SIZE,
+            value("timing-rounds", "N"),
+            ddm_input::OBJ,
+            ddm_input::SCALE,
+            ddm_input::FIT_SLAB,
+            ddm_input::HEIGHT_MAP,
+            ddm_input::HEIGHT,
+        ],
+        exclusive: ddm_input::EXCLUSIVE,
         positional: Positional::OutDir("target/ddm-trace"),
         run: ddm_trace::run,
     },
     Command {
         name: "ddm-render",
-        flags: &[QUICK, value("resolution", "WxH")],
-        exclusive: &[],
+        flags: &[
+            QUICK,
+            SIZE,
+            value("resolution", "WxH"),
+            ddm_input::OBJ,
+            ddm_input::SCALE,
+            ddm_input::FIT_SLAB,
+            ddm_input::HEIGHT_MAP,
+            ddm_input::HEIGHT,
+        ],
+        exclusive: ddm_input::EXCLUSIVE,
         positional: Positional::OutDir("target/ddm-render"),
         run: ddm_render::run,
     },
@@ -453,8 +480,11 @@ mod tests {
             }
         }
         // Through `run`, as `main` calls it: the example writes nothing.
-        let error = run(&words("ddm-trace --obj foo.obj")).unwrap_err();
-        assert!(error.starts_with("ddm-trace: unknown flag --obj\n"), "{error}");
+        let error = run(&words("ddm-trace --mesh foo.obj")).unwrap_err();
+        assert!(error.starts_with("ddm-trace: unknown flag --mesh\n"), "{error}");
+        // A tile file that does not exist fails before anything is created or traced.
+        let error = run(&words("ddm-trace --obj no-such-tile.obj")).unwrap_err();
+        assert!(error.starts_with("--obj no-such-tile.obj: "), "{error}");
         let Ok(args) = parse("bench", "--obj-typo -x out") else { panic!("bench parses anything") };
         assert_eq!(args.rest(), words("--obj-typo -x out"));
     }
@@ -543,7 +573,7 @@ mod tests {
         let options = ddm_trace::Options::from_args(&parse("ddm-trace", "").unwrap()).unwrap();
         assert_eq!(
             options,
-            ddm_trace::Options { out: root("target/ddm-trace"), settings: TraceTablesSettings::full() }
+            ddm_trace::Options { out: root("target/ddm-trace"), settings: TraceTablesSettings::full(), tile: None }
         );
         let options = ddm_trace::Options::from_args(
             &parse("ddm-trace", "target/x --quick --size 4x4x2 --timing-rounds 3").unwrap(),
@@ -551,15 +581,68 @@ mod tests {
         .unwrap();
         let settings =
             TraceTablesSettings { dims: UVec3::new(4, 4, 2), ratio_rounds: 3, ..TraceTablesSettings::quick() };
-        assert_eq!(options, ddm_trace::Options { out: PathBuf::from("target/x"), settings });
+        assert_eq!(options, ddm_trace::Options { out: PathBuf::from("target/x"), settings, tile: None });
         let options = ddm_compression::Options::from_args(&parse("ddm-compression", "--quick out").unwrap()).unwrap();
         assert_eq!(
             options,
-            ddm_compression::Options { out: PathBuf::from("out"), settings: CompressionSettings::quick() }
+            ddm_compression::Options { out: PathBuf::from("out"), settings: CompressionSettings::quick(), tile: None }
         );
         let options = ddm_compression::Options::from_args(&parse("ddm-compression", "--size=3x2x1").unwrap()).unwrap();
         let settings = CompressionSettings { dims: UVec3::new(3, 2, 1), ..CompressionSettings::paper() };
-        assert_eq!(options, ddm_compression::Options { out: root("target/ddm-compression"), settings });
+        assert_eq!(options, ddm_compression::Options { out: root("target/ddm-compression"), settings, tile: None });
+    }
+
+    #[test]
+    fn the_ddm_commands_take_the_users_tile() {
+        use ddm_input::{Placement, TileSource};
+        let tile = |name: &str, text: &str| TileSource::from_args(&parse(name, text).unwrap());
+        for name in ["ddm-trace", "ddm-compression", "ddm-render"] {
+            let usage = command(name).unwrap().usage();
+            assert!(
+                usage.ends_with(" [--obj PATH | --height-map PNG] [--scale S | --fit-slab] [--height H]"),
+                "{usage}"
+            );
+            let obj = |placement| Ok(Some(TileSource::Obj { path: PathBuf::from("t.obj"), placement }));
+            assert_eq!(tile(name, "--obj t.obj"), obj(Placement::Scale(1.0)));
+            assert_eq!(tile(name, "--obj t.obj --scale 0.5"), obj(Placement::Scale(0.5)));
+            assert_eq!(tile(name, "out --fit-slab --obj=t.obj"), obj(Placement::FitSlab));
+            let height_map = Some(TileSource::HeightMap { path: PathBuf::from("h.png"), height: 2.5 });
+            assert_eq!(tile(name, "--height-map h.png --height 2.5"), Ok(height_map));
+            assert_eq!(tile(name, "--quick"), Ok(None));
+            // Errors of the words: each names the flags, then the usage.
+            for (text, expected) in [
+                ("--obj t.obj --height-map h.png", "--obj and --height-map exclude each other"),
+                ("--obj t.obj --scale 2 --fit-slab", "--scale and --fit-slab exclude each other"),
+                ("--obj", "--obj needs a value PATH"),
+                ("--fit-slab=1 --obj t.obj", "--fit-slab takes no value"),
+            ] {
+                let error = parse(name, text).err().unwrap_or_else(|| panic!("{name} {text} parsed"));
+                assert!(error.starts_with(&format!("{name}: {expected}")), "{name} {text}: {error}");
+            }
+            // Errors of the values.
+            for (text, expected) in [
+                ("--obj t.obj --scale 0", "--scale 0: expected a positive finite number"),
+                ("--obj t.obj --scale=-2", "--scale -2: expected a positive finite number"),
+                ("--obj t.obj --scale=NaN", "--scale NaN: expected a positive finite number"),
+                ("--obj t.obj --scale inf", "--scale inf: expected a positive finite number"),
+                ("--scale 2", "--scale needs --obj PATH"),
+                ("--fit-slab", "--fit-slab needs --obj PATH"),
+                ("--obj t.obj --height 2", "--height is for --height-map, not --obj"),
+                ("--height-map h.png", "--height-map h.png needs --height H (voxels)"),
+                ("--height-map h.png --height 0", "--height 0: expected a positive finite number"),
+                ("--height-map h.png --height=-1", "--height -1: expected a positive finite number"),
+                ("--height 3", "--height needs --height-map PNG"),
+            ] {
+                let error = tile(name, text).err().unwrap_or_else(|| panic!("{name} {text} parsed"));
+                assert!(error.starts_with(&format!("{name}: {expected}\n")), "{name} {text}: {error}");
+                assert!(error.ends_with(&usage), "{error}");
+            }
+        }
+        let options = ddm_trace::Options::from_args(&parse("ddm-trace", "--quick --obj t.obj --fit-slab").unwrap());
+        let tile = Some(TileSource::Obj { path: PathBuf::from("t.obj"), placement: Placement::FitSlab });
+        assert_eq!(options.map(|o| o.tile), Ok(tile.clone()));
+        let options = ddm_compression::Options::from_args(&parse("ddm-compression", "--obj t.obj --fit-slab").unwrap());
+        assert_eq!(options.map(|o| o.tile), Ok(tile));
     }
 
     #[test]

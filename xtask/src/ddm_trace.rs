@@ -255,14 +255,16 @@ fn trace_structure(
     write_image(&out.join(format!("{}_truth.png", scene.name)), view, &scene.truth.normals)?;
     let patches = &scene.patches;
     println!(
-        "\n{} ({} triangles): maps {:.1} s, C0 + fitted patches {:.2} s ({} C0 patches, {} surface voxels without one), triangles + adaptive {:.2} s",
+        "\n{} ({} triangles): maps {:.1} s, C0 + fitted patches {:.2} s ({} C0 patches, {} surface voxels without one), triangles + adaptive {:.2} s, watertight {:.2} s ({} patches)",
         scene.name,
         scene.triangles.len(),
         scene.maps_seconds,
         patches.c0_fitted_seconds,
         patches.c0.patches.len(),
         patches.c0.voxels_without_patch,
-        patches.triangles_adaptive_seconds
+        patches.triangles_adaptive_seconds,
+        patches.watertight_seconds,
+        patches.watertight.patches.len()
     );
     for row in scene.patch_rows() {
         tables.patch_row(&row)?;
@@ -373,7 +375,7 @@ fn write_image(path: &Path, view: &View, normals: &[Option<Vec3>]) -> Result<(),
 }
 
 /// Each method's colour in the charts (`ddm_steps` uses the maps' entries).
-pub const METHOD_COLORS: [(&str, RGBColor); 13] = [
+pub const METHOD_COLORS: [(&str, RGBColor); 14] = [
     ("DM", RGBColor(120, 120, 120)),
     ("DDM 2x1", RGBColor(230, 159, 0)),
     ("DDM 4x1", RGBColor(0, 114, 178)),
@@ -384,6 +386,7 @@ pub const METHOD_COLORS: [(&str, RGBColor); 13] = [
     ("relief 32+8", RGBColor(0, 158, 115)),
     ("DDM 4x1 + triangles", RGBColor(0, 0, 0)),
     ("DDM 4x1 + adaptive", RGBColor(150, 40, 40)),
+    ("DDM 4x1 + watertight", RGBColor(0, 170, 170)),
     ("DM exit", RGBColor(60, 60, 60)),
     ("DDM 4x1 exit", RGBColor(0, 60, 110)),
     ("DDM 4x1 + adaptive exit", RGBColor(90, 20, 20)),

@@ -159,11 +159,13 @@ pub enum PatchKind {
     Triangles,
     /// The fitted quadric or the triangles under the error budget.
     Adaptive,
+    /// The watertight C⁰ patches from decisions shared by neighbours (beyond the paper).
+    Watertight,
 }
 
 impl PatchKind {
-    /// The four, in table order.
-    pub const ALL: [PatchKind; 4] = [Self::C0, Self::Fitted, Self::Triangles, Self::Adaptive];
+    /// The five, in table order.
+    pub const ALL: [PatchKind; 5] = [Self::C0, Self::Fitted, Self::Triangles, Self::Adaptive, Self::Watertight];
 
     /// The name in `ddm_trace_patches.csv`.
     pub fn name(self) -> &'static str {
@@ -172,6 +174,7 @@ impl PatchKind {
             Self::Fitted => "fitted",
             Self::Triangles => "triangles",
             Self::Adaptive => "adaptive",
+            Self::Watertight => "watertight",
         }
     }
 }
@@ -197,6 +200,8 @@ pub enum TraceMethod {
     Ddm4x1Triangles,
     /// DDM 4×1 + the adaptive patches.
     Ddm4x1Adaptive,
+    /// DDM 4×1 + the watertight C⁰ patches.
+    Ddm4x1Watertight,
     /// The plain distance map with voxel-exit stepping.
     DmExit,
     /// The DDM 4×1 with voxel-exit stepping.
@@ -220,7 +225,7 @@ pub struct MethodCase {
 
 impl TraceMethod {
     /// All methods, in table order.
-    pub const ALL: [TraceMethod; 13] = [
+    pub const ALL: [TraceMethod; 14] = [
         Self::Dm,
         Self::Ddm2x1,
         Self::Ddm4x1,
@@ -230,6 +235,7 @@ impl TraceMethod {
         Self::Ddm4x1Fitted,
         Self::Ddm4x1Triangles,
         Self::Ddm4x1Adaptive,
+        Self::Ddm4x1Watertight,
         Self::DmExit,
         Self::Ddm4x1Exit,
         Self::Ddm4x1AdaptiveExit,
@@ -248,6 +254,7 @@ impl TraceMethod {
             Self::Ddm4x1Fitted => "DDM 4x1 + fitted Q",
             Self::Ddm4x1Triangles => "DDM 4x1 + triangles",
             Self::Ddm4x1Adaptive => "DDM 4x1 + adaptive",
+            Self::Ddm4x1Watertight => "DDM 4x1 + watertight",
             Self::DmExit => "DM exit",
             Self::Ddm4x1Exit => "DDM 4x1 exit",
             Self::Ddm4x1AdaptiveExit => "DDM 4x1 + adaptive exit",
@@ -266,6 +273,7 @@ impl TraceMethod {
             Self::Ddm4x1Fitted => case("DDM 4x1", Some(PatchKind::Fitted), quadric),
             Self::Ddm4x1Triangles => case("DDM 4x1", Some(PatchKind::Triangles), quadric),
             Self::Ddm4x1Adaptive => case("DDM 4x1", Some(PatchKind::Adaptive), quadric),
+            Self::Ddm4x1Watertight => case("DDM 4x1", Some(PatchKind::Watertight), quadric),
             Self::DmExit => case("DM", None, exit(sphere)),
             Self::Ddm4x1Exit => case("DDM 4x1", None, exit(sphere)),
             Self::Ddm4x1AdaptiveExit => case("DDM 4x1", Some(PatchKind::Adaptive), exit(quadric)),
@@ -303,10 +311,14 @@ pub struct PatchSets {
     pub triangles: VoxelPatches,
     /// [`PatchKind::Adaptive`] at the settings' budget.
     pub adaptive: VoxelPatches,
+    /// [`PatchKind::Watertight`].
+    pub watertight: VoxelPatches,
     /// Seconds of building the C⁰ and fitted patches.
     pub c0_fitted_seconds: f64,
     /// Seconds of building the triangle and adaptive patches.
     pub triangles_adaptive_seconds: f64,
+    /// Seconds of building the watertight patches.
+    pub watertight_seconds: f64,
 }
 
 impl PatchSets {
@@ -317,6 +329,7 @@ impl PatchSets {
             PatchKind::Fitted => &self.fitted,
             PatchKind::Triangles => &self.triangles,
             PatchKind::Adaptive => &self.adaptive,
+            PatchKind::Watertight => &self.watertight,
         }
     }
 }
@@ -496,13 +509,18 @@ impl TraceScene {
         let exact = build_patches(name, "triangle", dims, &triangles, surface, PatchSurface::Triangles)?;
         let adaptive_surface = PatchSurface::Adaptive { max_error: settings.adaptive_budget };
         let adaptive = build_patches(name, "adaptive", dims, &triangles, surface, adaptive_surface)?;
+        let triangles_adaptive_seconds = start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        let watertight = build_patches(name, "watertight", dims, &triangles, surface, PatchSurface::Watertight)?;
         let patches = PatchSets {
             c0,
             fitted,
             triangles: exact,
             adaptive,
+            watertight,
             c0_fitted_seconds,
-            triangles_adaptive_seconds: start.elapsed().as_secs_f64(),
+            triangles_adaptive_seconds,
+            watertight_seconds: start.elapsed().as_secs_f64(),
         };
         let settings = settings.clone();
         Ok(Self { name, settings, view, dims, triangles, height_field, mesh, truth, maps, maps_seconds, patches })

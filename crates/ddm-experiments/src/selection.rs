@@ -229,8 +229,8 @@ mod tests {
         let settings = small();
         let scene = TraceScene::build(Mesostructure::Ball, &settings.tables).unwrap();
         let rows = table_rows(std::slice::from_ref(&scene), &settings).unwrap();
-        // Twelve methods (no relief on the ball) at two magnifications.
-        assert_eq!(rows.len(), 24);
+        // Thirteen methods (no relief on the ball) at two magnifications.
+        assert_eq!(rows.len(), 26);
         for camera in calibration_cameras(scene.dims) {
             let ppv = camera.pixels_per_voxel(24);
             assert!((ppv - rows[0].condition).abs() < 1e-4 * ppv, "{ppv} vs {}", rows[0].condition);

@@ -111,7 +111,7 @@ fn patch_and_budget_rows_of_a_floor() {
     let surface_voxels = scene.maps[0].maps.surface.iter().filter(|&&s| s).count() as u32;
     let patches = scene.patch_rows();
     let kinds: Vec<_> = patches.iter().map(|r| r.patches.name()).collect();
-    assert_eq!(kinds, ["C0", "fitted", "triangles", "adaptive"]);
+    assert_eq!(kinds, ["C0", "fitted", "triangles", "adaptive", "watertight"]);
     let triangles = &patches[2];
     assert_eq!((triangles.triangle_voxels, triangles.quadric_voxels), (surface_voxels, 0));
     let adaptive = &patches[3];

@@ -606,11 +606,11 @@ mod tests {
         let settings = SelectionSettings::standard();
         let objects: Vec<&str> = Mesostructure::ALL.iter().map(|m| m.name()).collect();
         assert_eq!(table.objects(), objects);
-        // Every method at every calibration magnification: 13 on the height fields
-        // (relief), 12 on the others.
+        // Every method at every calibration magnification: relief too on the height fields.
+        let methods = ddm_experiments::TraceMethod::ALL.len();
         let expected: usize = Mesostructure::ALL
             .iter()
-            .map(|m| if matches!(m, Mesostructure::Maze(_) | Mesostructure::Bricks) { 13 } else { 12 })
+            .map(|m| if matches!(m, Mesostructure::Maze(_) | Mesostructure::Bricks) { methods } else { methods - 1 })
             .sum::<usize>()
             * settings.calibration_rows.len();
         assert_eq!(table.rows().len(), expected);

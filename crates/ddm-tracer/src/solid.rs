@@ -15,7 +15,18 @@
 //! all, so a ray with a crossing within [`DEGENERATE_MARGIN`] of a triangle's border is
 //! replaced by the next of [`DIRECTIONS`] (tilted, irrational-looking directions). A point
 //! lying on the mesh (a crossing at `t ≈ 0` in every direction) is inside: "on the
-//! surface counts as solid", one rule for every point, so neighbours agree.
+//! surface counts as solid", one rule for every point.
+//!
+//! **Grid points on the mesh.** Meshes built on the grid put surfaces exactly through grid
+//! corners and faces (a floor at an integer height, a height field's vertices at integer
+//! x and y): decided as they are, such corners would put the edge points at the corners and
+//! whole patches in voxel faces, where a crossing belongs to either voxel only up to
+//! rounding. So every grid decision is taken at the grid point moved by [`SAMPLE_OFFSET`]
+//! (a perturbation far below any feature, and far above `f64` rounding): corners, the
+//! edges between the moved corners, face centres. A floor at z = 3 then lies just above
+//! the moved corners at z = 3, which are outside, and crosses the vertical edges below
+//! them. An edge's point is kept [`EDGE_MARGIN`] from the edge's ends, so no patch lies
+//! in a voxel face.
 //!
 //! The grid is periodic in x and y: a corner, edge or face is reduced to the tile before
 //! it is decided, and an edge's point is moved back by whole tiles (exact in `f64`), so
@@ -36,6 +47,15 @@ pub const DEGENERATE_MARGIN: f64 = 1e-9;
 
 /// A crossing this close to the ray's origin (in voxels) means the origin lies on the mesh.
 pub const ON_SURFACE: f64 = 1e-9;
+
+/// Where the grid decisions are taken: each grid point moved by this (voxels); see the
+/// module docs.
+pub const SAMPLE_OFFSET: [f64; 3] = [1.0e-6, 1.7e-6, 2.3e-6];
+
+/// The least distance (voxels) of an edge's point from the edge's ends: the patches keep
+/// this far from the voxel's corners and faces, well above the `f32` rounding of the
+/// tracer's voxel-local coordinates and within the accuracy goals (10⁻³ voxel).
+pub const EDGE_MARGIN: f64 = 1e-4;
 
 /// The directions of the winding rays, tried in order until one meets no edge or vertex:
 /// upward, tilted by small, mutually irrational-looking slopes so that a ray from a grid
@@ -123,7 +143,8 @@ impl SignedGrid for MeshSides<'_> {
         if let Some(&inside) = self.corners.get(&key) {
             return inside;
         }
-        let inside = self.point_inside(DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2)));
+        let point = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2));
+        let inside = self.point_inside(point + DVec3::from_array(SAMPLE_OFFSET));
         self.corners.insert(key, inside);
         inside
     }
@@ -137,7 +158,8 @@ impl SignedGrid for MeshSides<'_> {
         let (sx, sy) = self.tile_shift(edge.corner);
         let local = GridEdge { axis: edge.axis, corner: (edge.corner.0 - sx, edge.corner.1 - sy, edge.corner.2) };
         let shift = DVec3::new(f64::from(sx), f64::from(sy), 0.0);
-        let (start, end) = (local.point(0.0), local.point(1.0));
+        let offset = DVec3::from_array(SAMPLE_OFFSET);
+        let (start, end) = (local.point(0.0) + offset, local.point(1.0) + offset);
         let (start_winding, end_winding) = (self.winding(start), self.winding(end));
         let mut direction = DVec3::ZERO;
         direction[usize::from(edge.axis % 3)] = 1.0;
@@ -167,13 +189,13 @@ impl SignedGrid for MeshSides<'_> {
         } else {
             transitions[(transitions.len() - 1) / 2]
         };
-        local.point(t) + shift
+        local.point(t.clamp(EDGE_MARGIN, 1.0 - EDGE_MARGIN)) + shift
     }
 
     fn face_centre_inside(&mut self, face: GridFace) -> bool {
         let (sx, sy) = self.tile_shift(face.corner);
         let local = GridFace { normal: face.normal, corner: (face.corner.0 - sx, face.corner.1 - sy, face.corner.2) };
-        self.point_inside(local.centre())
+        self.point_inside(local.centre() + DVec3::from_array(SAMPLE_OFFSET))
     }
 }
 

@@ -111,6 +111,9 @@ pub struct Tile {
     pub triangles: Vec<Triangle>,
     /// Whether it is a height field (relief mapping applies).
     pub height_field: bool,
+    /// The procedural tile it is, if it is one (its own surface is then known:
+    /// `ddm_experiments::reference`).
+    pub structure: Option<Mesostructure>,
 }
 
 /// A positive, finite number.
@@ -171,7 +174,7 @@ impl TileSource {
             return Err(format!("{}: the file name has no stem to name the tile by", self.named()));
         }
         // One name per run, shared by every row and image of the tile.
-        Ok(Tile { name: Box::leak(stem.into_boxed_str()), triangles, height_field })
+        Ok(Tile { name: Box::leak(stem.into_boxed_str()), triangles, height_field, structure: None })
     }
 }
 
@@ -185,6 +188,7 @@ pub fn tiles(source: Option<&TileSource>, dims: UVec3) -> Result<Vec<Tile>, Stri
                 name: structure.name(),
                 triangles: structure.triangles(dims),
                 height_field: matches!(structure, Mesostructure::Maze(_) | Mesostructure::Bricks),
+                structure: Some(structure),
             })
             .collect()),
     }

@@ -26,6 +26,11 @@
 //!   for the rows that step by the stored distance, the same again with the compressed
 //!   maps traced with block cells (`ddm_tracer::Stepping::BlockCells`: a block without
 //!   surface crossed in one step, beyond the paper; on raw maps the paper's rule);
+//! - `ddm_trace_reference.csv`: each method against the tile's own surface
+//!   (`ddm_experiments::reference`: analytic spheres and tori, the height fields'
+//!   triangles; not for a user's OBJ): |SDF(hit)| p50/p99/max (voxels), the normal's angle
+//!   p50/p99 (degrees), and leaks (rays deeper than τ = 2 × the method's p99 into the solid
+//!   before its hit or exit);
 //! - `ddm_trace_patches.csv`: per patch construction, the voxels kept as quadrics and as
 //!   triangles, the patch count and the bytes the tracer reads;
 //! - `ddm_adaptive_budget.csv`: the adaptive patches at error budgets from 0.3 to 1e-3
@@ -40,6 +45,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use ddm_experiments::gpu::GpuTracer;
+use ddm_experiments::reference::ReferenceSurface;
 use ddm_experiments::stats::TraceStats;
 use ddm_experiments::steps::StepsRow;
 use ddm_experiments::trace_tables::{
@@ -88,6 +94,7 @@ impl Options {
 struct Tables {
     methods: String,
     compression: String,
+    reference: String,
     patches: String,
     budgets: String,
     steps: Vec<StepsRow>,
@@ -105,6 +112,9 @@ impl Tables {
             ),
             compression: String::from(
                 "mesostructure,method,block,efficiency,raw_mean_steps,compressed_mean_steps,hit_miss_differ,points_differ_over_1e-5_voxel,max_point_difference_voxel,cpu_time_ratio,gpu_time_ratio,block_cells_mean_steps,block_cells_hit_miss_differ,block_cells_points_differ_over_1e-5_voxel,block_cells_max_point_difference_voxel,block_cells_cpu_time_ratio\n",
+            ),
+            reference: String::from(
+                "mesostructure,method,hits,sdf_p50_voxel,sdf_p99_voxel,sdf_max_voxel,normal_p50_deg,normal_p99_deg,leak_tau_voxel,leaks,leak_search_unfinished\n",
             ),
             patches: String::from(
                 "mesostructure,patches,quadric_voxels,triangle_voxels,voxels_without_patch,patch_count,bytes\n",
@@ -200,6 +210,24 @@ impl Tables {
             if row.gpu.is_some() { self.timing_name } else { "n/a" }
         )
         .map_err(|e| e.to_string())?;
+        if let Some(r) = &row.reference {
+            writeln!(
+                self.reference,
+                "{},{},{},{:e},{:e},{:e},{:.3},{:.3},{:e},{},{}",
+                row.mesostructure,
+                row.method.name(),
+                r.hits,
+                r.p50,
+                r.p99,
+                r.max,
+                r.normal_p50,
+                r.normal_p99,
+                r.tau,
+                r.leaks,
+                r.unfinished
+            )
+            .map_err(|e| e.to_string())?;
+        }
         self.chart_points.push((
             row.mesostructure,
             row.method.name(),
@@ -250,7 +278,9 @@ fn trace_structure(
     tables: &mut Tables,
 ) -> Result<(), String> {
     let error = |e: ddm_experiments::ExperimentError| e.to_string();
-    let scene = TraceScene::from_triangles(tile.name, tile.triangles, tile.height_field, settings).map_err(error)?;
+    let mut scene =
+        TraceScene::from_triangles(tile.name, tile.triangles, tile.height_field, settings).map_err(error)?;
+    scene.reference = tile.structure.map(|structure| ReferenceSurface::of(structure, settings.dims));
     let view = &scene.view;
     write_image(&out.join(format!("{}_truth.png", scene.name)), view, &scene.truth.normals)?;
     let patches = &scene.patches;
@@ -351,6 +381,8 @@ fn write_tables(out: &Path, settings: &TraceTablesSettings, tables: &Tables) -> 
     };
     write("ddm_trace_methods.csv", &tables.methods)?;
     write("ddm_trace_compression.csv", &tables.compression)?;
+    write("ddm_trace_reference.csv", &tables.reference)?;
+    println!("\nEach method against the tile's own surface:\n{}", tables.reference);
     write("ddm_trace_patches.csv", &tables.patches)?;
     write("ddm_adaptive_budget.csv", &tables.budgets)?;
     println!("\nAdaptive patches against the error budget (DDM 4x1):\n{}", tables.budgets);

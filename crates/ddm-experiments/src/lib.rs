@@ -11,6 +11,8 @@
 //! - [`compression`]: Table 3's compression efficiency of the plain distance map and the
 //!   DDMs with blocks of 2, 4 and 8.
 //! - [`stats`]: outcomes against the ground truth, and two tracings against each other.
+//! - [`reference`]: each tile's own surface (analytic spheres and tori, the height field's
+//!   triangles) and a method's geometric, normal and leak errors against it.
 //! - [`timing`]: fastest-of-N CPU timing and the interleaved time ratio (median of
 //!   alternating pairs of passes, so that a drift of the machine's speed cancels).
 //! - [`view`]: the camera rays of the tables' view (and of any other camera).
@@ -35,6 +37,7 @@ use std::fmt;
 pub mod compression;
 pub mod gpu;
 pub mod maps;
+pub mod reference;
 pub mod selection;
 pub mod shading;
 pub mod stats;

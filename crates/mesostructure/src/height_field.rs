@@ -28,17 +28,23 @@ impl HeightField {
         self.heights.get((x + (self.width + 1) * y) as usize).copied().unwrap_or(0.0)
     }
 
-    /// Two triangles per cell, `2 width height` in all.
+    /// Two triangles per cell, `2 width height` in all ([`cell_triangles`](Self::cell_triangles)
+    /// row by row).
     pub fn triangles(&self) -> Vec<Triangle> {
         let mut triangles = Vec::with_capacity(2 * (self.width * self.height) as usize);
         for y in 0..self.height {
             for x in 0..self.width {
-                let p = |dx: u32, dy: u32| Vec3::new((x + dx) as f32, (y + dy) as f32, self.corner(x + dx, y + dy));
-                triangles.push(Triangle([p(0, 0), p(1, 0), p(1, 1)]));
-                triangles.push(Triangle([p(0, 0), p(1, 1), p(0, 1)]));
+                triangles.extend(self.cell_triangles(x, y));
             }
         }
         triangles
+    }
+
+    /// The two triangles of cell `(x, y)`, split along its diagonal from `(x, y)` to
+    /// `(x + 1, y + 1)`, facing up (out of the solid under them).
+    pub fn cell_triangles(&self, x: u32, y: u32) -> [Triangle; 2] {
+        let p = |dx: u32, dy: u32| Vec3::new((x + dx) as f32, (y + dy) as f32, self.corner(x + dx, y + dy));
+        [Triangle([p(0, 0), p(1, 0), p(1, 1)]), Triangle([p(0, 0), p(1, 1), p(0, 1)])]
     }
 }
 

@@ -23,7 +23,7 @@ mod torus;
 
 pub use height_field::{HeightField, bricks, bricks_height_field, maze, maze_height_field};
 pub use height_map::{AdaptiveMesh, HeightMapError};
-pub use spheres::{ball, beads, plane, sphere};
+pub use spheres::{SpheresOnFloor, ball, ball_sphere, bead_spheres, beads, plane, sphere};
 pub use torus::{BaseMesh, Ring, chain_mail, chain_mail_rings, torus_base_mesh};
 
 /// The mesostructures of the experiments, by name.

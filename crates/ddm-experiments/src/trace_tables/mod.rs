@@ -37,6 +37,7 @@ use mesostructure::Mesostructure;
 use crate::ExperimentError;
 use crate::gpu::{GpuRun, GpuTracer};
 use crate::maps::{NamedMaps, TRACE_MAPS, compute_named, find};
+use crate::reference::{ReferenceAccuracy, ReferenceSurface, reference_accuracy};
 use crate::stats::{HitDifferences, TraceStats, hit_differences, mean_steps, trace_stats};
 use crate::steps::{StepsRow, StepsSettings, steps_vs_angle};
 use crate::timing::{CpuRun, RATIO_ROUNDS, interleaved_time_ratio, timed};
@@ -396,6 +397,9 @@ pub struct MethodRow {
     pub method: TraceMethod,
     /// The outcomes against the truth.
     pub stats: TraceStats,
+    /// The outcomes against the tile's own surface ([`crate::reference`]), when the scene
+    /// has one.
+    pub reference: Option<ReferenceAccuracy>,
     /// CPU rays per second (one thread, fastest pass).
     pub cpu_rays_per_second: f64,
     /// The GPU pass on the raw maps, when a GPU was given.
@@ -473,13 +477,19 @@ pub struct TraceScene {
     pub maps_seconds: f64,
     /// The patches, on the plain map's surface voxels.
     pub patches: PatchSets,
+    /// The tile's own surface, for the fair yardstick ([`crate::reference`]); `None` for a
+    /// tile given only as triangles.
+    pub reference: Option<ReferenceSurface>,
 }
 
 impl TraceScene {
     /// The scene of `structure` (maze and bricks are height fields) at `settings.dims`.
     pub fn build(structure: Mesostructure, settings: &TraceTablesSettings) -> Result<Self, ExperimentError> {
         let height_field = matches!(structure, Mesostructure::Maze(_) | Mesostructure::Bricks);
-        Self::from_triangles(structure.name(), structure.triangles(settings.dims), height_field, settings)
+        let mut scene =
+            Self::from_triangles(structure.name(), structure.triangles(settings.dims), height_field, settings)?;
+        scene.reference = Some(ReferenceSurface::of(structure, settings.dims));
+        Ok(scene)
     }
 
     /// The scene of any tile mesh `triangles` named `name`.
@@ -523,7 +533,26 @@ impl TraceScene {
             watertight_seconds: start.elapsed().as_secs_f64(),
         };
         let settings = settings.clone();
-        Ok(Self { name, settings, view, dims, triangles, height_field, mesh, truth, maps, maps_seconds, patches })
+        Ok(Self {
+            name,
+            settings,
+            view,
+            dims,
+            triangles,
+            height_field,
+            mesh,
+            truth,
+            maps,
+            maps_seconds,
+            patches,
+            reference: None,
+        })
+    }
+
+    /// The accuracy of `outcomes` (of the view's rays) against the tile's own surface.
+    fn reference_accuracy(&self, outcomes: &[TraceOutcome]) -> Option<ReferenceAccuracy> {
+        let surface = self.reference.as_ref()?;
+        Some(reference_accuracy(surface, &self.view.rays, outcomes, self.dims.z as f32))
     }
 
     /// The map called `name`.
@@ -709,6 +738,7 @@ impl TraceScene {
                 mesostructure: self.name,
                 method,
                 stats: trace_stats(&run.outcomes, &self.truth.points),
+                reference: self.reference_accuracy(&run.outcomes),
                 cpu_rays_per_second: 1.0 / run.seconds_per_ray,
                 gpu: gpu_on_raw,
             },
@@ -737,6 +767,7 @@ impl TraceScene {
                 mesostructure: self.name,
                 method: TraceMethod::Relief,
                 stats: trace_stats(&run.outcomes, &self.truth.points),
+                reference: self.reference_accuracy(&run.outcomes),
                 cpu_rays_per_second: 1.0 / run.seconds_per_ray,
                 gpu: gpu_row,
             },

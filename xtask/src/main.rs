@@ -18,6 +18,7 @@ mod culling_chart;
 mod ddm_compression;
 mod ddm_input;
 mod ddm_render;
+mod ddm_resolution;
 mod ddm_steps;
 mod ddm_trace;
 mod fig9;
@@ -315,6 +316,13 @@ pub const COMMANDS: &[Command] = &[
         exclusive: &[("scene", "obj"), ("scene", "height-map"), ("obj", "height-map")],
         positional: Positional::OutDir("target/svo"),
         run: svo::run,
+    },
+    Command {
+        name: "ddm-resolution",
+        flags: &[QUICK],
+        exclusive: &[],
+        positional: Positional::OutDir("target/ddm-resolution"),
+        run: ddm_resolution::run,
     },
     Command {
         name: "svo-stability",

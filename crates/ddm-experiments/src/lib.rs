@@ -13,6 +13,8 @@
 //! - [`stats`]: outcomes against the ground truth, and two tracings against each other.
 //! - [`reference`]: each tile's own surface (analytic spheres and tori, the height field's
 //!   triangles) and a method's geometric, normal and leak errors against it.
+//! - [`resolution`]: each patch construction's error against that surface as the tile is
+//!   sampled by finer grids (12 to 96 voxels across).
 //! - [`timing`]: fastest-of-N CPU timing and the interleaved time ratio (median of
 //!   alternating pairs of passes, so that a drift of the machine's speed cancels).
 //! - [`view`]: the camera rays of the tables' view (and of any other camera).
@@ -38,6 +40,7 @@ pub mod compression;
 pub mod gpu;
 pub mod maps;
 pub mod reference;
+pub mod resolution;
 pub mod selection;
 pub mod shading;
 pub mod stats;

@@ -168,6 +168,18 @@ impl PatchKind {
     /// The five, in table order.
     pub const ALL: [PatchKind; 5] = [Self::C0, Self::Fitted, Self::Triangles, Self::Adaptive, Self::Watertight];
 
+    /// The construction of `ddm_tracer` it is (`adaptive_budget`: the adaptive patches'
+    /// error budget, voxels).
+    pub fn surface(self, adaptive_budget: f32) -> PatchSurface {
+        match self {
+            Self::C0 => PatchSurface::C0,
+            Self::Fitted => PatchSurface::FittedQuadric,
+            Self::Triangles => PatchSurface::Triangles,
+            Self::Adaptive => PatchSurface::Adaptive { max_error: adaptive_budget },
+            Self::Watertight => PatchSurface::Watertight,
+        }
+    }
+
     /// The name in `ddm_trace_patches.csv`.
     pub fn name(self) -> &'static str {
         match self {
@@ -512,16 +524,17 @@ impl TraceScene {
         let maps_seconds = start.elapsed().as_secs_f64();
         let surface = &maps[0].maps.surface;
         let start = Instant::now();
-        let c0 = build_patches(name, "C0", dims, &triangles, surface, PatchSurface::C0)?;
-        let fitted = build_patches(name, "fitted", dims, &triangles, surface, PatchSurface::FittedQuadric)?;
+        let budget = settings.adaptive_budget;
+        let build = |kind: PatchKind| build_patches(name, kind.name(), dims, &triangles, surface, kind.surface(budget));
+        let c0 = build(PatchKind::C0)?;
+        let fitted = build(PatchKind::Fitted)?;
         let c0_fitted_seconds = start.elapsed().as_secs_f64();
         let start = Instant::now();
-        let exact = build_patches(name, "triangle", dims, &triangles, surface, PatchSurface::Triangles)?;
-        let adaptive_surface = PatchSurface::Adaptive { max_error: settings.adaptive_budget };
-        let adaptive = build_patches(name, "adaptive", dims, &triangles, surface, adaptive_surface)?;
+        let exact = build(PatchKind::Triangles)?;
+        let adaptive = build(PatchKind::Adaptive)?;
         let triangles_adaptive_seconds = start.elapsed().as_secs_f64();
         let start = Instant::now();
-        let watertight = build_patches(name, "watertight", dims, &triangles, surface, PatchSurface::Watertight)?;
+        let watertight = build(PatchKind::Watertight)?;
         let patches = PatchSets {
             c0,
             fitted,

@@ -164,6 +164,17 @@ pub const STAGES: &[Stage] = &[
         subject: ImageSubject::FirstWords(1),
     },
     Stage {
+        folder: "ddm-resolution",
+        paper: "ddm",
+        title: "Error against resolution, against each tile's own surface",
+        about: "Each patch construction (the paper's C⁰, fitted quadrics, exact triangles, adaptive, watertight) on \
+                the DDM 4×1 as the tiles are sampled by finer grids, measured against the analytic spheres and tori \
+                and the height fields' triangles: p99 |SDF(hit)| and leaks.",
+        command: "ddm-resolution",
+        flags: [Q, Q, &[]],
+        subject: ImageSubject::FirstWords(2),
+    },
+    Stage {
         folder: "ddm-render",
         paper: "ddm",
         title: "Mesostructures on a base mesh (§3)",

@@ -11,7 +11,7 @@
 //! - [`compression`]: Table 3's compression efficiency of the plain distance map and the
 //!   DDMs with blocks of 2, 4 and 8.
 //! - [`stats`]: outcomes against the ground truth, and two tracings against each other.
-//! - [`reference`]: each tile's own surface (analytic spheres and tori, the height field's
+//! - [`reference`](mod@reference): each tile's own surface (analytic spheres and tori, the height field's
 //!   triangles) and a method's geometric, normal and leak errors against it.
 //! - [`resolution`]: each patch construction's error against that surface as the tile is
 //!   sampled by finer grids (12 to 96 voxels across).

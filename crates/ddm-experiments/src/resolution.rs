@@ -1,5 +1,5 @@
 //! Error against resolution: each patch construction's accuracy against the tile's own
-//! surface ([`crate::reference`]) as the same tile is sampled by finer grids.
+//! surface ([`crate::reference`](mod@crate::reference)) as the same tile is sampled by finer grids.
 //!
 //! A tile of `n × n × max(4, n / 3)` voxels (its shapes scale with it, so a feature spans
 //! more voxels as `n` grows) is traced from the tables' camera ([`View::perspective`])

@@ -409,7 +409,7 @@ pub struct MethodRow {
     pub method: TraceMethod,
     /// The outcomes against the truth.
     pub stats: TraceStats,
-    /// The outcomes against the tile's own surface ([`crate::reference`]), when the scene
+    /// The outcomes against the tile's own surface ([`crate::reference`](mod@crate::reference)), when the scene
     /// has one.
     pub reference: Option<ReferenceAccuracy>,
     /// CPU rays per second (one thread, fastest pass).
@@ -489,7 +489,7 @@ pub struct TraceScene {
     pub maps_seconds: f64,
     /// The patches, on the plain map's surface voxels.
     pub patches: PatchSets,
-    /// The tile's own surface, for the fair yardstick ([`crate::reference`]); `None` for a
+    /// The tile's own surface, for the fair yardstick ([`crate::reference`](mod@crate::reference)); `None` for a
     /// tile given only as triangles.
     pub reference: Option<ReferenceSurface>,
 }

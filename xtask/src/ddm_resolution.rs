@@ -11,15 +11,27 @@ use std::time::Instant;
 
 use ddm_experiments::resolution::{ResolutionRow, ResolutionSettings, resolution_sweep};
 use ddm_experiments::trace_tables::PatchKind;
+use ddm_experiments::{TraceMethod, TraceTablesSettings};
+use ddm_tracer::Stepping;
 use mesostructure::Mesostructure;
 use plotters::prelude::*;
 
 use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
 use crate::cli::Args;
+use crate::ddm_trace::METHOD_COLORS;
 
-/// Each construction's colour in the charts.
-const COLOURS: [RGBColor; 5] =
-    [RGBColor(213, 94, 0), RGBColor(204, 121, 167), RGBColor(0, 0, 0), RGBColor(150, 40, 40), RGBColor(0, 170, 170)];
+/// A construction's colour: that of ddm-trace's DDM 4×1 method with these patches (its
+/// paper's stepping), so that the charts of both commands agree.
+fn colour(kind: PatchKind) -> RGBColor {
+    let settings = TraceTablesSettings::quick();
+    TraceMethod::ALL
+        .into_iter()
+        .find(|m| {
+            m.case(&settings).is_some_and(|c| c.patches == Some(kind) && c.settings.stepping == Stepping::Distance)
+        })
+        .and_then(|m| METHOD_COLORS.iter().find(|(name, _)| *name == m.name()))
+        .map_or(BLACK, |(_, colour)| *colour)
+}
 
 pub fn run(args: &Args<'_>) -> Result<(), String> {
     let out = args.out_dir();
@@ -104,9 +116,9 @@ fn chart(path: &Path, tile: &str, rows: &[ResolutionRow]) -> Result<(), String> 
             .label_style(("sans-serif", 16))
             .draw()
             .map_err(e)?;
-        for (k, kind) in PatchKind::ALL.into_iter().enumerate() {
+        for kind in PatchKind::ALL {
             let line = points(kind);
-            let colour = COLOURS[k % COLOURS.len()];
+            let colour = colour(kind);
             chart.draw_series(line.iter().map(|&p| Circle::new(p, 4, colour.filled()))).map_err(e)?;
             chart
                 .draw_series(LineSeries::new(line, colour.stroke_width(2)))
@@ -117,4 +129,17 @@ fn chart(path: &Path, tile: &str, rows: &[ResolutionRow]) -> Result<(), String> 
         draw_legend(&mut chart, 16, SeriesLabelPosition::UpperRight)?;
         Ok(())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_construction_has_its_ddm_trace_colour() {
+        let colours: Vec<RGBColor> = PatchKind::ALL.into_iter().map(colour).collect();
+        for (i, a) in colours.iter().enumerate() {
+            assert!(colours[i + 1..].iter().all(|b| b != a), "{colours:?}");
+        }
+    }
 }

@@ -167,43 +167,33 @@ impl MeshRaycaster {
         let mut stack = Vec::with_capacity(64);
         for shift in self.copies(origin + direction * t0, origin + direction * t1) {
             let local = origin - shift;
-            let inverse = direction.recip();
-            stack.clear();
-            stack.push(0);
-            while let Some(index) = stack.pop() {
-                let node = self.nodes[index as usize];
-                if !slab_test(node.min, node.max, local, inverse, t0, t1) {
-                    continue;
+            self.visit_triangles(local, direction, t0, t1, &mut stack, |_, triangle| {
+                if let Some((t, margin)) = ray_triangle_margin(triangle, local, direction)
+                    && t >= t0
+                    && t <= t1
+                {
+                    let [a, b, c] = *triangle;
+                    let exiting = (b - a).cross(c - a).dot(direction) > 0.0;
+                    out.push(MeshCrossing { t, exiting, margin });
                 }
-                if node.count == 0 {
-                    stack.push(node.first);
-                    stack.push(node.first + 1);
-                    continue;
-                }
-                for triangle in &self.triangles[node.first as usize..(node.first + node.count) as usize] {
-                    if let Some((t, margin)) = ray_triangle_margin(triangle, local, direction)
-                        && t >= t0
-                        && t <= t1
-                    {
-                        let [a, b, c] = *triangle;
-                        let exiting = (b - a).cross(c - a).dot(direction) > 0.0;
-                        out.push(MeshCrossing { t, exiting, margin });
-                    }
-                }
-            }
+                None
+            });
         }
     }
 
-    fn first_hit_local(
+    /// Calls `visit` with the index and the vertices of every triangle of the leaves whose
+    /// boxes the ray `origin + t direction` meets within `[t_min, t_max]`; a `visit` that
+    /// returns `Some(t)` lowers `t_max` to `t` for the rest of the traversal.
+    fn visit_triangles(
         &self,
         origin: DVec3,
         direction: DVec3,
         t_min: f64,
         mut t_max: f64,
         stack: &mut Vec<u32>,
-    ) -> Option<(f64, usize)> {
+        mut visit: impl FnMut(usize, &[DVec3; 3]) -> Option<f64>,
+    ) {
         let inverse = direction.recip();
-        let mut best = None;
         stack.clear();
         stack.push(0);
         while let Some(index) = stack.pop() {
@@ -216,16 +206,30 @@ impl MeshRaycaster {
                 stack.push(node.first + 1);
                 continue;
             }
-            for i in node.first..node.first + node.count {
-                if let Some(t) = ray_triangle(&self.triangles[i as usize], origin, direction)
-                    && t >= t_min
-                    && t <= t_max
-                {
+            for index in node.first as usize..(node.first + node.count) as usize {
+                if let Some(t) = visit(index, &self.triangles[index]) {
                     t_max = t;
-                    best = Some((t, i as usize));
                 }
             }
         }
+    }
+
+    fn first_hit_local(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+        stack: &mut Vec<u32>,
+    ) -> Option<(f64, usize)> {
+        let mut best = None;
+        let mut limit = t_max;
+        self.visit_triangles(origin, direction, t_min, t_max, stack, |index, triangle| {
+            let t = ray_triangle(triangle, origin, direction).filter(|&t| t >= t_min && t <= limit)?;
+            limit = t;
+            best = Some((t, index));
+            Some(t)
+        });
         best
     }
 }

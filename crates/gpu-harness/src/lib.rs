@@ -55,4 +55,4 @@ pub use compute::WORKGROUP_SIZE;
 pub use context::{ADAPTER_ENV, AdapterPreference, Gpu, OPTIONAL_FEATURES, error_scoped};
 pub use error::HarnessError;
 pub use render::RENDER_FORMAT;
-pub use timing::{GpuTiming, TimingSource};
+pub use timing::{FrameTimes, GpuTiming, TimingSource};

@@ -33,6 +33,35 @@ impl fmt::Display for GpuTiming {
     }
 }
 
+/// The times of repeated frames of one configuration (a benchmark's raw figures).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameTimes {
+    /// Milliseconds per timed frame, in order.
+    pub ms: Vec<f64>,
+    /// How they were measured.
+    pub source: TimingSource,
+}
+
+impl FrameTimes {
+    /// The median (the mean of the middle two for an even count; 0 without frames).
+    pub fn median(&self) -> f64 {
+        self.quantile(0.5)
+    }
+
+    /// The `q`-quantile, `q ∈ [0, 1]` (clamped), linearly interpolated between order
+    /// statistics; 0 without frames.
+    pub fn quantile(&self, q: f64) -> f64 {
+        if self.ms.is_empty() {
+            return 0.0;
+        }
+        let mut sorted = self.ms.clone();
+        sorted.sort_by(f64::total_cmp);
+        let position = q.clamp(0.0, 1.0) * (sorted.len() - 1) as f64;
+        let (low, high) = (position.floor() as usize, position.ceil() as usize);
+        sorted[low] + (sorted[high] - sorted[low]) * (position - low as f64)
+    }
+}
+
 /// A pair of timestamp queries and their resolve buffers.
 pub(crate) struct PassTimer {
     queries: wgpu::QuerySet,
@@ -75,5 +104,20 @@ impl PassTimer {
         let ticks: [u64; 2] = bytemuck::pod_read_unaligned(&bytes);
         let period_ns = f64::from(gpu.queue.get_timestamp_period());
         Ok(ticks[1].saturating_sub(ticks[0]) as f64 * period_ns * 1e-9)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantiles_interpolate_between_order_statistics() {
+        let times = FrameTimes { ms: vec![4.0, 1.0, 3.0, 2.0], source: TimingSource::WallClock };
+        assert_eq!(times.median(), 2.5);
+        assert_eq!(times.quantile(0.0), 1.0);
+        assert_eq!(times.quantile(2.0), 4.0);
+        assert!((times.quantile(0.1) - 1.3).abs() < 1e-12);
+        assert_eq!(FrameTimes { ms: Vec::new(), source: TimingSource::Timestamps }.median(), 0.0);
     }
 }

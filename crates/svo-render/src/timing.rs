@@ -6,6 +6,7 @@
 //! own submission (the renderer's rule), after `warm_up` untimed frames; the figure is the
 //! median.
 
+pub use gpu_harness::FrameTimes;
 use gpu_harness::{Gpu, TimingSource};
 use svo_tracer::{Camera, Lens, Model, TraceSettings};
 
@@ -13,38 +14,6 @@ use crate::accuracy::Dolly;
 use crate::error::{RenderError, check, gpu_failed};
 use crate::frame::Frame;
 use crate::renderer::{FrameSettings, GpuRenderer};
-
-/// The times of repeated frames of one view.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FrameTimes {
-    /// Milliseconds per timed frame, in order.
-    pub ms: Vec<f64>,
-    /// How they were measured.
-    pub source: TimingSource,
-}
-
-impl FrameTimes {
-    /// The median (the mean of the middle two for an even count; 0 without frames).
-    pub fn median(&self) -> f64 {
-        quantile(&self.ms, 0.5)
-    }
-
-    /// The `q`-quantile, `q ∈ [0, 1]`, linearly interpolated between order statistics.
-    pub fn quantile(&self, q: f64) -> f64 {
-        quantile(&self.ms, q)
-    }
-}
-
-fn quantile(values: &[f64], q: f64) -> f64 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    let mut sorted = values.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    let position = q.clamp(0.0, 1.0) * (sorted.len() - 1) as f64;
-    let (low, high) = (position.floor() as usize, position.ceil() as usize);
-    sorted[low] + (sorted[high] - sorted[low]) * (position - low as f64)
-}
 
 /// Renders `warm_up` untimed frames, then `frames` timed ones (see the module docs).
 pub fn time_frames(
@@ -280,16 +249,6 @@ pub fn bench_csv(rows: &[BenchRow], adapter: &str, size: (u32, u32), scene: &str
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn quantiles_interpolate_order_statistics() {
-        let t = FrameTimes { ms: vec![4.0, 1.0, 3.0, 2.0], source: TimingSource::WallClock };
-        assert_eq!(t.median(), 2.5);
-        assert_eq!(t.quantile(0.0), 1.0);
-        assert_eq!(t.quantile(1.0), 4.0);
-        assert!((t.quantile(0.1) - 1.3).abs() < 1e-12);
-        assert_eq!(FrameTimes { ms: vec![], source: TimingSource::WallClock }.median(), 0.0);
-    }
 
     #[test]
     fn work_counts_covered_pixels_only() {

@@ -24,7 +24,7 @@
 //! `normalize` against glam's: within 4.9e-7, under [`NORMAL_FLOOR`]) and the 64 special
 //! rays at azimuth 270° (a 4-cone boundary), which the GPU assigns to the other cone.
 
-use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, compute_distance_maps};
+use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, MapKind, compute_distance_maps};
 use ddm_tracer::{
     CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceOutcome,
     TraceSettings, VoxelPatches, relief_trace, trace,
@@ -147,6 +147,18 @@ struct Mismatches {
 
 fn compare(maps: &CompressedMaps, patches: Option<&VoxelPatches>, settings: TraceSettings, seed: u64) -> Mismatches {
     let scene = GpuScene::new(maps, patches, settings).unwrap_or_else(|e| panic!("{e}"));
+    compare_scene(&scene, maps.kind, |o, d| trace(maps, patches, o, d, settings), seed)
+}
+
+/// [`compare`] for [`GpuScene::uncompressed`]: the GPU reading one grid word per voxel
+/// against the CPU tracer over the uncompressed maps themselves.
+fn compare_uncompressed(
+    maps: &DistanceMaps,
+    patches: Option<&VoxelPatches>,
+    settings: TraceSettings,
+    seed: u64,
+) -> Mismatches {
+    let scene = GpuScene::uncompressed(maps, patches, settings).unwrap_or_else(|e| panic!("{e}"));
     compare_scene(&scene, maps.kind, |o, d| trace(maps, patches, o, d, settings), seed)
 }
 
@@ -328,6 +340,19 @@ fn gpu_tracer_equals_the_cpu_reference() {
         ];
         for (name, maps, patches, trace_settings) in cases {
             let m = compare(&maps, patches, trace_settings, 0x5eed + index as u64);
+            m.report(&format!("{} {name}", which.name()));
+        }
+        let uncompressed = [
+            (
+                "plain DM, uncompressed, block cells",
+                &plain,
+                None,
+                TraceSettings { stepping: Stepping::BlockCells, ..sphere },
+            ),
+            ("DDM 4x1 + quadric, uncompressed", &ddm, Some(&patches), quadric),
+        ];
+        for (name, maps, patches, trace_settings) in uncompressed {
+            let m = compare_uncompressed(maps, patches, trace_settings, 0x5eed + index as u64);
             m.report(&format!("{} {name}", which.name()));
         }
         // Relief mapping of the same tile's height map (2 texels per voxel, 32 + 8 steps).

@@ -9,6 +9,8 @@ use core::fmt;
 use glam::{UVec2, UVec3, UVec4, Vec4};
 use gpu_layout::gpu_struct;
 
+use ddm_compress::DistanceMaps;
+
 use crate::maps::{CompressedMaps, ConeSelector};
 use crate::patch::TracePatch;
 use crate::patches::VoxelPatches;
@@ -105,6 +107,22 @@ pub enum GpuSceneError {
         /// The map's own size.
         found: UVec3,
     },
+    /// An uncompressed map does not hold one value per voxel ([`GpuScene::uncompressed`]).
+    MapValues {
+        /// The map's index.
+        map: usize,
+        /// Voxels of the grid.
+        expected: usize,
+        /// Values present.
+        found: usize,
+    },
+    /// A distance of an uncompressed map is negative or NaN ([`GpuScene::uncompressed`]).
+    InvalidDistance {
+        /// The map's index.
+        map: usize,
+        /// The voxel's index, `x + L_x (y + L_y z)`.
+        voxel: usize,
+    },
     /// The patches were built for another grid than the maps'.
     PatchDims {
         /// The maps' grid size.
@@ -146,6 +164,12 @@ impl fmt::Display for GpuSceneError {
             }
             Self::PatchDims { expected, found } => {
                 write!(f, "GPU scene: the patches' grid {found} differs from the maps' grid {expected}")
+            }
+            Self::MapValues { map, expected, found } => {
+                write!(f, "GPU scene: uncompressed map {map} holds {found} values for {expected} voxels")
+            }
+            Self::InvalidDistance { map, voxel } => {
+                write!(f, "GPU scene: map {map} holds a negative or NaN distance at voxel {voxel}")
             }
             Self::BufferOverflow { buffer } => write!(f, "GPU scene: the {buffer} buffer outgrows u32 indices"),
             Self::ReliefTexelsPerVoxel => write!(f, "GPU scene: the relief height map has 0 texels per voxel"),
@@ -219,6 +243,65 @@ impl GpuScene {
             grid.extend_from_slice(map.grid());
             atlas.extend_from_slice(map.atlas());
         }
+        Self::with_maps(dims, selector, cone_maps, grid, atlas, patches, settings)
+    }
+
+    /// Packs uncompressed `maps` and `patches` for `settings`: per cone a lookup grid of one
+    /// word per voxel holding the voxel's own distance (the layout of a [`CompressedMaps`]
+    /// with block 1 and no voxel flagged as surface, so that the WGSL twin reads every
+    /// sample with one load and never the atlas). The tracer sees exactly the distances
+    /// of `maps`: it traces as [`trace()`](crate::trace()) over the [`DistanceMaps`] themselves.
+    ///
+    /// # Errors
+    ///
+    /// [`GpuSceneError::MapCount`] when `maps.values` does not hold one map per map of its
+    /// kind, [`GpuSceneError::MapValues`] when a map does not hold one value per voxel,
+    /// [`GpuSceneError::InvalidDistance`] for a negative or NaN distance (whose bits would
+    /// read as the surface flag or as no distance), and the errors of [`GpuScene::new`]
+    /// for the patches and buffer sizes.
+    pub fn uncompressed(
+        maps: &DistanceMaps,
+        patches: Option<&VoxelPatches>,
+        settings: TraceSettings,
+    ) -> Result<Self, GpuSceneError> {
+        let dims = maps.dims;
+        let expected = maps.kind.map_count();
+        if maps.values.len() as u64 != u64::from(expected) {
+            return Err(GpuSceneError::MapCount { expected, found: maps.values.len() });
+        }
+        let overflow = |buffer| GpuSceneError::BufferOverflow { buffer };
+        let voxels = dims.x.checked_mul(dims.y).and_then(|n| n.checked_mul(dims.z)).ok_or(overflow("grid"))?;
+        let mut cone_maps = Vec::with_capacity(maps.values.len());
+        let mut grid = Vec::with_capacity(maps.values.len() * voxels as usize);
+        for (map, values) in maps.values.iter().enumerate() {
+            if values.len() as u64 != u64::from(voxels) {
+                return Err(GpuSceneError::MapValues { map, expected: voxels as usize, found: values.len() });
+            }
+            if let Some(voxel) = values.iter().position(|v| v.is_nan() || *v < 0.0) {
+                return Err(GpuSceneError::InvalidDistance { map, voxel });
+            }
+            cone_maps.push(TraceConeMap {
+                dims_block: dims.extend(1),
+                grid_atlas_base: dims.extend(0),
+                grid_base: UVec4::new(u32::try_from(grid.len()).map_err(|_| overflow("grid"))?, 0, 0, 0),
+            });
+            // + 0.0 turns -0.0 into +0.0, whose sign bit (the surface flag) is clear.
+            grid.extend(values.iter().map(|v| (v + 0.0).to_bits()));
+        }
+        Self::with_maps(dims, ConeSelector::new(maps.kind), cone_maps, grid, Vec::new(), patches, settings)
+    }
+
+    /// The scene of packed maps: the patches, the uniforms, the placeholders of empty buffers.
+    fn with_maps(
+        dims: UVec3,
+        selector: ConeSelector,
+        cone_maps: Vec<TraceConeMap>,
+        grid: Vec<u32>,
+        mut atlas: Vec<f32>,
+        patches: Option<&VoxelPatches>,
+        settings: TraceSettings,
+    ) -> Result<Self, GpuSceneError> {
+        let overflow = |buffer| GpuSceneError::BufferOverflow { buffer };
         if atlas.is_empty() {
             atlas.push(0.0);
         }
@@ -297,7 +380,7 @@ impl GpuScene {
 mod tests {
     use alloc::string::ToString;
 
-    use ddm_compress::{DirectionCones, DistanceMaps, MapKind};
+    use ddm_compress::{DirectionCones, MapKind};
     use glam::Vec2;
 
     use super::*;
@@ -355,6 +438,45 @@ mod tests {
         let error = GpuScene::new(&maps(), Some(&patches), SETTINGS).unwrap_err();
         assert_eq!(error, GpuSceneError::PatchDims { expected: DIMS, found: UVec3::new(4, 4, 3) });
         assert!(error.to_string().contains("[4, 4, 3]"), "{error}");
+    }
+
+    #[test]
+    fn an_uncompressed_scene_holds_each_voxels_distance_in_its_grid() {
+        let cones = DirectionCones::downward(2, 1).unwrap();
+        let values: Vec<f32> = (0..32).map(|i| if i < 16 { -0.0 } else { 0.25 * i as f32 }).collect();
+        let mut maps = DistanceMaps {
+            dims: DIMS,
+            kind: MapKind::Directional(cones),
+            values: alloc::vec![values.clone(), values.iter().map(|v| v + 1.0).collect()],
+            surface: (0..32).map(|i| i < 16).collect(),
+            max_distance: DIMS.as_vec3().length(),
+        };
+        let scene = GpuScene::uncompressed(&maps, None, SETTINGS).unwrap();
+        assert_eq!(scene.grid.len(), 64);
+        assert_eq!(scene.cone_maps[1].grid_base.x, 32);
+        assert_eq!(scene.cone_maps[1].dims_block, DIMS.extend(1));
+        // No word carries the surface flag: every read is the grid's, -0.0 stored as +0.0.
+        assert!(scene.grid.iter().all(|w| w & ddm_compress::compress::SURFACE_FLAG == 0));
+        for (cone, values) in maps.values.iter().enumerate() {
+            for (voxel, v) in values.iter().enumerate() {
+                assert_eq!(f32::from_bits(scene.grid[32 * cone + voxel]), *v);
+            }
+        }
+        maps.values[1][7] = f32::NAN;
+        assert_eq!(
+            GpuScene::uncompressed(&maps, None, SETTINGS),
+            Err(GpuSceneError::InvalidDistance { map: 1, voxel: 7 })
+        );
+        maps.values[1].pop();
+        assert_eq!(
+            GpuScene::uncompressed(&maps, None, SETTINGS),
+            Err(GpuSceneError::MapValues { map: 1, expected: 32, found: 31 })
+        );
+        maps.values.pop();
+        assert_eq!(
+            GpuScene::uncompressed(&maps, None, SETTINGS),
+            Err(GpuSceneError::MapCount { expected: 2, found: 1 })
+        );
     }
 
     #[test]

@@ -17,6 +17,11 @@
 //! - Torus: the G-buffer frames at every covered pixel are orthonormal (after
 //!   normalisation) and match `torus_base_mesh`'s analytic frame at the pixel's texture
 //!   coordinates, and the positions lie on the torus.
+//! - Torus silhouettes: the second raster pass's exit distance is where the pixel's ray
+//!   leaves the torus (the exit point on the torus, the stretch before it inside), and
+//!   every covered pixel's class (hit, miss at the slab's bottom, left the shell) equals
+//!   the CPU's `pixel_class` of the same texel with the CPU tracer; pixels that leave the
+//!   shell exist and outline the torus.
 
 use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, MapKind, compute_distance_maps};
 use ddm_render::{
@@ -25,7 +30,8 @@ use ddm_render::{
 };
 use ddm_tracer::GpuScene;
 use ddm_tracer::tangent_space::{
-    BaseRenderPixel, PIXEL_HIT, PIXEL_UNCOVERED, TangentFrame, in_shadow, tangent_space_ray,
+    BaseRenderPixel, NO_EXIT, PIXEL_HIT, PIXEL_LEFT_SHELL, PIXEL_MISS, PIXEL_UNCOVERED, TangentFrame, in_shadow,
+    pixel_class, shell_exit, slab_bottom, tangent_space_ray,
 };
 use ddm_tracer::{CompressedMaps, Method, PatchSettings, Stepping, TraceSettings, VoxelPatches, trace};
 use glam::{UVec2, UVec3, Vec3};
@@ -339,4 +345,114 @@ fn torus_gbuffer_frames_are_orthonormal_and_analytic() {
     // Regression pin: |∂P/∂u| relative, measured 2.66e-3 (chords of the one-ring fit; the
     // chord estimate Δφ²/6 = 2.9e-3 of ddm-render's base_mesh does not bound it there).
     assert!(worst_scale < 4e-3, "{worst_scale} (regression pin)");
+}
+
+/// Signed distance to the exact torus of centre radius `major`, tube radius `minor`.
+fn torus_sdf(p: Vec3, major: f32, minor: f32) -> f32 {
+    glam::Vec2::new(p.truncate().length() - major, p.z).length() - minor
+}
+
+#[test]
+fn torus_silhouettes_show_what_lies_behind() {
+    let gpu = gpu();
+    let (major, minor, repeats) = (3.0_f32, 1.2_f32, UVec2::new(16, 6));
+    let mesh = mesostructure::torus_base_mesh(major, minor, 96, 48, repeats).unwrap();
+    let (width, height) = (96, 72);
+    let camera = Camera {
+        eye: Vec3::new(0.0, -7.5, 5.5),
+        target: Vec3::new(0.0, 0.0, -0.3),
+        up: Vec3::Z,
+        half_fov_y: 28f32.to_radians(),
+        width,
+        height,
+    };
+    // The mesostructure 0.4 world units deep under the torus (as `xtask ddm-render`).
+    let slab = Vec3::new(DIMS.x as f32, DIMS.y as f32, DIMS.z as f32 / 0.4);
+    let render_settings = RenderSettings { slab, shadow_tolerance: None, ..settings() };
+    let pipelines = DdmRenderPipelines::new(&gpu.device).unwrap();
+    let gbuffer_pass = GBufferPass::new(&gpu.device, pipelines.gbuffer(), &mesh, width, height).unwrap();
+    let tau = std::f32::consts::TAU;
+    let (d_theta, d_phi) = (tau / 96.0, tau / 48.0);
+    // As in `torus_gbuffer_frames_are_orthonormal_and_analytic`: flat quads lie within
+    // their sagittas of the torus, plus f32 rounding of coordinates below 16 (eye
+    // distances ~12: 16 ulp of 16).
+    let sagitta = minor * (1.0 - (d_phi / 2.0).cos()) + (major + minor) * (1.0 - (d_theta / 2.0).cos());
+    let surface_bound = sagitta + 16.0 * 16.0 * f32::EPSILON;
+    for structure in [Mesostructure::Maze(1), Mesostructure::Ball] {
+        let triangles = structure.triangles(DIMS);
+        let map_settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+        let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).unwrap());
+        let maps = compute_distance_maps(DIMS, &triangles, ddm4x1, map_settings).unwrap();
+        let patches = VoxelPatches::build(DIMS, &triangles, &maps.surface, PatchSettings::default()).unwrap();
+        let scene =
+            GpuScene::new(&CompressedMaps::compress(&maps, 1).unwrap(), Some(&patches), TRACE_SETTINGS).unwrap();
+        let scene = GpuSceneBuffers::new(&gpu.device, &scene).unwrap();
+        let renderer = DdmRenderer::new(&gpu.device, &pipelines, &gbuffer_pass, &scene).unwrap();
+        let readback = PixelReadback::new(gpu, &renderer).unwrap();
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        renderer.encode(&gpu.queue, &mut encoder, &DdmFrame::new(&camera, render_settings), readback.target()).unwrap();
+        gpu.queue.submit([encoder.finish()]);
+        let pixels = readback.read(gpu).unwrap();
+        let gbuffer = read_gbuffer(gpu, renderer.gbuffer()).unwrap();
+        let name = structure.name();
+        let (mut covered, mut with_exit, mut compared, mut near_decision) = (0, 0, 0, 0);
+        let (mut worst_exit, mut worst_inside) = (0.0_f32, f32::NEG_INFINITY);
+        let mut counts = [0usize; 4];
+        for (i, (texel, pixel)) in gbuffer.texels.iter().zip(&pixels).enumerate() {
+            let Some((origin, direction)) = tangent_space_ray(texel, camera.eye, slab, DIMS.z as f32) else {
+                assert_eq!(pixel.color.w, PIXEL_UNCOVERED, "{name}: pixel {i}");
+                continue;
+            };
+            covered += 1;
+            counts[pixel.color.w as usize] += 1;
+            let (front, exit) = (texel.normal_depth.w, gbuffer.exit_distances[i]);
+            if exit > 0.0 {
+                with_exit += 1;
+                // The exit point is on the torus, and the stretch before it is inside.
+                let ray = (texel.position_coverage.truncate() - camera.eye).normalize();
+                worst_exit = worst_exit.max(torus_sdf(camera.eye + ray * exit, major, minor).abs());
+                for k in 1..16 {
+                    let d = front + (exit - front) * k as f32 / 16.0;
+                    worst_inside = worst_inside.max(torus_sdf(camera.eye + ray * d, major, minor));
+                }
+            }
+            // CPU = GPU for the class: the same texel bits, the CPU tracer on the CPU's ray.
+            let cpu = trace(&maps, Some(&patches), origin, direction, TRACE_SETTINGS);
+            let shell = shell_exit(front, exit, direction);
+            let bottom = slab_bottom(direction, DIMS.z as f32);
+            let expected = pixel_class(cpu.hit.map(|h| h.t), shell, bottom);
+            // A class decided within rounding of the ray's parameters (1e-4 voxel on rays
+            // of ≤ ~100 voxels) may fall either way: counted, not compared.
+            let margin = 1e-4_f32;
+            let close = |a: f32, b: f32| a != NO_EXIT && b != NO_EXIT && (a - b).abs() <= margin;
+            if cpu.hit.is_some_and(|h| close(h.t, shell)) || close(shell, bottom) {
+                near_decision += 1;
+                continue;
+            }
+            compared += 1;
+            assert_eq!(
+                pixel.color.w, expected,
+                "{name}: pixel {i}: GPU class {} where the CPU's is {expected} (hit {:?}, shell exit {shell}, \
+                 bottom {bottom})",
+                pixel.color.w, cpu.hit
+            );
+        }
+        println!(
+            "{name}: covered {covered} (hit {}, miss {}, left the shell {}), {with_exit} with a second surface; \
+             classes compared {compared}, {near_decision} within rounding of a decision; exit point off the torus \
+             {worst_exit:e}, stretch before it outside by at most {worst_inside:e} (bound {surface_bound:e})",
+            counts[PIXEL_HIT as usize], counts[PIXEL_MISS as usize], counts[PIXEL_LEFT_SHELL as usize]
+        );
+        assert!(covered > 2000, "{name}: covered {covered}");
+        assert!(f64::from(compared) >= 0.99 * f64::from(covered), "{name}: compared {compared} of {covered}");
+        assert!(worst_exit <= surface_bound, "{name}: exit point {worst_exit} off the torus > {surface_bound}");
+        assert!(worst_inside <= surface_bound, "{name}: the stretch leaves the torus by {worst_inside}");
+        // The silhouettes: a ray leaves the shell wherever it grazes the torus (its exit
+        // within the slab's depth); the camera sees the whole outline and the hole.
+        assert!(
+            counts[PIXEL_LEFT_SHELL as usize] > 50,
+            "{name}: only {} pixels leave the shell",
+            counts[PIXEL_LEFT_SHELL as usize]
+        );
+    }
 }

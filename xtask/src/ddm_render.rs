@@ -6,8 +6,10 @@
 //! mesostructure's tangent space, traces it with the WGSL tracer, shades the hit (Lambert
 //! and ambient, normal mapped back to world space with the frame) and casts a shadow ray
 //! toward the light through the same maps (shadowed hits get ambient only). Pixels whose
-//! ray leaves the slab without a hit show the base mesh's own colour (blue-grey), pixels
-//! off the base mesh the background.
+//! ray reaches the slab's bottom without a hit show the base mesh's own colour
+//! (blue-grey); pixels whose ray leaves the torus again before any hit (its silhouettes:
+//! `ddm_render`'s second raster pass finds where) and pixels off the base mesh show the
+//! background.
 //!
 //! Each mesostructure (maze, bricks, beads, ball, chain mail) is rendered with each method:
 //! sphere tracing with the plain distance map (DM) and with the DDM 4×1 (both stop at the
@@ -43,7 +45,7 @@
 //! back once per image, after its frames, for the PNG and the counts.
 //!
 //! Writes to `OUT_DIR` (default `target/ddm-render`) `<mesostructure>_<base>_<method>.png`
-//! and `ddm_render_times.csv`: per image the covered, hit and shadowed pixels, those
+//! and `ddm_render_times.csv`: per image the covered, hit, left-the-shell and shadowed pixels, those
 //! whose primary ray stopped on the step cap, its ꟻLIP
 //! and 1 − SSIM against the reference, mean and
 //! max tracer steps per covered pixel (primary ray), the per-pixel pass's GPU time
@@ -61,13 +63,13 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, compute_distance_maps};
+use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, MapKind, compute_distance_maps};
 use ddm_render::{
     Camera, DdmFrame, DdmRenderPipelines, DdmRenderer, GBufferPass, GpuSceneBuffers, PassTimestamps, PixelReadback,
     RenderSettings, pixels_to_image, plane_base_mesh, wgpu,
 };
 use ddm_tracer::GpuScene;
-use ddm_tracer::tangent_space::{PIXEL_HIT, PIXEL_UNCOVERED};
+use ddm_tracer::tangent_space::{PIXEL_HIT, PIXEL_LEFT_SHELL, PIXEL_UNCOVERED};
 use ddm_tracer::{
     CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceSettings,
     VoxelPatches,
@@ -75,31 +77,31 @@ use ddm_tracer::{
 use glam::{UVec2, UVec3, Vec2, Vec3};
 use gpu_harness::Gpu;
 
-use crate::ddm_input::{self, TileSource};
+use crate::ddm_input::{self, Tile, TileSource};
 
-const MAX_STEPS: u32 = 256;
+pub(crate) const MAX_STEPS: u32 = 256;
 /// The reference's step cap (16× the methods'): the pixels that still stop on it are
 /// counted (`capped_pixels`; on the torus, rays that run nearly parallel to the slab
 /// through the periodic tiles, drawn as misses by every method).
 const REFERENCE_MAX_STEPS: u32 = 4096;
 /// The reference scene's name.
 const REFERENCE: &str = "reference";
-const RELIEF_LINEAR: u32 = 32;
-const RELIEF_BINARY: u32 = 8;
+pub(crate) const RELIEF_LINEAR: u32 = 32;
+pub(crate) const RELIEF_BINARY: u32 = 8;
 const BACKGROUND: [u8; 3] = [18, 20, 30];
 /// Frames per image; the fastest is reported.
 const FRAMES: usize = 3;
 
 /// One base mesh with its G-buffer pass, camera, light and slab.
-struct Base {
-    name: &'static str,
-    gbuffer: GBufferPass,
-    camera: Camera,
-    light: Vec3,
+pub(crate) struct Base {
+    pub name: &'static str,
+    pub gbuffer: GBufferPass,
+    pub camera: Camera,
+    pub light: Vec3,
     /// `(L_x, L_y, L_z / h)`.
-    slab: Vec3,
+    pub slab: Vec3,
     /// Wall time of its raster pass alone (fastest of [`FRAMES`]).
-    raster_seconds: f64,
+    pub raster_seconds: f64,
 }
 
 /// Timestamps of both passes of a frame (queries 0–1 raster, 2–3 per-pixel pass), where
@@ -181,9 +183,8 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
     let bases = base_meshes(&gpu, &pipelines, dims, width, height)?;
     let timer = FrameTimer::new(&gpu);
     let mut csv = String::from(
-        "mesostructure,base,method,covered_pixels,hit_pixels,shadowed_pixels,capped_pixels,flip,one_minus_ssim,mean_steps,max_steps,gpu_ms,gpu_timing,pass_call_wall_ms,call_overhead_wall_ms,trace_wall_ms,raster_wall_ms\n",
+        "mesostructure,base,method,covered_pixels,hit_pixels,left_shell_pixels,shadowed_pixels,capped_pixels,flip,one_minus_ssim,mean_steps,max_steps,gpu_ms,gpu_timing,pass_call_wall_ms,call_overhead_wall_ms,trace_wall_ms,raster_wall_ms\n",
     );
-    let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
     println!(
         "{:<11} {:<6} {:<20} {:>8} {:>8} {:>8} {:>6} {:>7} {:>7} {:>5} {:>9} {:>9}",
         "structure",
@@ -201,49 +202,34 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
     );
     let (mut first_frames, mut warm_frames, mut images) = (0.0, 0.0, 0);
     for tile in &tiles {
-        let (name, triangles) = (tile.name, &tile.triangles);
+        let name = tile.name;
         // Every error names the mesostructure and the map or scene it is about.
         let failed = |what: &str, error: &dyn std::fmt::Display| format!("{name}: {what}: {error}");
-        let plain =
-            compute_distance_maps(dims, triangles, MapKind::Plain, settings).map_err(|e| failed("the DM maps", &e))?;
-        let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).map_err(|e| failed("the DDM 4x1 cones", &e))?);
-        let ddm =
-            compute_distance_maps(dims, triangles, ddm4x1, settings).map_err(|e| failed("the DDM 4x1 maps", &e))?;
-        let patches = VoxelPatches::build(dims, triangles, &ddm.surface, PatchSettings::default())
-            .map_err(|e| failed("the C0 patches", &e))?;
-        let adaptive_settings =
-            PatchSettings { surface: PatchSurface::Adaptive { max_error: 1e-3 }, ..PatchSettings::default() };
-        let adaptive = VoxelPatches::build(dims, triangles, &ddm.surface, adaptive_settings)
-            .map_err(|e| failed("the adaptive patches", &e))?;
+        let maps = TileMaps::build(tile, dims, false)?;
         let sphere =
             TraceSettings { method: Method::SphereTracing, max_steps: MAX_STEPS, stepping: Stepping::Distance };
         let quadric = TraceSettings { method: Method::Quadric, max_steps: MAX_STEPS, stepping: Stepping::Distance };
-        let plain_packed = CompressedMaps::compress(&plain, 1).map_err(|e| failed("packing the DM maps", &e))?;
-        let ddm_packed = CompressedMaps::compress(&ddm, 1).map_err(|e| failed("packing the DDM 4x1 maps", &e))?;
+        let plain_packed = CompressedMaps::compress(&maps.plain, 1).map_err(|e| failed("packing the DM maps", &e))?;
+        let ddm_packed = CompressedMaps::compress(&maps.ddm, 1).map_err(|e| failed("packing the DDM 4x1 maps", &e))?;
         let scene = |method: &'static str, maps, patches, settings, tolerance| {
             GpuScene::new(maps, patches, settings)
                 .map(|scene| (method, scene, tolerance))
                 .map_err(|e| failed(&format!("the {method} scene"), &e))
         };
         let exit = TraceSettings { stepping: Stepping::VoxelExit, ..quadric };
-        let triangles_settings = PatchSettings { surface: PatchSurface::Triangles, ..PatchSettings::default() };
-        let exact = VoxelPatches::build(dims, triangles, &ddm.surface, triangles_settings)
-            .map_err(|e| failed("the triangle patches", &e))?;
         let reference_settings = TraceSettings { max_steps: REFERENCE_MAX_STEPS, ..exit };
         // The reference first: every method's image is compared with it.
         let mut scenes: Vec<(&'static str, GpuScene, f32)> = vec![
-            scene(REFERENCE, &ddm_packed, Some(&exact), reference_settings, 0.02)?,
+            scene(REFERENCE, &ddm_packed, Some(&maps.exact), reference_settings, 0.02)?,
             scene("dm", &plain_packed, None, sphere, 1.75)?,
             scene("ddm4x1", &ddm_packed, None, sphere, 1.75)?,
-            scene("ddm4x1_quadric", &ddm_packed, Some(&patches), quadric, 0.02)?,
-            scene("ddm4x1_adaptive", &ddm_packed, Some(&adaptive), quadric, 0.02)?,
-            scene("ddm4x1_adaptive_exit", &ddm_packed, Some(&adaptive), exit, 0.02)?,
+            scene("ddm4x1_quadric", &ddm_packed, Some(&maps.c0), quadric, 0.02)?,
+            scene("ddm4x1_adaptive", &ddm_packed, Some(&maps.adaptive), quadric, 0.02)?,
+            scene("ddm4x1_adaptive_exit", &ddm_packed, Some(&maps.adaptive), exit, 0.02)?,
         ];
-        if tile.height_field {
-            let mesh = MeshRaycaster::new(triangles, Vec2::new(dims.x as f32, dims.y as f32));
-            let height_map = HeightMap::from_mesh(&mesh, dims, 2).map_err(|e| failed("the relief height map", &e))?;
+        if let Some(height_map) = &maps.height_map {
             let scene = GpuScene::new(&plain_packed, None, sphere)
-                .and_then(|s| s.with_relief(&height_map, RELIEF_LINEAR, RELIEF_BINARY))
+                .and_then(|s| s.with_relief(height_map, RELIEF_LINEAR, RELIEF_BINARY))
                 .map_err(|e| failed("the relief scene", &e))?;
             scenes.push(("relief", scene, 0.25));
         }
@@ -304,6 +290,7 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
                 let pixels = readback.read(&gpu).map_err(|e| e.to_string())?;
                 let covered: Vec<_> = pixels.iter().filter(|p| p.color.w != PIXEL_UNCOVERED).collect();
                 let hits = covered.iter().filter(|p| p.color.w == PIXEL_HIT).count();
+                let left_shell = covered.iter().filter(|p| p.color.w == PIXEL_LEFT_SHELL).count();
                 let shadowed = covered.iter().filter(|p| p.color.w == PIXEL_HIT && p.ray_direction.w == 1.0).count();
                 let mean_steps =
                     covered.iter().map(|p| f64::from(p.ray_origin.w)).sum::<f64>() / covered.len().max(1) as f64;
@@ -347,7 +334,7 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
                 );
                 writeln!(
                     csv,
-                    "{},{},{method},{},{hits},{shadowed},{capped},{flip:.5},{ssim_loss:.5},{mean_steps:.3},{max_steps},{:.4},{timing_name},{:.2},{:.2},{:.2},{:.3}",
+                    "{},{},{method},{},{hits},{left_shell},{shadowed},{capped},{flip:.5},{ssim_loss:.5},{mean_steps:.3},{max_steps},{:.4},{timing_name},{:.2},{:.2},{:.2},{:.3}",
                     name,
                     base.name,
                     covered.len(),
@@ -373,9 +360,56 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
     Ok(())
 }
 
+/// What the renders and the GPU benchmark trace on one tile: its plain map and DDM 4×1
+/// (tolerance 0.25, periodic), the C⁰ patches, the adaptive patches (1e-3 voxel), the
+/// mesh's triangles as patches (the reference), the watertight patches where asked, and
+/// the relief height map (2 texels per voxel) of a height field.
+pub(crate) struct TileMaps {
+    pub plain: DistanceMaps,
+    pub ddm: DistanceMaps,
+    pub c0: VoxelPatches,
+    pub adaptive: VoxelPatches,
+    pub exact: VoxelPatches,
+    pub watertight: Option<VoxelPatches>,
+    pub height_map: Option<HeightMap>,
+}
+
+impl TileMaps {
+    /// Builds them for `tile` at `dims`; errors name the tile and what failed.
+    pub(crate) fn build(tile: &Tile, dims: UVec3, watertight: bool) -> Result<Self, String> {
+        let (name, triangles) = (tile.name, &tile.triangles);
+        let failed = |what: &str, error: &dyn std::fmt::Display| format!("{name}: {what}: {error}");
+        let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+        let plain =
+            compute_distance_maps(dims, triangles, MapKind::Plain, settings).map_err(|e| failed("the DM maps", &e))?;
+        let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).map_err(|e| failed("the DDM 4x1 cones", &e))?);
+        let ddm =
+            compute_distance_maps(dims, triangles, ddm4x1, settings).map_err(|e| failed("the DDM 4x1 maps", &e))?;
+        let patches = |what: &str, surface: Option<PatchSurface>| {
+            let settings = PatchSettings {
+                surface: surface.unwrap_or(PatchSettings::default().surface),
+                ..PatchSettings::default()
+            };
+            VoxelPatches::build(dims, triangles, &ddm.surface, settings).map_err(|e| failed(what, &e))
+        };
+        let c0 = patches("the C0 patches", None)?;
+        let adaptive = patches("the adaptive patches", Some(PatchSurface::Adaptive { max_error: 1e-3 }))?;
+        let exact = patches("the triangle patches", Some(PatchSurface::Triangles))?;
+        let watertight =
+            if watertight { Some(patches("the watertight patches", Some(PatchSurface::Watertight))?) } else { None };
+        let height_map = if tile.height_field {
+            let mesh = MeshRaycaster::new(triangles, Vec2::new(dims.x as f32, dims.y as f32));
+            Some(HeightMap::from_mesh(&mesh, dims, 2).map_err(|e| failed("the relief height map", &e))?)
+        } else {
+            None
+        };
+        Ok(Self { plain, ddm, c0, adaptive, exact, watertight, height_map })
+    }
+}
+
 /// The plane tile (4 × 4 tiles seen by `xtask ddm-trace`'s camera) and the torus, each
 /// uploaded once into a G-buffer pass, with the raster pass's wall time.
-fn base_meshes(
+pub(crate) fn base_meshes(
     gpu: &Gpu,
     pipelines: &DdmRenderPipelines,
     dims: UVec3,

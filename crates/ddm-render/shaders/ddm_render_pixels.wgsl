@@ -6,7 +6,8 @@
 //
 // Group 0 (one bind group per renderer): 0 the tracer's uniforms, 9 the render parameters,
 // 10-13 the G-buffer textures (Rgba32Float, the fields of BaseGBufferTexel in order, read
-// with textureLoad: the values the raster pass wrote, bit for bit).
+// with textureLoad: the values the raster pass wrote, bit for bit), 14 the exit distance
+// (R32Float, the second raster pass's).
 // Group 1 (one bind group per target): binding 0, the shaded pixels (render_pixels), or
 // binding 1, a colour texture (render_color).
 
@@ -16,6 +17,7 @@
 @group(0) @binding(11) var gbuffer_tangent_u: texture_2d<f32>;
 @group(0) @binding(12) var gbuffer_bitangent_v: texture_2d<f32>;
 @group(0) @binding(13) var gbuffer_normal_depth: texture_2d<f32>;
+@group(0) @binding(14) var gbuffer_exit_distance: texture_2d<f32>;
 @group(1) @binding(0) var<storage, read_write> target_pixels: array<BaseRenderPixel>;
 @group(1) @binding(1) var target_color: texture_storage_2d<rgba16float, write>;
 
@@ -30,9 +32,11 @@ fn load_gbuffer_texel(p: vec2<u32>) -> BaseGBufferTexel {
 }
 
 // Traces and shades one texel: its tangent-space ray (render_tangent_ray, CPU reference
-// ddm_tracer::tangent_space::tangent_space_ray), the hit's shading normal in world space,
-// Lambert + ambient, and a shadow ray toward the light (render_in_shadow).
-fn shade_texel(texel: BaseGBufferTexel) -> BaseRenderPixel {
+// ddm_tracer::tangent_space::tangent_space_ray), its class (render_pixel_class: a hit
+// beyond where the ray leaves the base mesh's solid, `exit` away from the eye, is no
+// hit), the hit's shading normal in world space, Lambert + ambient, and a shadow ray
+// toward the light (render_in_shadow).
+fn shade_texel(texel: BaseGBufferTexel, exit: f32) -> BaseRenderPixel {
     let params = render_params;
     if texel.position_coverage.w <= 0.0 {
         return BaseRenderPixel(vec4<f32>(0.0, 0.0, 0.0, RENDER_PIXEL_UNCOVERED), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
@@ -43,8 +47,19 @@ fn shade_texel(texel: BaseGBufferTexel) -> BaseRenderPixel {
     let result = trace_ray(uniforms, ray[0], ray[1]);
     let light = params.light.xyz;
     let ambient = params.light.w;
-    if result.normal_hit.w != 1.0 {
-        // The ray leaves the slab (bottom, or past the step budget): the base mesh's own colour.
+    let shell_exit = render_shell_exit(texel.normal_depth.w, exit, ray[1]);
+    let pixel_class = render_pixel_class(
+        result.normal_hit.w == 1.0,
+        result.point_t.w,
+        shell_exit,
+        render_slab_bottom(ray[1], f32(uniforms.dims_max_steps.z)),
+    );
+    if pixel_class == RENDER_PIXEL_LEFT_SHELL {
+        // The ray leaves the base mesh's solid before any hit: what lies behind shows.
+        return BaseRenderPixel(vec4<f32>(0.0, 0.0, 0.0, RENDER_PIXEL_LEFT_SHELL), vec4<f32>(ray[0], f32(result.counts.x)), vec4<f32>(ray[1], 0.0), vec4<f32>(0.0));
+    }
+    if pixel_class == RENDER_PIXEL_MISS {
+        // The ray reaches the slab's bottom (or the step cap): the base mesh's own colour.
         let base_normal = normalize(texel.normal_depth.xyz);
         let diffuse = max(dot(base_normal, light), 0.0);
         let color = params.miss_color.xyz * (ambient + (1.0 - ambient) * diffuse);
@@ -77,18 +92,20 @@ fn render_pixels(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= size.x || id.y >= size.y {
         return;
     }
-    target_pixels[id.x + id.y * size.x] = shade_texel(load_gbuffer_texel(id.xy));
+    target_pixels[id.x + id.y * size.x] = shade_texel(load_gbuffer_texel(id.xy), textureLoad(gbuffer_exit_distance, id.xy, 0).x);
 }
 
-// Every texel into `target_color`: linear colour, alpha 1 where the base mesh covers the
-// pixel and 0 (with colour 0) elsewhere.
+// Every texel into `target_color`: linear colour, alpha 1 where the object is seen (a hit,
+// or the base surface under the slab) and 0 (with colour 0) elsewhere: off the base mesh,
+// and where the ray leaves the base mesh's solid without a hit.
 @compute @workgroup_size(RENDER_TILE, RENDER_TILE)
 fn render_color(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(gbuffer_position_coverage);
     if id.x >= size.x || id.y >= size.y {
         return;
     }
-    let pixel = shade_texel(load_gbuffer_texel(id.xy));
-    let coverage = select(1.0, 0.0, pixel.color.w == RENDER_PIXEL_UNCOVERED);
+    let pixel = shade_texel(load_gbuffer_texel(id.xy), textureLoad(gbuffer_exit_distance, id.xy, 0).x);
+    let seen = pixel.color.w == RENDER_PIXEL_HIT || pixel.color.w == RENDER_PIXEL_MISS;
+    let coverage = select(0.0, 1.0, seen);
     textureStore(target_color, id.xy, vec4<f32>(pixel.color.xyz, coverage));
 }

@@ -1,7 +1,11 @@
 //! The base-mesh G-buffer: the coarse base mesh rasterized with a perspective camera into
 //! four `Rgba32Float` textures ([`GBUFFER_FORMAT`]), one per field of
 //! [`BaseGBufferTexel`] (world position and coverage, `(∂P/∂u, u)`, `(∂P/∂v, v)`,
-//! `(N, view depth)`), linearly interpolated with perspective correction by the rasterizer.
+//! `(N, view depth)`), linearly interpolated with perspective correction by the rasterizer;
+//! then a second raster pass of the same mesh (depth peeling) into an `R32Float` texture
+//! ([`EXIT_FORMAT`]): per pixel the distance from the eye to the next surface behind the
+//! first one, where the pixel's ray leaves the base mesh's solid (0 where there is none;
+//! `ddm_tracer::tangent_space::shell_exit` turns it into the tracer's parameter).
 //!
 //! - [`GBufferPipeline`]: the raster pipeline, once per device.
 //! - [`GBufferPass`]: one base mesh (vertex and index buffers uploaded once) and the
@@ -23,6 +27,8 @@ use crate::shaders::{RASTER_SHADER, raster_shader};
 pub const GBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Number of G-buffer textures (the fields of [`BaseGBufferTexel`], in order).
 pub const GBUFFER_TEXTURES: usize = 4;
+/// The format of the exit-distance texture (the second raster pass's target).
+pub const EXIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Bytes per texel of one G-buffer texture.
 const TEXEL_BYTES: u32 = 16;
 /// The depth buffer's format.
@@ -57,11 +63,13 @@ impl PassTimestamps<'_> {
         Ok(())
     }
 
-    fn render_writes(&self) -> wgpu::RenderPassTimestampWrites<'_> {
+    /// The beginning of the first of two render passes (`end: false`) or the end of the
+    /// second (`end: true`).
+    fn render_writes(&self, end: bool) -> wgpu::RenderPassTimestampWrites<'_> {
         wgpu::RenderPassTimestampWrites {
             query_set: self.query_set,
-            beginning_of_pass_write_index: Some(self.first),
-            end_of_pass_write_index: Some(self.first + 1),
+            beginning_of_pass_write_index: (!end).then_some(self.first),
+            end_of_pass_write_index: end.then_some(self.first + 1),
         }
     }
 
@@ -74,12 +82,15 @@ impl PassTimestamps<'_> {
     }
 }
 
-/// The compiled raster pipeline and its bind group layout (camera uniform, vertex
-/// storage buffer), created once per device and shared by every [`GBufferPass`].
+/// The compiled raster pipelines (the G-buffer and the exit distance) and their bind group
+/// layouts (camera uniform, vertex storage buffer; the first pass's normal-depth texture),
+/// created once per device and shared by every [`GBufferPass`].
 #[derive(Clone, Debug)]
 pub struct GBufferPipeline {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
+    exit_pipeline: wgpu::RenderPipeline,
+    exit_layout: wgpu::BindGroupLayout,
 }
 
 impl GBufferPipeline {
@@ -130,41 +141,63 @@ impl GBufferPipeline {
                     buffer_entry(1, wgpu::BufferBindingType::Storage { read_only: true }, wgpu::ShaderStages::VERTEX),
                 ],
             });
-            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("ddm-render G-buffer"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
+            let exit_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("ddm-render G-buffer exit distance"),
+                entries: &[wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                }],
             });
+            let pipeline = |label, layouts: &[Option<&wgpu::BindGroupLayout>], entry, targets: &[_]| {
+                let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some(label),
+                    bind_group_layouts: layouts,
+                    immediate_size: 0,
+                });
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(&pipeline_layout),
+                    vertex: wgpu::VertexState {
+                        module: &module,
+                        entry_point: Some("base_vertex"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    primitive: wgpu::PrimitiveState::default(),
+                    depth_stencil: Some(wgpu::DepthStencilState {
+                        format: DEPTH_FORMAT,
+                        depth_write_enabled: Some(true),
+                        depth_compare: Some(wgpu::CompareFunction::Less),
+                        stencil: Default::default(),
+                        bias: Default::default(),
+                    }),
+                    multisample: wgpu::MultisampleState::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some(entry),
+                        compilation_options: Default::default(),
+                        targets,
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            };
             let targets: Vec<Option<wgpu::ColorTargetState>> =
                 (0..GBUFFER_TEXTURES).map(|_| Some(wgpu::ColorTargetState::from(GBUFFER_FORMAT))).collect();
-            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("ddm-render G-buffer"),
-                layout: Some(&pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("base_vertex"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("base_fragment"),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
-            Self { pipeline, layout }
+            let gbuffer = pipeline("ddm-render G-buffer", &[Some(&layout)], "base_fragment", &targets);
+            let exit_pipeline = pipeline(
+                "ddm-render G-buffer exit distance",
+                &[Some(&layout), Some(&exit_layout)],
+                "exit_fragment",
+                &[Some(wgpu::ColorTargetState::from(EXIT_FORMAT))],
+            );
+            Self { pipeline: gbuffer, layout, exit_pipeline, exit_layout }
         })?)
     }
 }
@@ -182,6 +215,10 @@ pub struct GBufferPass {
     bind_group: wgpu::BindGroup,
     textures: [wgpu::Texture; GBUFFER_TEXTURES],
     views: [wgpu::TextureView; GBUFFER_TEXTURES],
+    exit_texture: wgpu::Texture,
+    exit_view: wgpu::TextureView,
+    /// Group 1 of the exit pass: the normal-depth texture of the first.
+    exit_bind_group: wgpu::BindGroup,
     depth: wgpu::TextureView,
     /// Centre and radius of a sphere around the mesh, for the clip planes.
     bounds: (Vec3, f32),
@@ -281,6 +318,16 @@ impl GBufferPass {
             let views = std::array::from_fn(|k| textures[k].create_view(&Default::default()));
             let depth = texture("ddm-render G-buffer depth", DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT)
                 .create_view(&Default::default());
+            let exit_texture = texture("ddm-render G-buffer exit distance", EXIT_FORMAT, usage);
+            let exit_view = exit_texture.create_view(&Default::default());
+            let exit_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ddm-render G-buffer exit distance"),
+                layout: &pipeline.exit_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&views[GBUFFER_TEXTURES - 1]),
+                }],
+            });
             Self {
                 pipeline: pipeline.clone(),
                 camera,
@@ -289,6 +336,9 @@ impl GBufferPass {
                 bind_group,
                 textures,
                 views,
+                exit_texture,
+                exit_view,
+                exit_bind_group,
                 depth,
                 bounds,
                 width,
@@ -317,6 +367,17 @@ impl GBufferPass {
     /// Views of [`textures`](Self::textures), as the per-pixel pass binds them.
     pub fn views(&self) -> &[wgpu::TextureView; GBUFFER_TEXTURES] {
         &self.views
+    }
+
+    /// The exit-distance texture ([`EXIT_FORMAT`]): per pixel the distance from the eye to
+    /// the next base-mesh surface behind the first, 0 where there is none.
+    pub fn exit_texture(&self) -> &wgpu::Texture {
+        &self.exit_texture
+    }
+
+    /// The view of [`exit_texture`](Self::exit_texture) that the per-pixel pass binds.
+    pub fn exit_view(&self) -> &wgpu::TextureView {
+        &self.exit_view
     }
 
     /// The raster uniforms for `camera`: clip planes around the mesh's bounding sphere
@@ -352,11 +413,12 @@ impl GBufferPass {
         Ok(uniforms)
     }
 
-    /// Records the raster pass for `camera` (its size must be the G-buffer's) into
-    /// `encoder`, after writing the camera uniform with `queue.write_buffer`. That write
-    /// lands at the next `queue.submit`, before any of its command buffers run: submit
-    /// each frame before encoding the next one with the same pass. `timestamps`, when
-    /// given, receives the pass's beginning and end.
+    /// Records the two raster passes for `camera` (its size must be the G-buffer's) into
+    /// `encoder`, after writing the camera uniform with `queue.write_buffer`: the G-buffer,
+    /// then the exit distance. That write lands at the next `queue.submit`, before any of
+    /// its command buffers run: submit each frame before encoding the next one with the
+    /// same pass. `timestamps`, when given, receives the first pass's beginning and the
+    /// second's end.
     pub fn encode(
         &self,
         queue: &wgpu::Queue,
@@ -392,11 +454,36 @@ impl GBufferPass {
                 depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
                 stencil_ops: None,
             }),
-            timestamp_writes: timestamps.as_ref().map(PassTimestamps::render_writes),
+            timestamp_writes: timestamps.as_ref().map(|t| t.render_writes(false)),
             ..Default::default()
         });
         pass.set_pipeline(&self.pipeline.pipeline);
         pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..self.index_count, 0, 0..1);
+        drop(pass);
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("ddm-render G-buffer exit distance"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.exit_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps.as_ref().map(|t| t.render_writes(true)),
+            ..Default::default()
+        });
+        pass.set_pipeline(&self.pipeline.exit_pipeline);
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_bind_group(1, &self.exit_bind_group, &[]);
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..self.index_count, 0, 0..1);
         Ok(())
@@ -425,6 +512,8 @@ pub struct GBuffer {
     pub height: u32,
     /// Row-major texels, row 0 on top.
     pub texels: Vec<BaseGBufferTexel>,
+    /// Row-major exit distances ([`GBufferPass::exit_texture`]), row 0 on top.
+    pub exit_distances: Vec<f32>,
 }
 
 /// The texels of `texture` (mip 0, layer 0) as bytes, rows unpadded, row 0 on top, after
@@ -494,6 +583,12 @@ pub fn read_gbuffer(gpu: &Gpu, pass: &GBufferPass) -> Result<GBuffer, DdmRenderE
             "a G-buffer texture read back with the wrong texel count (expected {count})"
         ))));
     }
+    let exit_distances: Vec<f32> = bytemuck::pod_collect_to_vec(&read_texture(gpu, &pass.exit_texture)?);
+    if exit_distances.len() != count {
+        return Err(DdmRenderError::Gpu(gpu_harness::HarnessError::Readback(format!(
+            "the exit-distance texture read back with the wrong texel count (expected {count})"
+        ))));
+    }
     let [p, t, b, n] = layers;
     let texels = p
         .into_iter()
@@ -507,7 +602,7 @@ pub fn read_gbuffer(gpu: &Gpu, pass: &GBufferPass) -> Result<GBuffer, DdmRenderE
             normal_depth,
         })
         .collect();
-    Ok(GBuffer { width: pass.width, height: pass.height, texels })
+    Ok(GBuffer { width: pass.width, height: pass.height, texels, exit_distances })
 }
 
 /// Rasterizes `mesh` seen by `camera` into a G-buffer of the camera's size and reads it

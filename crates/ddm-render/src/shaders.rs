@@ -37,6 +37,15 @@ pub(crate) const PIXEL_SHADER: &str = "ddm_render_pixels";
 /// The constants of the per-pixel pass that its WGSL declares from Rust.
 const PIXEL_CONSTANTS: &[GpuConst] = &[gpu_const!(RENDER_TILE: u32)];
 
+/// How far behind the first surface (a fraction of its distance from the eye) a fragment
+/// of the second raster pass must lie to count as the surface where the ray leaves the
+/// base mesh's solid: the first surface drawn again interpolates the same distance, and
+/// 10⁻⁵ (about 80 `f32` ulps) keeps rounding from passing it off as a second surface.
+pub const PEEL_MARGIN: f32 = 1e-5;
+
+/// The constants of the raster passes that their WGSL declares from Rust.
+const RASTER_CONSTANTS: &[GpuConst] = &[gpu_const!(PEEL_MARGIN: f32 as "RASTER_PEEL_MARGIN")];
+
 /// The Rust structs whose generated declarations the raster shader composes with.
 pub fn raster_structs() -> Vec<StructDecl> {
     vec![StructDecl::of::<BaseCamera>(), StructDecl::of::<BaseVertex>()]
@@ -53,12 +62,12 @@ pub fn pixel_structs() -> Vec<StructDecl> {
     ]
 }
 
-/// The composed raster shader: generated declarations, then [`RASTER_WGSL`].
+/// The composed raster shader (both passes): generated declarations, then [`RASTER_WGSL`].
 pub fn raster_shader() -> Result<ComposedShader, DdmRenderError> {
-    let declarations = generate_declarations(RASTER_SHADER, &raster_structs(), &[])
+    let declarations = generate_declarations(RASTER_SHADER, &raster_structs(), RASTER_CONSTANTS)
         .map_err(|e| DdmRenderError::InvalidShader { shader: RASTER_SHADER, message: e.to_string() })?;
     Ok(ComposedShader::new(RASTER_SHADER)
-        .with_part("generated: BaseCamera, BaseVertex", &declarations)
+        .with_part("generated: BaseCamera, BaseVertex, RASTER_PEEL_MARGIN", &declarations)
         .with_part(RASTER_WGSL_PATH, RASTER_WGSL))
 }
 
@@ -87,7 +96,7 @@ mod tests {
         let validated = raster_shader().unwrap().validate().unwrap_or_else(|e| panic!("{e}"));
         check_layout(&validated.module, &raster_structs()).unwrap_or_else(|e| panic!("{e:?}"));
         let entries: Vec<&str> = validated.module.entry_points.iter().map(|e| e.name.as_str()).collect();
-        assert_eq!(entries, ["base_vertex", "base_fragment"]);
+        assert_eq!(entries, ["base_vertex", "base_fragment", "exit_fragment"]);
     }
 
     #[test]

@@ -32,10 +32,19 @@ use crate::trace::{TraceSettings, trace};
 
 /// `BaseRenderPixel::color.w` of a pixel the base mesh does not cover.
 pub const PIXEL_UNCOVERED: f32 = 0.0;
-/// `BaseRenderPixel::color.w` of a covered pixel whose ray misses the mesostructure.
+/// `BaseRenderPixel::color.w` of a covered pixel whose ray reaches the bottom of the slab
+/// (or the step cap) without a hit: it shows the base surface under the mesostructure.
 pub const PIXEL_MISS: f32 = 1.0;
 /// `BaseRenderPixel::color.w` of a covered pixel whose ray hits the mesostructure.
 pub const PIXEL_HIT: f32 = 2.0;
+/// `BaseRenderPixel::color.w` of a covered pixel whose ray leaves the base mesh's solid
+/// again before any hit and before the slab's bottom ([`pixel_class`]): nothing of this
+/// object is seen there, the pixel shows what lies behind (the silhouettes of paper
+/// Fig. 1 and 8).
+pub const PIXEL_LEFT_SHELL: f32 = 3.0;
+/// What [`shell_exit`] and [`slab_bottom`] return for a ray that never leaves the shell
+/// or never reaches the bottom (`f32::MAX`, a finite value WGSL can hold).
+pub const NO_EXIT: f32 = f32::MAX;
 
 gpu_struct! {
     /// One texel of the base-mesh G-buffer (the output of the raster pass, the input of
@@ -134,6 +143,49 @@ pub fn tangent_space_ray(texel: &BaseGBufferTexel, eye: Vec3, slab: Vec3, size_z
     Some((origin, direction))
 }
 
+/// Where the ray of a covered texel leaves the base mesh's solid again, as the tracer's
+/// parameter (voxels along the unit tangent-space direction, from the texel's point).
+///
+/// The G-buffer holds, per pixel, the distance from the eye to the nearest base-mesh
+/// surface (`front_distance`, the texel's) and to the next surface behind it along the
+/// same eye ray (`exit_distance`, `ddm-render`'s second raster pass; 0 where there is
+/// none, as for an open mesh seen from its side). The world stretch between them,
+/// `exit − front`, maps to tangent space with the texel's constant frame (the paper's
+/// approximation, [module documentation](self)): the world vector `P − eye` of length
+/// `front` maps to `direction`, so a world length `s` along the ray is
+/// `s · |direction| / front` voxels. [`NO_EXIT`] when `exit_distance ≤ front_distance`
+/// (no second surface) or the result is not finite. WGSL twin: `render_shell_exit`.
+pub fn shell_exit(front_distance: f32, exit_distance: f32, direction: Vec3) -> f32 {
+    if !(exit_distance > front_distance && front_distance > 0.0) {
+        return NO_EXIT;
+    }
+    let t = (exit_distance / front_distance - 1.0) * direction.length();
+    if t.is_finite() { t } else { NO_EXIT }
+}
+
+/// The tracer's parameter at which the ray from the top of a slab `size_z` voxels deep,
+/// along `direction`, reaches the bottom `z = 0` (voxels along the unit direction);
+/// [`NO_EXIT`] for a direction that does not descend. WGSL twin: `render_slab_bottom`.
+pub fn slab_bottom(direction: Vec3, size_z: f32) -> f32 {
+    let length = direction.length();
+    if !(direction.z < 0.0 && length.is_finite()) {
+        return NO_EXIT;
+    }
+    size_z * length / -direction.z
+}
+
+/// A covered pixel's class from its ray's hit parameter (`None` for a miss), its
+/// [`shell_exit`] and its [`slab_bottom`]: [`PIXEL_HIT`] for a hit within the shell;
+/// otherwise [`PIXEL_LEFT_SHELL`] when the ray leaves the shell before the slab's bottom,
+/// else [`PIXEL_MISS`]. WGSL twin: `render_pixel_class`.
+pub fn pixel_class(hit_t: Option<f32>, shell_exit: f32, slab_bottom: f32) -> f32 {
+    match hit_t {
+        Some(t) if t <= shell_exit => PIXEL_HIT,
+        _ if shell_exit < slab_bottom => PIXEL_LEFT_SHELL,
+        _ => PIXEL_MISS,
+    }
+}
+
 /// Whether the tangent-space point `point` is in shadow for the tangent-space direction
 /// toward the light `light`: a light at or below the tangent plane (`light.z ≤ 0`)
 /// shadows; otherwise the ray from where the shadow ray leaves the top of the slab is
@@ -207,6 +259,25 @@ mod tests {
             let image = frame.to_tangent(in_plane_world);
             assert!(image.dot(n_ts).abs() < 1e-4 * image.length().max(1.0), "{ts}");
         }
+    }
+
+    #[test]
+    fn a_ray_leaving_the_shell_before_the_bottom_shows_what_is_behind() {
+        // A world stretch of half the front distance is half the tangent direction's length.
+        let direction = Vec3::new(3.0, 0.0, -4.0);
+        assert_eq!(shell_exit(10.0, 15.0, direction), 2.5);
+        assert_eq!(shell_exit(10.0, 0.0, direction), NO_EXIT);
+        assert_eq!(shell_exit(10.0, 10.0, direction), NO_EXIT);
+        assert_eq!(shell_exit(0.0, 1.0, direction), NO_EXIT);
+        // 8 voxels deep along a direction descending at 4/5: 10 voxels to the bottom.
+        assert_eq!(slab_bottom(direction, 8.0), 10.0);
+        assert_eq!(slab_bottom(Vec3::X, 8.0), NO_EXIT);
+        assert_eq!(pixel_class(Some(2.0), 2.5, 10.0), PIXEL_HIT);
+        assert_eq!(pixel_class(Some(3.0), 2.5, 10.0), PIXEL_LEFT_SHELL);
+        assert_eq!(pixel_class(None, 2.5, 10.0), PIXEL_LEFT_SHELL);
+        assert_eq!(pixel_class(None, 12.0, 10.0), PIXEL_MISS);
+        assert_eq!(pixel_class(None, NO_EXIT, 10.0), PIXEL_MISS);
+        assert_eq!(pixel_class(Some(9.0), NO_EXIT, 10.0), PIXEL_HIT);
     }
 
     #[test]

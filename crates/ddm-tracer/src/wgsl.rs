@@ -12,7 +12,8 @@ use crate::gpu_scene::{
 };
 use crate::patch::{BOUNDED_PATCH, POLYGON_TOLERANCE, TracePatch};
 use crate::tangent_space::{
-    BaseGBufferTexel, BaseRenderParams, BaseRenderPixel, PIXEL_HIT, PIXEL_MISS, PIXEL_UNCOVERED,
+    BaseGBufferTexel, BaseRenderParams, BaseRenderPixel, NO_EXIT, PIXEL_HIT, PIXEL_LEFT_SHELL, PIXEL_MISS,
+    PIXEL_UNCOVERED,
 };
 use crate::voxel::NUDGE;
 
@@ -54,5 +55,7 @@ pub const WGSL: WgslModule = WgslModule {
         gpu_const!(PIXEL_UNCOVERED: f32 as "RENDER_PIXEL_UNCOVERED"),
         gpu_const!(PIXEL_MISS: f32 as "RENDER_PIXEL_MISS"),
         gpu_const!(PIXEL_HIT: f32 as "RENDER_PIXEL_HIT"),
+        gpu_const!(PIXEL_LEFT_SHELL: f32 as "RENDER_PIXEL_LEFT_SHELL"),
+        gpu_const!(NO_EXIT: f32 as "RENDER_NO_EXIT"),
     ],
 };

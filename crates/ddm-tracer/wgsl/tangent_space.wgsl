@@ -38,6 +38,32 @@ fn render_tangent_ray(texel: BaseGBufferTexel, frame: mat3x3<f32>, eye: vec3<f32
     return mat2x3<f32>(origin, render_to_tangent(frame, texel.position_coverage.xyz - eye));
 }
 
+// Rust: ddm_tracer::tangent_space::shell_exit.
+fn render_shell_exit(front_distance: f32, exit_distance: f32, direction: vec3<f32>) -> f32 {
+    if !(exit_distance > front_distance && front_distance > 0.0) {
+        return RENDER_NO_EXIT;
+    }
+    let t = (exit_distance / front_distance - 1.0) * length(direction);
+    return select(RENDER_NO_EXIT, t, t <= RENDER_NO_EXIT);
+}
+
+// Rust: ddm_tracer::tangent_space::slab_bottom.
+fn render_slab_bottom(direction: vec3<f32>, size_z: f32) -> f32 {
+    let len = length(direction);
+    if !(direction.z < 0.0 && len <= RENDER_NO_EXIT) {
+        return RENDER_NO_EXIT;
+    }
+    return size_z * len / -direction.z;
+}
+
+// Rust: ddm_tracer::tangent_space::pixel_class (`hit` false: no hit, `t` unused).
+fn render_pixel_class(hit: bool, t: f32, shell_exit: f32, slab_bottom: f32) -> f32 {
+    if hit && t <= shell_exit {
+        return RENDER_PIXEL_HIT;
+    }
+    return select(RENDER_PIXEL_MISS, RENDER_PIXEL_LEFT_SHELL, shell_exit < slab_bottom);
+}
+
 // Rust: ddm_tracer::tangent_space::in_shadow (relief scenes run relief mapping through
 // trace_ray). Whether the tangent-space point `p` is in shadow for the tangent-space light direction
 // `l` (pointing toward the light): a light below the tangent plane shadows; otherwise a

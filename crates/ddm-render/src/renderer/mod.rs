@@ -1,7 +1,19 @@
-//! The embeddable renderer: the base mesh's G-buffer raster pass, then the per-pixel
-//! compute pass that reads the G-buffer textures on the GPU (`textureLoad`), builds each
-//! covered pixel's tangent-space ray, traces it through the distance maps with the WGSL
-//! tracer of `ddm-tracer`, shades the hit and casts a shadow ray, and writes a target.
+//! The embeddable renderer: the base mesh's G-buffer raster passes (the G-buffer, then
+//! the exit distance), then the per-pixel compute pass that reads the G-buffer textures on
+//! the GPU (`textureLoad`), builds each covered pixel's tangent-space ray, traces it
+//! through the distance maps with the WGSL tracer of `ddm-tracer`, shades the hit and
+//! casts a shadow ray, and writes a target.
+//!
+//! # Silhouettes
+//!
+//! On a closed base mesh (the torus) a ray that enters the slab near the silhouette leaves
+//! the base mesh's solid again a short way on: the second raster pass stores where, per
+//! pixel, and a ray with no hit before that point (nor before the slab's bottom) is
+//! [`PIXEL_LEFT_SHELL`](ddm_tracer::tangent_space::PIXEL_LEFT_SHELL): nothing of the object
+//! is drawn there, the pixel shows what lies behind, so the mesostructure's own outline
+//! replaces the base mesh's (paper Fig. 1 and 8). A ray that reaches the slab's bottom
+//! shows the base surface under the mesostructure. On an open mesh seen from one side
+//! (the plane tile) there is no second surface and nothing changes.
 //!
 //! # Objects, and when each is built
 //!
@@ -25,10 +37,12 @@
 //! - [`DdmRenderer::pixel_target`]: a storage buffer of `width × height`
 //!   [`BaseRenderPixel`]s, row-major, row 0 on top: colour and its class
 //!   ([`PIXEL_UNCOVERED`](ddm_tracer::tangent_space::PIXEL_UNCOVERED), `PIXEL_MISS`,
-//!   `PIXEL_HIT`), tangent-space ray, steps, shadow flag and hit. What tests and tools read.
+//!   `PIXEL_HIT`, `PIXEL_LEFT_SHELL`), tangent-space ray, steps, shadow flag and hit. What
+//!   tests and tools read.
 //! - [`DdmRenderer::color_target`]: a `width × height` [`COLOR_TARGET_FORMAT`]
-//!   (`Rgba16Float`) storage texture: linear colour, alpha 1 where the base mesh covers the
-//!   pixel, `(0, 0, 0, 0)` elsewhere. What an application composites or tone-maps.
+//!   (`Rgba16Float`) storage texture: linear colour, alpha 1 where the object is seen (a hit,
+//!   or the base surface under the slab), `(0, 0, 0, 0)` elsewhere (off the base mesh, and
+//!   where the ray leaves the shell). What an application composites or tone-maps.
 
 use ddm_tracer::GpuScene;
 use ddm_tracer::tangent_space::{BaseRenderParams, BaseRenderPixel};
@@ -52,7 +66,7 @@ const SCENE_FIRST_BINDING: u32 = 3;
 const SCENE_BUFFERS: usize = 6;
 /// Binding of the [`BaseRenderParams`] uniform in group 0.
 const PARAMS_BINDING: u32 = 9;
-/// First binding of the G-buffer textures in group 0.
+/// First binding of the G-buffer textures in group 0 (then the exit distance).
 const GBUFFER_FIRST_BINDING: u32 = 10;
 /// Binding of the pixel buffer in group 1.
 const PIXELS_BINDING: u32 = 0;
@@ -91,7 +105,7 @@ impl DdmRenderPipelines {
         check_limit("bind groups of the per-pixel pass (max_bind_groups)", 2, limits.max_bind_groups.into())?;
         check_limit(
             "bindings in the per-pixel pass's group 0 (max_bindings_per_bind_group)",
-            u64::from(GBUFFER_FIRST_BINDING) + GBUFFER_TEXTURES as u64,
+            u64::from(GBUFFER_FIRST_BINDING) + GBUFFER_TEXTURES as u64 + 1,
             limits.max_bindings_per_bind_group.into(),
         )?;
         check_limit(
@@ -101,7 +115,7 @@ impl DdmRenderPipelines {
         )?;
         check_limit(
             "G-buffer textures read by the per-pixel pass (max_sampled_textures_per_shader_stage)",
-            GBUFFER_TEXTURES as u64,
+            GBUFFER_TEXTURES as u64 + 1,
             limits.max_sampled_textures_per_shader_stage.into(),
         )?;
         check_limit(
@@ -147,7 +161,7 @@ impl DdmRenderPipelines {
                 )
             }));
             entries.push(compute_entry(PARAMS_BINDING, uniform));
-            entries.extend((0..GBUFFER_TEXTURES as u32).map(|k| {
+            entries.extend((0..GBUFFER_TEXTURES as u32 + 1).map(|k| {
                 compute_entry(
                     GBUFFER_FIRST_BINDING + k,
                     wgpu::BindingType::Texture {
@@ -404,8 +418,10 @@ impl DdmRenderer {
                     .zip(SCENE_FIRST_BINDING..)
                     .map(|(buffer, binding)| wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }),
             );
-            entries.extend(gbuffer.views().iter().zip(GBUFFER_FIRST_BINDING..).map(|(view, binding)| {
-                wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(view) }
+            let views = gbuffer.views().iter().chain([gbuffer.exit_view()]);
+            entries.extend(views.zip(GBUFFER_FIRST_BINDING..).map(|(view, binding)| wgpu::BindGroupEntry {
+                binding,
+                resource: wgpu::BindingResource::TextureView(view),
             }));
             let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("ddm-render per-pixel scene and G-buffer"),

@@ -27,6 +27,10 @@ const RENDER_PIXEL_MISS: f32 = 0x1.000000p+0f; // 1e0
 
 const RENDER_PIXEL_HIT: f32 = 0x1.000000p+1f; // 2e0
 
+const RENDER_PIXEL_LEFT_SHELL: f32 = 0x1.800000p+1f; // 3e0
+
+const RENDER_NO_EXIT: f32 = 0x1.fffffep+127f; // 3.4028235e38
+
 // Rust size 128 bytes.
 struct TracePatch {
     abcd: vec4<f32>, // offset 0

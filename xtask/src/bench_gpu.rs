@@ -1,4 +1,6 @@
-//! `cargo xtask bench-gpu SUBJECT [OUT_DIR] [--grains LIST] [--frames N]`; subject `stackings`
+//! `cargo xtask bench-gpu SUBJECT [OUT_DIR] [--grains LIST] [--frames N]`; subject `ddm`
+//! (`--quick`, `--size WxHxD`, `--resolution WxH` and the tile flags of `xtask ddm-render`)
+//! is [`crate::bench_ddm`]; subject `stackings`
 //! (which also takes `--scene NAME`, `--obj PATH`, `--mesh-above PX`, `--samples S`)
 //! is [`crate::bench_stackings`]; subject `svo` (`--scene NAME`, `--obj PATH`,
 //! `--height-map PNG`, `--pixels N`, `--levels L`, `--zoom K`, `--views N`) is
@@ -75,6 +77,20 @@ fn bean_pile(count: usize) -> Result<(Stacking, f32, f32), String> {
 
 pub fn run(args: &Args<'_>) -> Result<(), String> {
     const SVO_ONLY: [&str; 5] = ["height-map", "pixels", "levels", "zoom", "views"];
+    const DDM_ONLY: [&str; 5] = ["quick", "size", "scale", "fit-slab", "height"];
+    if args.subject() == "ddm" {
+        for flag in ["grains", "scene", "mesh-above", "samples", "pixels", "levels", "zoom", "views"] {
+            if args.value(flag).is_some() {
+                return Err(format!("bench-gpu ddm: --{flag} does not apply to `bench-gpu ddm`"));
+            }
+        }
+        return crate::bench_ddm::run(args);
+    }
+    for flag in DDM_ONLY {
+        if args.flag(flag) {
+            return Err(format!("bench-gpu {}: --{flag} applies to `bench-gpu ddm` only", args.subject()));
+        }
+    }
     if args.subject() == "svo" {
         for flag in ["grains", "mesh-above", "samples", "resolution"] {
             if args.value(flag).is_some() {

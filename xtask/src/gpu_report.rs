@@ -2,15 +2,17 @@
 //! in one run, each into `OUT_DIR/<subject>/`, and a page of their tables
 //! (`OUT_DIR/index.html`, the showcase's machinery): the one command that a person with a
 //! GPU runs to get every performance figure. By default each subject runs at its own
-//! settings, which are the paper sizes on a GPU (20 M grains, 1024² cone tracing, …) and
+//! settings, which are the paper sizes on a GPU (20 M grains, 1024² cone tracing, DDMs at
+//! 1920×1080, …) and
 //! reduced ones on a software adapter; `--quick` shrinks them further (a smoke run).
 
 use crate::report_page::ImageSubject;
 use crate::showcase::{Report, Stage};
 
 /// The sections: the papers with a GPU benchmark.
-const PAPERS: [(&str, &str); 2] = [
+const PAPERS: [(&str, &str); 3] = [
     ("stackings", "Michel & Boubekeur, Real Time Multiscale Rendering of Dense Dynamic Stackings (CGF 2020)"),
+    ("ddm", "Mehra & Kumar, Accurate and Efficient Rendering of Detail using Directional Distance Maps"),
     (
         "svo",
         "Heitz & Neyret, Representing Appearance and Pre-filtering Subpixel Data in Sparse Voxel Octrees (HPG 2012)",
@@ -37,6 +39,17 @@ const STAGES: &[Stage] = &[
                 at 1920×1080, beans and sand, every visibility buffer, early-Z on and off, compute and raster.",
         command: "bench-gpu stackings",
         flags: [&["--grains", "20k", "--frames", "1", "--scene", "bean", "--resolution", "480x270"], &[], &[]],
+        subject: ImageSubject::FirstWords(1),
+    },
+    Stage {
+        folder: "ddm",
+        paper: "ddm",
+        title: "The DDM renderer on a plane and a torus (Table 3, §5)",
+        about: "GPU ms per frame of ddm-render (G-buffer, exit distance, trace, shading) at 1920×1080 for every tile, \
+                both base meshes, every method, with and without shadow rays, compressed (4³ blocks) and \
+                uncompressed maps.",
+        command: "bench-gpu ddm",
+        flags: [&["--quick"], &[], &[]],
         subject: ImageSubject::FirstWords(1),
     },
     Stage {

@@ -9,6 +9,7 @@
 //! charts and print.
 
 mod abuffer_chart;
+mod bench_ddm;
 mod bench_gpu;
 mod bench_record;
 mod bench_stackings;
@@ -144,9 +145,14 @@ pub const COMMANDS: &[Command] = &[
             value("zoom", "K"),
             value("views", "N"),
             value("resolution", "WxH"),
+            QUICK,
+            SIZE,
+            ddm_input::SCALE,
+            ddm_input::FIT_SLAB,
+            ddm_input::HEIGHT,
         ],
-        exclusive: &[("obj", "scene"), ("obj", "height-map"), ("scene", "height-map")],
-        positional: Positional::SubjectThenOutDir(&["culling", "stackings", "svo"]),
+        exclusive: &[("obj", "scene"), ("obj", "height-map"), ("scene", "height-map"), ("scale", "fit-slab")],
+        positional: Positional::SubjectThenOutDir(&["culling", "ddm", "stackings", "svo"]),
         run: bench_gpu::run,
     },
     Command {
@@ -538,11 +544,25 @@ mod tests {
         let error = parse("bench-gpu", "").err().unwrap();
         assert!(error.contains("needs a subject: culling"), "{error}");
         let error = parse("bench-gpu", "sorting").err().unwrap();
-        assert!(error.contains("unknown subject `sorting` (known: culling, stackings, svo)"), "{error}");
+        assert!(error.contains("unknown subject `sorting` (known: culling, ddm, stackings, svo)"), "{error}");
         let args = parse("bench-gpu", "culling --frames 50").unwrap();
         assert_eq!(args.subject(), "culling");
         assert!(args.out_dir().ends_with("target/bench-gpu/culling"));
         assert_eq!(parse("bench-gpu", "culling out").unwrap().out_dir(), PathBuf::from("out"));
+    }
+
+    #[test]
+    fn bench_gpu_refuses_the_flags_of_other_subjects() {
+        // Checked before any adapter is asked for.
+        let error = bench_gpu::run(&parse("bench-gpu", "ddm --grains 20k").unwrap()).unwrap_err();
+        assert!(error.contains("--grains does not apply to `bench-gpu ddm`"), "{error}");
+        for subject in ["culling", "stackings", "svo"] {
+            for flag in ["--quick", "--size 8x8x4", "--fit-slab", "--height 2"] {
+                let error = bench_gpu::run(&parse("bench-gpu", &format!("{subject} {flag}")).unwrap()).unwrap_err();
+                assert!(error.contains("applies to `bench-gpu ddm` only"), "{subject} {flag}: {error}");
+            }
+        }
+        assert!(parse("bench-gpu", "ddm --scale 2 --fit-slab").is_err());
     }
 
     #[test]

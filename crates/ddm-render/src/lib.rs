@@ -40,6 +40,7 @@
 //! - [`renderer`]: the pipelines, the uploaded scene, the renderer and its targets.
 //! - [`readback`]: frames read back for tests and tools, and as images.
 //! - [`shaders`]: the composed WGSL of both passes (`crates/ddm-render/shaders/`).
+//! - [`timing`]: frames timed by timestamps or wall clock (`cargo xtask bench-gpu ddm`).
 //! - [`error`]: the error type, [`DdmRenderError`].
 
 pub mod base_mesh;
@@ -49,6 +50,7 @@ pub mod gbuffer;
 pub mod readback;
 pub mod renderer;
 pub mod shaders;
+pub mod timing;
 
 /// The wgpu whose types this crate's API takes and returns, re-exported so that callers
 /// name the same version.
@@ -66,3 +68,4 @@ pub use renderer::{
     COLOR_TARGET_FORMAT, DdmFrame, DdmRenderPipelines, DdmRenderer, DdmTarget, GpuSceneBuffers, RenderSettings,
     TargetKind,
 };
+pub use timing::{RendererTimes, time_frames};

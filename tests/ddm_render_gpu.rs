@@ -17,6 +17,9 @@
 //! - Torus: the G-buffer frames at every covered pixel are orthonormal (after
 //!   normalisation) and match `torus_base_mesh`'s analytic frame at the pixel's texture
 //!   coordinates, and the positions lie on the torus.
+//! - Interpenetration: two objects (maze and ball tiles on planes that cross each other's
+//!   slab) drawn one after the other into one colour and depth target equal, per pixel,
+//!   the nearer of their separate renders (inverse eye distances from `eye_distance`).
 //! - Torus silhouettes: the second raster pass's exit distance is where the pixel's ray
 //!   leaves the torus (the exit point on the torus, the stretch before it inside), and
 //!   every covered pixel's class (hit, miss at the slab's bottom, left the shell) equals
@@ -25,13 +28,13 @@
 
 use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, MapKind, compute_distance_maps};
 use ddm_render::{
-    COLOR_TARGET_FORMAT, Camera, DdmFrame, DdmRenderPipelines, DdmRenderer, GBuffer, GBufferPass, GpuSceneBuffers,
-    PixelReadback, RenderSettings, plane_base_mesh, rasterize_gbuffer, read_gbuffer, read_texture,
+    COLOR_TARGET_FORMAT, Camera, DEPTH_TARGET_FORMAT, DdmFrame, DdmRenderPipelines, DdmRenderer, GBuffer, GBufferPass,
+    GpuSceneBuffers, PixelReadback, RenderSettings, plane_base_mesh, rasterize_gbuffer, read_gbuffer, read_texture,
 };
 use ddm_tracer::GpuScene;
 use ddm_tracer::tangent_space::{
-    BaseRenderPixel, NO_EXIT, PIXEL_HIT, PIXEL_LEFT_SHELL, PIXEL_MISS, PIXEL_UNCOVERED, TangentFrame, in_shadow,
-    pixel_class, shell_exit, slab_bottom, tangent_space_ray,
+    BaseRenderPixel, NO_EXIT, PIXEL_HIT, PIXEL_LEFT_SHELL, PIXEL_MISS, PIXEL_UNCOVERED, TangentFrame, eye_distance,
+    in_shadow, pixel_class, shell_exit, slab_bottom, tangent_space_ray,
 };
 use ddm_tracer::{CompressedMaps, Method, PatchSettings, Stepping, TraceSettings, VoxelPatches, trace};
 use glam::{UVec2, UVec3, Vec3};
@@ -455,4 +458,123 @@ fn torus_silhouettes_show_what_lies_behind() {
             counts[PIXEL_LEFT_SHELL as usize]
         );
     }
+}
+
+/// The inverse eye distance of what each pixel of a separate render shows (0 where the
+/// object is not seen), from the pixel target and the G-buffer's front distances.
+fn inverse_distances(pixels: &[BaseRenderPixel], gbuffer: &GBuffer) -> Vec<f32> {
+    pixels
+        .iter()
+        .zip(&gbuffer.texels)
+        .map(|(pixel, texel)| {
+            let d = pixel.ray_direction.truncate();
+            let t = match pixel.color.w {
+                w if w == PIXEL_HIT => pixel.hit.w,
+                w if w == PIXEL_MISS => slab_bottom(d, DIMS.z as f32),
+                _ => return 0.0,
+            };
+            1.0 / eye_distance(texel.normal_depth.w, d, t)
+        })
+        .collect()
+}
+
+#[test]
+fn two_objects_interpenetrate_by_depth() {
+    let gpu = gpu();
+    let pipelines = DdmRenderPipelines::new(&gpu.device).unwrap();
+    let camera = plane_camera(WIDTH, HEIGHT);
+    // The maze on the plane tile; the ball tile on the same plane moved by half a tile
+    // across and half the slab up, so that each object's relief reaches into the other's.
+    let plane = plane_base_mesh(DIMS, UVec2::new(3, 3)).unwrap();
+    let mut moved = plane.clone();
+    let size = DIMS.as_vec3();
+    for p in &mut moved.positions {
+        *p += Vec3::new(0.5 * size.x, 0.5 * size.y, 0.5 * size.z);
+    }
+    let renderers: Vec<DdmRenderer> = [(Mesostructure::Maze(1), &plane), (Mesostructure::Ball, &moved)]
+        .into_iter()
+        .map(|(structure, mesh)| {
+            let triangles = structure.triangles(DIMS);
+            let map_settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+            let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).unwrap());
+            let maps = compute_distance_maps(DIMS, &triangles, ddm4x1, map_settings).unwrap();
+            let patches = VoxelPatches::build(DIMS, &triangles, &maps.surface, PatchSettings::default()).unwrap();
+            let scene =
+                GpuScene::new(&CompressedMaps::compress(&maps, 1).unwrap(), Some(&patches), TRACE_SETTINGS).unwrap();
+            let scene = GpuSceneBuffers::new(&gpu.device, &scene).unwrap();
+            let gbuffer = GBufferPass::new(&gpu.device, pipelines.gbuffer(), mesh, WIDTH, HEIGHT).unwrap();
+            DdmRenderer::new(&gpu.device, &pipelines, &gbuffer, &scene).unwrap()
+        })
+        .collect();
+    let frame = DdmFrame::new(&camera, settings());
+    // Each object alone: its pixels and its inverse eye distances.
+    let mut alone = Vec::new();
+    for renderer in &renderers {
+        let readback = PixelReadback::new(gpu, renderer).unwrap();
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        renderer.encode(&gpu.queue, &mut encoder, &frame, readback.target()).unwrap();
+        gpu.queue.submit([encoder.finish()]);
+        let pixels = readback.read(gpu).unwrap();
+        let inverse = inverse_distances(&pixels, &read_gbuffer(gpu, renderer.gbuffer()).unwrap());
+        alone.push((pixels, inverse));
+    }
+    // Both into one colour and depth target, in one submission.
+    let texture = |format| {
+        gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("interpenetration target"),
+            size: wgpu::Extent3d { width: WIDTH, height: HEIGHT, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        })
+    };
+    let (color, depth) = (texture(COLOR_TARGET_FORMAT), texture(DEPTH_TARGET_FORMAT));
+    let targets: Vec<_> =
+        renderers.iter().map(|r| r.color_depth_target(&gpu.device, &color, &depth).unwrap()).collect();
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    targets[0].encode_clear(&mut encoder).unwrap();
+    for (renderer, target) in renderers.iter().zip(&targets) {
+        renderer.encode(&gpu.queue, &mut encoder, &frame, target).unwrap();
+    }
+    gpu.queue.submit([encoder.finish()]);
+    let colors: Vec<[u16; 4]> = bytemuck::pod_collect_to_vec(&read_texture(gpu, &color).unwrap());
+    let depths: Vec<f32> = bytemuck::pod_collect_to_vec(&read_texture(gpu, &depth).unwrap());
+    // The CPU's inverse distance repeats the GPU's few operations on the same values: equal
+    // within 8 f32 roundings (relative); objects nearer than that to each other are a tie.
+    let tolerance = 8.0 * f32::EPSILON;
+    let (mut wins, mut ties, mut empty) = ([0usize; 2], 0, 0);
+    for i in 0..colors.len() {
+        let (a, b) = (alone[0].1[i], alone[1].1[i]);
+        let nearest = a.max(b);
+        if nearest == 0.0 {
+            assert_eq!((colors[i], depths[i]), ([0; 4], 0.0), "pixel {i}: nothing seen, something drawn");
+            empty += 1;
+            continue;
+        }
+        assert!((depths[i] - nearest).abs() <= tolerance * nearest, "pixel {i}: depth {} for {a} and {b}", depths[i]);
+        if (a - b).abs() <= tolerance * nearest {
+            ties += 1;
+            continue;
+        }
+        let winner = usize::from(b > a);
+        wins[winner] += 1;
+        let expected = alone[winner].0[i].color;
+        assert_eq!(f16_bits_to_f32(colors[i][3]), 1.0, "pixel {i}: alpha");
+        for (c, (&stored, value)) in colors[i].iter().zip(expected.to_array()).take(3).enumerate() {
+            // Rounded to either half around the colour (see the colour target's test).
+            assert!(f32_to_f16_bits(value).abs_diff(stored) <= 1, "pixel {i} channel {c}: {value} stored {stored}");
+        }
+    }
+    println!(
+        "interpenetration: the maze nearer at {} pixels, the ball at {}, {ties} ties, {empty} pixels with neither",
+        wins[0], wins[1]
+    );
+    // Each object in front of the other somewhere: the two reliefs interpenetrate.
+    assert!(wins[0] > 200 && wins[1] > 200, "{wins:?}");
+    assert!(ties <= colors.len() / 100, "{ties} ties");
 }

@@ -76,6 +76,7 @@ use ddm_tracer::{
 };
 use glam::{UVec2, UVec3, Vec2, Vec3};
 use gpu_harness::Gpu;
+use grain_impostor::half::f16_bits_to_f32;
 
 use crate::ddm_input::{self, Tile, TileSource};
 
@@ -348,6 +349,10 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
             }
         }
     }
+    if let (Some(maze), Some(ball)) = (tiles.iter().find(|t| t.name == "maze"), tiles.iter().find(|t| t.name == "ball"))
+    {
+        interpenetration(&gpu, &pipelines, &bases[0], [maze, ball], dims, &out)?;
+    }
     let path = out.join("ddm_render_times.csv");
     std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     let images_f = f64::from(images.max(1));
@@ -359,6 +364,99 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
     println!("wrote {} and the PNGs beside it", path.display());
     Ok(())
 }
+
+/// Frames of [`INTERPENETRATION_FRAMES`] in which the ball tile, on a plane of 2 × 2 tiles
+/// a third of a slab above the maze's plane, moves across the maze (paper Fig. 1's scene, its
+/// ball a tile of balls): both DDM 4×1 + adaptive (voxel-exit stepping) objects drawn one
+/// after the other into one colour and depth target (`DdmRenderer::color_depth_target`),
+/// each pixel keeping the nearer, so that the maze's walls pierce the ball tile's floor and
+/// the balls rise between the walls (each object casts shadows on itself only). The ball's motion is its renderer's camera moved the
+/// other way (eye distances, and so depths, are unchanged by the translation): nothing is
+/// uploaded per frame. Writes `maze_ball_interpenetration_KK.png`.
+fn interpenetration(
+    gpu: &Gpu,
+    pipelines: &DdmRenderPipelines,
+    plane: &Base,
+    tiles: [&Tile; 2],
+    dims: UVec3,
+    out: &std::path::Path,
+) -> Result<(), String> {
+    let (width, height) = (plane.camera.width, plane.camera.height);
+    let size = dims.as_vec3();
+    let ball_plane = plane_base_mesh(dims, UVec2::new(2, 2)).ok_or("empty plane")?;
+    let ball_gbuffer = GBufferPass::new(&gpu.device, pipelines.gbuffer(), &ball_plane, width, height)
+        .map_err(|e| format!("the ball's plane: {e}"))?;
+    let exit = TraceSettings { method: Method::Quadric, max_steps: MAX_STEPS, stepping: Stepping::VoxelExit };
+    let mut renderers = Vec::new();
+    for (tile, gbuffer) in tiles.iter().zip([&plane.gbuffer, &ball_gbuffer]) {
+        let maps = TileMaps::build(tile, dims, false)?;
+        let packed = CompressedMaps::compress(&maps.ddm, 1).map_err(|e| format!("{}: {e}", tile.name))?;
+        let scene = GpuScene::new(&packed, Some(&maps.adaptive), exit).map_err(|e| format!("{}: {e}", tile.name))?;
+        let scene = GpuSceneBuffers::new(&gpu.device, &scene).map_err(|e| e.to_string())?;
+        renderers.push(DdmRenderer::new(&gpu.device, pipelines, gbuffer, &scene).map_err(|e| e.to_string())?);
+    }
+    let texture = |format| {
+        gpu.scoped(|| {
+            gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("ddm-render interpenetration target"),
+                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::STORAGE_BINDING
+                    | wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            })
+        })
+        .map_err(|e| e.to_string())
+    };
+    let (color, depth) = (texture(ddm_render::COLOR_TARGET_FORMAT)?, texture(ddm_render::DEPTH_TARGET_FORMAT)?);
+    let targets = renderers
+        .iter()
+        .map(|r| r.color_depth_target(&gpu.device, &color, &depth).map_err(|e| e.to_string()))
+        .collect::<Result<Vec<_>, _>>()?;
+    let settings = RenderSettings {
+        slab: plane.slab,
+        light: plane.light,
+        ambient: 0.2,
+        shadow_tolerance: Some(0.02),
+        miss_color: Vec3::new(0.22, 0.27, 0.36),
+    };
+    for k in 0..INTERPENETRATION_FRAMES {
+        // The ball's plane starts a quarter tile into the maze's and moves one tile along x,
+        // a third of the slab up.
+        let along = k as f32 / (INTERPENETRATION_FRAMES - 1) as f32;
+        let offset = Vec3::new((0.25 + along) * size.x, 0.25 * size.y, size.z / 3.0);
+        let ball_camera =
+            Camera { eye: plane.camera.eye - offset, target: plane.camera.target - offset, ..plane.camera };
+        let frames = [DdmFrame::new(&plane.camera, settings), DdmFrame::new(&ball_camera, settings)];
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        targets[0].encode_clear(&mut encoder).map_err(|e| e.to_string())?;
+        for ((renderer, target), frame) in renderers.iter().zip(&targets).zip(&frames) {
+            renderer.encode(&gpu.queue, &mut encoder, frame, target).map_err(|e| e.to_string())?;
+        }
+        gpu.queue.submit([encoder.finish()]);
+        let texels: Vec<[u16; 4]> =
+            bytemuck::pod_collect_to_vec(&ddm_render::read_texture(gpu, &color).map_err(|e| e.to_string())?);
+        let mut image = image::RgbImage::from_pixel(width, height, image::Rgb(BACKGROUND));
+        for (out_pixel, texel) in image.pixels_mut().zip(&texels) {
+            if f16_bits_to_f32(texel[3]) > 0.0 {
+                let c = Vec3::new(f16_bits_to_f32(texel[0]), f16_bits_to_f32(texel[1]), f16_bits_to_f32(texel[2]));
+                let c = c.clamp(Vec3::ZERO, Vec3::ONE).powf(1.0 / 2.2) * 255.0;
+                *out_pixel = image::Rgb([c.x as u8, c.y as u8, c.z as u8]);
+            }
+        }
+        let path = out.join(format!("maze_ball_interpenetration_{k:02}.png"));
+        image.save(&path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
+    println!("maze and ball: {INTERPENETRATION_FRAMES} interpenetration frames (one colour and depth target)");
+    Ok(())
+}
+
+/// Frames of [`interpenetration`].
+const INTERPENETRATION_FRAMES: u32 = 4;
 
 /// What the renders and the GPU benchmark trace on one tile: its plain map and DDM 4×1
 /// (tolerance 0.25, periodic), the C⁰ patches, the adaptive patches (1e-3 voxel), the

@@ -8,8 +8,9 @@
 // 10-13 the G-buffer textures (Rgba32Float, the fields of BaseGBufferTexel in order, read
 // with textureLoad: the values the raster pass wrote, bit for bit), 14 the exit distance
 // (R32Float, the second raster pass's).
-// Group 1 (one bind group per target): binding 0, the shaded pixels (render_pixels), or
-// binding 1, a colour texture (render_color).
+// Group 1 (one bind group per target): binding 0, the shaded pixels (render_pixels); or
+// binding 1, a colour texture (render_color); or bindings 1 and 2, a colour texture and
+// the inverse eye distance of what it holds (render_color_depth).
 
 @group(0) @binding(0) var<uniform> uniforms: TraceUniforms;
 @group(0) @binding(9) var<uniform> render_params: BaseRenderParams;
@@ -20,6 +21,7 @@
 @group(0) @binding(14) var gbuffer_exit_distance: texture_2d<f32>;
 @group(1) @binding(0) var<storage, read_write> target_pixels: array<BaseRenderPixel>;
 @group(1) @binding(1) var target_color: texture_storage_2d<rgba16float, write>;
+@group(1) @binding(2) var target_depth: texture_storage_2d<r32float, read_write>;
 
 // The G-buffer texel at `p` (inside the textures).
 fn load_gbuffer_texel(p: vec2<u32>) -> BaseGBufferTexel {
@@ -108,4 +110,40 @@ fn render_color(@builtin(global_invocation_id) id: vec3<u32>) {
     let seen = pixel.color.w == RENDER_PIXEL_HIT || pixel.color.w == RENDER_PIXEL_MISS;
     let coverage = select(0.0, 1.0, seen);
     textureStore(target_color, id.xy, vec4<f32>(pixel.color.xyz, coverage));
+}
+
+// The world distance from the eye of what a seen pixel shows (render_eye_distance): its
+// hit, or where its ray reaches the slab's bottom.
+fn pixel_eye_distance(texel: BaseGBufferTexel, pixel: BaseRenderPixel) -> f32 {
+    let d = pixel.ray_direction.xyz;
+    let bottom = render_slab_bottom(d, f32(uniforms.dims_max_steps.z));
+    let t = select(bottom, pixel.hit.w, pixel.color.w == RENDER_PIXEL_HIT);
+    return render_eye_distance(texel.normal_depth.w, d, t);
+}
+
+// Every seen texel (a hit, or the base surface under the slab) nearer than what the
+// target holds into `target_color` (alpha 1) and its inverse eye distance into
+// `target_depth` (larger is nearer, 0 holds nothing): objects drawn one after the other
+// into one target interpenetrate. A texel whose base surface already lies behind what the
+// target holds is skipped before its ray is traced (every hit lies behind the surface).
+@compute @workgroup_size(RENDER_TILE, RENDER_TILE)
+fn render_color_depth(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(gbuffer_position_coverage);
+    if id.x >= size.x || id.y >= size.y {
+        return;
+    }
+    let texel = load_gbuffer_texel(id.xy);
+    let stored = textureLoad(target_depth, id.xy).x;
+    if texel.position_coverage.w <= 0.0 || 1.0 / texel.normal_depth.w <= stored {
+        return;
+    }
+    let pixel = shade_texel(texel, textureLoad(gbuffer_exit_distance, id.xy, 0).x);
+    if !(pixel.color.w == RENDER_PIXEL_HIT || pixel.color.w == RENDER_PIXEL_MISS) {
+        return;
+    }
+    let inverse = 1.0 / pixel_eye_distance(texel, pixel);
+    if inverse > stored {
+        textureStore(target_depth, id.xy, vec4<f32>(inverse, 0.0, 0.0, 0.0));
+        textureStore(target_color, id.xy, vec4<f32>(pixel.color.xyz, 1.0));
+    }
 }

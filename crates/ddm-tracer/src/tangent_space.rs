@@ -163,6 +163,16 @@ pub fn shell_exit(front_distance: f32, exit_distance: f32, direction: Vec3) -> f
     if t.is_finite() { t } else { NO_EXIT }
 }
 
+/// The world distance from the eye of the point at the tracer's parameter `t` on the ray
+/// of a covered texel whose base surface lies `front_distance` from the eye and whose
+/// tangent-space direction is `direction`: `front + t · front / |direction|`, the inverse
+/// of the mapping in [`shell_exit`] (one frame along the whole ray, the paper's
+/// approximation). What `ddm-render` depth-tests objects with. WGSL twin:
+/// `render_eye_distance`.
+pub fn eye_distance(front_distance: f32, direction: Vec3, t: f32) -> f32 {
+    front_distance + t * front_distance / direction.length()
+}
+
 /// The tracer's parameter at which the ray from the top of a slab `size_z` voxels deep,
 /// along `direction`, reaches the bottom `z = 0` (voxels along the unit direction);
 /// [`NO_EXIT`] for a direction that does not descend. WGSL twin: `render_slab_bottom`.
@@ -278,6 +288,9 @@ mod tests {
         assert_eq!(pixel_class(None, 12.0, 10.0), PIXEL_MISS);
         assert_eq!(pixel_class(None, NO_EXIT, 10.0), PIXEL_MISS);
         assert_eq!(pixel_class(Some(9.0), NO_EXIT, 10.0), PIXEL_HIT);
+        // Back from the tracer's parameter to the eye distance.
+        assert_eq!(eye_distance(10.0, direction, 2.5), 15.0);
+        assert_eq!(eye_distance(10.0, direction, 0.0), 10.0);
     }
 
     #[test]

@@ -47,6 +47,11 @@ fn render_shell_exit(front_distance: f32, exit_distance: f32, direction: vec3<f3
     return select(RENDER_NO_EXIT, t, t <= RENDER_NO_EXIT);
 }
 
+// Rust: ddm_tracer::tangent_space::eye_distance.
+fn render_eye_distance(front_distance: f32, direction: vec3<f32>, t: f32) -> f32 {
+    return front_distance + t * front_distance / length(direction);
+}
+
 // Rust: ddm_tracer::tangent_space::slab_bottom.
 fn render_slab_bottom(direction: vec3<f32>, size_z: f32) -> f32 {
     let len = length(direction);

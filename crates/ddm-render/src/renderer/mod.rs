@@ -43,6 +43,12 @@
 //!   (`Rgba16Float`) storage texture: linear colour, alpha 1 where the object is seen (a hit,
 //!   or the base surface under the slab), `(0, 0, 0, 0)` elsewhere (off the base mesh, and
 //!   where the ray leaves the shell). What an application composites or tone-maps.
+//! - [`DdmRenderer::color_depth_target`]: the same colour texture and a
+//!   [`DEPTH_TARGET_FORMAT`] (`R32Float`) texture of inverse eye distances, written only
+//!   where the pixel is seen nearer than what it holds: several objects (each its own
+//!   renderer, one camera) encoded one after the other into one target interpenetrate.
+//!   [`DdmTarget::encode_clear`] clears it for a frame; a texel whose base surface lies
+//!   behind what the target holds is skipped before its ray is traced.
 
 use ddm_tracer::GpuScene;
 use ddm_tracer::tangent_space::{BaseRenderParams, BaseRenderPixel};
@@ -57,6 +63,10 @@ use crate::shaders::{PIXEL_SHADER, RENDER_TILE, pixel_shader};
 
 /// The format of [`DdmRenderer::color_target`]'s texture.
 pub const COLOR_TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// The format of [`DdmRenderer::color_depth_target`]'s depth texture: per pixel the inverse
+/// world distance from the eye of what the colour texture holds (larger is nearer, 0 holds
+/// nothing).
+pub const DEPTH_TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
 /// Binding of the tracer's uniforms in group 0.
 const TRACE_UNIFORMS_BINDING: u32 = 0;
@@ -72,6 +82,8 @@ const GBUFFER_FIRST_BINDING: u32 = 10;
 const PIXELS_BINDING: u32 = 0;
 /// Binding of the colour texture in group 1.
 const COLOR_BINDING: u32 = 1;
+/// Binding of the depth texture in group 1.
+const DEPTH_BINDING: u32 = 2;
 
 fn compute_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None }
@@ -90,8 +102,10 @@ pub struct DdmRenderPipelines {
     scene_layout: wgpu::BindGroupLayout,
     pixels_layout: wgpu::BindGroupLayout,
     color_layout: wgpu::BindGroupLayout,
+    color_depth_layout: wgpu::BindGroupLayout,
     pixels: wgpu::ComputePipeline,
     color: wgpu::ComputePipeline,
+    color_depth: wgpu::ComputePipeline,
 }
 
 impl DdmRenderPipelines {
@@ -120,7 +134,7 @@ impl DdmRenderPipelines {
         )?;
         check_limit(
             "storage textures of the per-pixel pass (max_storage_textures_per_shader_stage)",
-            1,
+            2,
             limits.max_storage_textures_per_shader_stage.into(),
         )?;
         check_limit(
@@ -182,16 +196,28 @@ impl DdmRenderPipelines {
                     buffer_type(wgpu::BufferBindingType::Storage { read_only: false }),
                 )],
             });
-            let color_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("ddm-render colour target"),
-                entries: &[compute_entry(
-                    COLOR_BINDING,
+            let storage_texture = |binding, access, format| {
+                compute_entry(
+                    binding,
                     wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: COLOR_TARGET_FORMAT,
+                        access,
+                        format,
                         view_dimension: wgpu::TextureViewDimension::D2,
                     },
-                )],
+                )
+            };
+            let color_entry =
+                storage_texture(COLOR_BINDING, wgpu::StorageTextureAccess::WriteOnly, COLOR_TARGET_FORMAT);
+            let color_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("ddm-render colour target"),
+                entries: &[color_entry],
+            });
+            let color_depth_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("ddm-render colour and depth target"),
+                entries: &[
+                    color_entry,
+                    storage_texture(DEPTH_BINDING, wgpu::StorageTextureAccess::ReadWrite, DEPTH_TARGET_FORMAT),
+                ],
             });
             let pipeline = |entry: &str, target_layout: &wgpu::BindGroupLayout| {
                 let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -210,7 +236,8 @@ impl DdmRenderPipelines {
             };
             let pixels = pipeline("render_pixels", &pixels_layout);
             let color = pipeline("render_color", &color_layout);
-            Self { gbuffer, scene_layout, pixels_layout, color_layout, pixels, color }
+            let color_depth = pipeline("render_color_depth", &color_depth_layout);
+            Self { gbuffer, scene_layout, pixels_layout, color_layout, color_depth_layout, pixels, color, color_depth }
         })?)
     }
 
@@ -348,6 +375,8 @@ pub enum TargetKind {
     Pixels,
     /// A [`COLOR_TARGET_FORMAT`] storage texture.
     Color,
+    /// A [`COLOR_TARGET_FORMAT`] and a [`DEPTH_TARGET_FORMAT`] storage texture, depth-tested.
+    ColorDepth,
 }
 
 /// The output of the per-pixel pass: its bind group, built once by
@@ -358,9 +387,40 @@ pub struct DdmTarget {
     kind: TargetKind,
     width: u32,
     height: u32,
+    /// The colour and depth views a [`TargetKind::ColorDepth`] target clears.
+    clear_views: Option<(wgpu::TextureView, wgpu::TextureView)>,
 }
 
 impl DdmTarget {
+    /// Records a render pass that clears a [`TargetKind::ColorDepth`] target's textures to
+    /// zero (nothing drawn): once per frame, before the first object's
+    /// [`DdmRenderer::encode`]. Errors for another kind of target.
+    pub fn encode_clear(&self, encoder: &mut wgpu::CommandEncoder) -> Result<(), DdmRenderError> {
+        let Some((color, depth)) = &self.clear_views else {
+            return Err(DdmRenderError::InvalidTarget {
+                what: "the target to clear",
+                problem: "only a colour and depth target is cleared by the renderer".into(),
+            });
+        };
+        let attachment = |view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        drop(encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("ddm-render clear colour and depth"),
+            color_attachments: &[attachment(color), attachment(depth)],
+            ..Default::default()
+        }));
+        Ok(())
+    }
+
     /// What the target receives.
     pub fn kind(&self) -> TargetKind {
         self.kind
@@ -492,22 +552,91 @@ impl DdmRenderer {
             })
         })?;
         let (width, height) = self.size();
-        Ok(DdmTarget { bind_group, kind: TargetKind::Pixels, width, height })
+        Ok(DdmTarget { bind_group, kind: TargetKind::Pixels, width, height, clear_views: None })
     }
 
     /// A target writing colours into mip 0 of `texture`: a 2-D, single-sampled,
     /// [`COLOR_TARGET_FORMAT`] texture of the G-buffer's size with `STORAGE_BINDING` usage.
     /// Errors name what the texture lacks.
     pub fn color_target(&self, device: &wgpu::Device, texture: &wgpu::Texture) -> Result<DdmTarget, DdmRenderError> {
-        let what = "colour target texture";
-        if texture.format() != COLOR_TARGET_FORMAT {
+        let usage = wgpu::TextureUsages::STORAGE_BINDING;
+        let view = self.target_view("colour target texture", texture, COLOR_TARGET_FORMAT, usage)?;
+        let bind_group = error_scoped(device, || {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ddm-render colour target"),
+                layout: &self.pipelines.color_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: COLOR_BINDING,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                }],
+            })
+        })?;
+        let (width, height) = self.size();
+        Ok(DdmTarget { bind_group, kind: TargetKind::Color, width, height, clear_views: None })
+    }
+
+    /// A target that several renderers (of the same size, sharing one camera) draw into one
+    /// after the other, each pixel keeping the nearest: colours into `color` as
+    /// [`color_target`](Self::color_target) does, and per pixel the inverse world distance
+    /// from the eye of what it holds into `depth` ([`DEPTH_TARGET_FORMAT`]; 0 holds
+    /// nothing). A pixel is written only where the object is seen (a hit, or the base
+    /// surface under the slab) nearer than what `depth` holds, so two DDM-mapped objects
+    /// interpenetrate (paper: "interpenetrations"); any pass that writes the inverse eye
+    /// distance into `depth` (a plain mesh's) composes the same way. Both textures need
+    /// `STORAGE_BINDING | RENDER_ATTACHMENT` usage (the latter for
+    /// [`DdmTarget::encode_clear`]). Errors name the texture and what it lacks.
+    pub fn color_depth_target(
+        &self,
+        device: &wgpu::Device,
+        color: &wgpu::Texture,
+        depth: &wgpu::Texture,
+    ) -> Result<DdmTarget, DdmRenderError> {
+        let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let color_view = self.target_view("colour target texture", color, COLOR_TARGET_FORMAT, usage)?;
+        let depth_view = self.target_view("depth target texture", depth, DEPTH_TARGET_FORMAT, usage)?;
+        let bind_group = error_scoped(device, || {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ddm-render colour and depth target"),
+                layout: &self.pipelines.color_depth_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: COLOR_BINDING,
+                        resource: wgpu::BindingResource::TextureView(&color_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: DEPTH_BINDING,
+                        resource: wgpu::BindingResource::TextureView(&depth_view),
+                    },
+                ],
+            })
+        })?;
+        let (width, height) = self.size();
+        Ok(DdmTarget {
+            bind_group,
+            kind: TargetKind::ColorDepth,
+            width,
+            height,
+            clear_views: Some((color_view, depth_view)),
+        })
+    }
+
+    /// The view of mip 0 of a target texture, after checking its format, usages, shape and
+    /// size; errors name `what` and the problem.
+    fn target_view(
+        &self,
+        what: &'static str,
+        texture: &wgpu::Texture,
+        format: wgpu::TextureFormat,
+        usage: wgpu::TextureUsages,
+    ) -> Result<wgpu::TextureView, DdmRenderError> {
+        if texture.format() != format {
             return Err(DdmRenderError::InvalidTarget {
                 what,
-                problem: format!("format {:?}, {COLOR_TARGET_FORMAT:?} needed", texture.format()),
+                problem: format!("format {:?}, {format:?} needed", texture.format()),
             });
         }
-        if !texture.usage().contains(wgpu::TextureUsages::STORAGE_BINDING) {
-            return Err(DdmRenderError::InvalidTarget { what, problem: "it lacks STORAGE_BINDING usage".into() });
+        if !texture.usage().contains(usage) {
+            return Err(DdmRenderError::InvalidTarget { what, problem: format!("it lacks {:?} usage", usage) });
         }
         if texture.dimension() != wgpu::TextureDimension::D2
             || texture.depth_or_array_layers() != 1
@@ -525,25 +654,13 @@ impl DdmRenderer {
                 found: (texture.width(), texture.height()),
             });
         }
-        let bind_group = error_scoped(device, || {
-            let view = texture.create_view(&wgpu::TextureViewDescriptor {
-                label: Some("ddm-render colour target"),
-                dimension: Some(wgpu::TextureViewDimension::D2),
-                base_mip_level: 0,
-                mip_level_count: Some(1),
-                ..Default::default()
-            });
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("ddm-render colour target"),
-                layout: &self.pipelines.color_layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: COLOR_BINDING,
-                    resource: wgpu::BindingResource::TextureView(&view),
-                }],
-            })
-        })?;
-        let (width, height) = self.size();
-        Ok(DdmTarget { bind_group, kind: TargetKind::Color, width, height })
+        Ok(texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some(what),
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            base_mip_level: 0,
+            mip_level_count: Some(1),
+            ..Default::default()
+        }))
     }
 
     /// Records one frame into `encoder`: the G-buffer raster pass for `frame.camera`, then
@@ -576,6 +693,7 @@ impl DdmRenderer {
         let pipeline = match target.kind {
             TargetKind::Pixels => &self.pipelines.pixels,
             TargetKind::Color => &self.pipelines.color,
+            TargetKind::ColorDepth => &self.pipelines.color_depth,
         };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("ddm-render per-pixel trace"),

@@ -93,6 +93,58 @@ fn texture(device: &wgpu::Device, width: u32, height: u32, format: wgpu::Texture
     })
 }
 
+/// A texture a colour and depth target accepts (storage and render attachment).
+fn attachable(device: &wgpu::Device, width: u32, height: u32, format: wgpu::TextureFormat) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: None,
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    })
+}
+
+#[test]
+fn colour_and_depth_targets_are_checked_cleared_and_encoded() {
+    let s = setup(40, 24);
+    let (device, queue, renderer) = (&s.device, &s.queue, &s.renderer);
+    let color = attachable(device, 40, 24, COLOR_TARGET_FORMAT);
+    let depth = attachable(device, 40, 24, DEPTH_TARGET_FORMAT);
+    // Storage-only textures cannot be cleared; formats must be the two targets'.
+    let storage_only = texture(device, 40, 24, DEPTH_TARGET_FORMAT);
+    match renderer.color_depth_target(device, &color, &storage_only) {
+        Err(DdmRenderError::InvalidTarget { what, problem }) => {
+            assert!(what.contains("depth") && problem.contains("RENDER_ATTACHMENT"), "{what}: {problem}");
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(
+        renderer.color_depth_target(device, &depth, &color),
+        Err(DdmRenderError::InvalidTarget { what: "colour target texture", .. })
+    ));
+    assert!(matches!(
+        renderer.color_depth_target(device, &color, &attachable(device, 40, 23, DEPTH_TARGET_FORMAT)),
+        Err(DdmRenderError::SizeMismatch { what: "depth target texture", .. })
+    ));
+    let target = renderer.color_depth_target(device, &color, &depth).unwrap();
+    assert_eq!(target.kind(), TargetKind::ColorDepth);
+    let camera = view(40, 24);
+    let recorded = error_scoped(device, || {
+        let mut encoder = device.create_command_encoder(&Default::default());
+        target.encode_clear(&mut encoder).unwrap();
+        renderer.encode(queue, &mut encoder, &DdmFrame::new(&camera, settings()), &target).unwrap();
+        queue.submit([encoder.finish()]);
+    });
+    assert!(recorded.is_ok(), "{recorded:?}");
+    // Only a colour and depth target is cleared by the renderer.
+    let colour_only = renderer.color_target(device, &texture(device, 40, 24, COLOR_TARGET_FORMAT)).unwrap();
+    let mut encoder = device.create_command_encoder(&Default::default());
+    assert!(matches!(colour_only.encode_clear(&mut encoder), Err(DdmRenderError::InvalidTarget { .. })));
+}
+
 fn storage_buffer(device: &wgpu::Device, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor { label: None, size, usage, mapped_at_creation: false })
 }

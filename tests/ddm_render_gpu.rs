@@ -36,7 +36,7 @@ use ddm_tracer::tangent_space::{
     BaseRenderPixel, NO_EXIT, PIXEL_HIT, PIXEL_LEFT_SHELL, PIXEL_MISS, PIXEL_UNCOVERED, TangentFrame, eye_distance,
     in_shadow, pixel_class, shell_exit, slab_bottom, tangent_space_ray,
 };
-use ddm_tracer::{CompressedMaps, Method, PatchSettings, Stepping, TraceSettings, VoxelPatches, trace};
+use ddm_tracer::{CompressedMaps, Method, PatchSettings, Stepping, TraceSettings, VoxelPatches, trace, trace_within};
 use glam::{UVec2, UVec3, Vec3};
 use grain_impostor::half::{f16_bits_to_f32, f32_to_f16_bits};
 use integration_tests::gpu;
@@ -399,6 +399,7 @@ fn torus_silhouettes_show_what_lies_behind() {
         let gbuffer = read_gbuffer(gpu, renderer.gbuffer()).unwrap();
         let name = structure.name();
         let (mut covered, mut with_exit, mut compared, mut near_decision) = (0, 0, 0, 0);
+        let (mut steps_differ, mut steps_saved) = (0, 0);
         let (mut worst_exit, mut worst_inside) = (0.0_f32, f32::NEG_INFINITY);
         let mut counts = [0usize; 4];
         for (i, (texel, pixel)) in gbuffer.texels.iter().zip(&pixels).enumerate() {
@@ -433,6 +434,10 @@ fn torus_silhouettes_show_what_lies_behind() {
                 continue;
             }
             compared += 1;
+            // The GPU's trace stops at the shell exit: its steps are the CPU's `trace_within`'s.
+            let within = trace_within(&maps, Some(&patches), origin, direction, TRACE_SETTINGS, shell);
+            steps_differ += usize::from(pixel.ray_origin.w as u32 != within.steps);
+            steps_saved += (cpu.steps - within.steps) as usize;
             assert_eq!(
                 pixel.color.w, expected,
                 "{name}: pixel {i}: GPU class {} where the CPU's is {expected} (hit {:?}, shell exit {shell}, \
@@ -443,10 +448,12 @@ fn torus_silhouettes_show_what_lies_behind() {
         println!(
             "{name}: covered {covered} (hit {}, miss {}, left the shell {}), {with_exit} with a second surface; \
              classes compared {compared}, {near_decision} within rounding of a decision; exit point off the torus \
-             {worst_exit:e}, stretch before it outside by at most {worst_inside:e} (bound {surface_bound:e})",
+             {worst_exit:e}, stretch before it outside by at most {worst_inside:e} (bound {surface_bound:e}); \
+             steps saved by stopping at the exit {steps_saved}, steps differing from the CPU's {steps_differ}",
             counts[PIXEL_HIT as usize], counts[PIXEL_MISS as usize], counts[PIXEL_LEFT_SHELL as usize]
         );
         assert!(covered > 2000, "{name}: covered {covered}");
+        assert_eq!(steps_differ, 0, "{name}: GPU steps differ from trace_within's");
         assert!(f64::from(compared) >= 0.99 * f64::from(covered), "{name}: compared {compared} of {covered}");
         assert!(worst_exit <= surface_bound, "{name}: exit point {worst_exit} off the torus > {surface_bound}");
         assert!(worst_inside <= surface_bound, "{name}: the stretch leaves the torus by {worst_inside}");

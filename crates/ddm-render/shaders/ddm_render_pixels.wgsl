@@ -46,10 +46,11 @@ fn shade_texel(texel: BaseGBufferTexel, exit: f32) -> BaseRenderPixel {
     let slab = params.slab.xyz;
     let frame = render_tangent_frame(texel, slab);
     let ray = render_tangent_ray(texel, frame, params.eye.xyz, slab, f32(uniforms.dims_max_steps.z));
-    let result = trace_ray(uniforms, ray[0], ray[1]);
+    // The trace stops where the ray leaves the base mesh's solid: nothing beyond is seen.
+    let shell_exit = render_shell_exit(texel.normal_depth.w, exit, ray[1]);
+    let result = trace_ray_within(uniforms, ray[0], ray[1], shell_exit);
     let light = params.light.xyz;
     let ambient = params.light.w;
-    let shell_exit = render_shell_exit(texel.normal_depth.w, exit, ray[1]);
     let pixel_class = render_pixel_class(
         result.normal_hit.w == 1.0,
         result.point_t.w,

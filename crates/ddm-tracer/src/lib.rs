@@ -113,6 +113,6 @@ pub use maps::{CompressMapsError, CompressedMaps, ConeDistances, ConeSelector, D
 pub use patch::TracePatch;
 pub use patches::{MAX_PATCH_VOXELS, PatchError, PatchSettings, PatchSurface, VoxelPatches};
 pub use relief::{HeightMap, HeightMapError, relief_trace};
-pub use trace::{Method, Stepping, TraceHit, TraceOutcome, TraceSettings, trace};
+pub use trace::{Method, NO_LIMIT, Stepping, TraceHit, TraceOutcome, TraceSettings, trace, trace_within};
 #[cfg(feature = "wgsl")]
 pub use wgsl::WGSL;

@@ -115,6 +115,9 @@ impl TraceOutcome {
     }
 }
 
+/// The `max_t` of [`trace_within`] that never stops a ray (`f32::MAX`, a value WGSL holds).
+pub const NO_LIMIT: f32 = f32::MAX;
+
 /// Traces the ray `origin + t direction` (Algorithm 3.1). Rays that do not point down
 /// (`direction.z ≥ 0`), directions outside the maps' cones (or whose cone has no map in
 /// `source`), and non-finite input miss with zero steps. `patches` is needed by
@@ -125,6 +128,22 @@ pub fn trace<S: DistanceSource>(
     origin: Vec3,
     direction: Vec3,
     settings: TraceSettings,
+) -> TraceOutcome {
+    trace_within(source, patches, origin, direction, settings, NO_LIMIT)
+}
+
+/// [`trace`] that gives up, as a miss (not exhausted), once its march passes the ray
+/// parameter `max_t` (measured like [`TraceHit::t`]): no hit at `t ≤ max_t` is lost,
+/// since the march reaches a hit's voxel before passing the hit. A renderer passes where
+/// the ray leaves the base mesh's solid (`tangent_space::shell_exit`), so that silhouette
+/// rays stop there instead of running along the slab. WGSL twin: `trace_ray_within`.
+pub fn trace_within<S: DistanceSource>(
+    source: &S,
+    patches: Option<&VoxelPatches>,
+    origin: Vec3,
+    direction: Vec3,
+    settings: TraceSettings,
+    max_t: f32,
 ) -> TraceOutcome {
     let dims = source.dims();
     if !(origin.is_finite() && direction.is_finite()) || dims.cmpeq(UVec3::ZERO).any() {
@@ -146,7 +165,7 @@ pub fn trace<S: DistanceSource>(
     while steps < settings.max_steps {
         let p = start + d * t;
         let probe = p + d * NUDGE;
-        if probe.z < 0.0 {
+        if probe.z < 0.0 || t_enter + t > max_t {
             return TraceOutcome::miss(steps, cone);
         }
         let v = IVec3::new(
@@ -273,5 +292,27 @@ mod tests {
         // Upward rays and rays outside the downward cones miss without a step.
         let up = trace(&maps, Some(&patches), Vec3::new(1.0, 1.0, 2.0), Vec3::Z, quadric);
         assert_eq!((up.hit, up.steps), (None, 0));
+    }
+
+    #[test]
+    fn a_limited_trace_keeps_every_hit_before_its_limit_and_stops_after_it() {
+        let dims = UVec3::new(6, 6, 4);
+        let tris = mesostructure::plane(dims, 1.37);
+        let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+        let maps = compute_distance_maps(dims, &tris, MapKind::Plain, settings).unwrap();
+        let patches = VoxelPatches::build(dims, &tris, &maps.surface, PatchSettings::default()).unwrap();
+        let quadric = TraceSettings { method: Method::Quadric, max_steps: 64, stepping: Stepping::Distance };
+        for k in 0..40 {
+            let a = k as f32 * 0.9;
+            let origin = Vec3::new(1.3 + k as f32 * 0.21, 4.1, 4.0);
+            let direction = Vec3::new(libm::cosf(a) * 2.5, libm::sinf(a) * 2.5, -1.0);
+            let full = trace(&maps, Some(&patches), origin, direction, quadric);
+            let hit = full.hit.unwrap();
+            // At or beyond the hit the limit changes nothing; before it the ray stops as a
+            // miss that is not exhausted, with no more steps than the full trace took.
+            assert_eq!(trace_within(&maps, Some(&patches), origin, direction, quadric, hit.t), full);
+            let short = trace_within(&maps, Some(&patches), origin, direction, quadric, 0.5 * hit.t);
+            assert!(short.hit.is_none() && !short.exhausted && short.steps <= full.steps, "ray {k}: {short:?}");
+        }
     }
 }

@@ -15,6 +15,7 @@ use crate::tangent_space::{
     BaseGBufferTexel, BaseRenderParams, BaseRenderPixel, NO_EXIT, PIXEL_HIT, PIXEL_LEFT_SHELL, PIXEL_MISS,
     PIXEL_UNCOVERED,
 };
+use crate::trace::NO_LIMIT;
 use crate::voxel::NUDGE;
 
 /// The WGSL twin of this crate: `trace_ray` (Algorithms 3.1–3.3 and relief mapping over
@@ -46,6 +47,7 @@ pub const WGSL: WgslModule = WgslModule {
         gpu_const!(METHOD_QUADRIC: u32 as "TRACE_METHOD_QUADRIC"),
         gpu_const!(METHOD_RELIEF: u32 as "TRACE_METHOD_RELIEF"),
         gpu_const!(NUDGE: f32 as "TRACE_NUDGE"),
+        gpu_const!(NO_LIMIT: f32 as "TRACE_NO_LIMIT"),
         gpu_const!(POLYGON_TOLERANCE: f32 as "TRACE_POLYGON_TOLERANCE"),
         gpu_const!(BOUNDED_PATCH: f32 as "TRACE_BOUNDED_PATCH"),
         gpu_const!(STEPPING_DISTANCE: u32 as "TRACE_STEPPING_DISTANCE"),

@@ -263,6 +263,11 @@ fn relief_trace_ray(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>) -
 // maps and patches of the storage buffers. The caller guarantees finite input.
 // With TRACE_METHOD_RELIEF it runs relief_trace_ray instead.
 fn trace_ray(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>) -> TraceResult {
+    return trace_ray_within(u, origin, direction, TRACE_NO_LIMIT);
+}
+
+// Rust: ddm_tracer::trace_within (relief scenes run relief mapping, without the limit).
+fn trace_ray_within(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>, max_t: f32) -> TraceResult {
     if u.cones_method.z == TRACE_METHOD_RELIEF {
         return relief_trace_ray(u, origin, direction);
     }
@@ -289,7 +294,7 @@ fn trace_ray(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>) -> Trace
     while steps < u.dims_max_steps.w {
         let p = start + d * t;
         let probe = p + d * TRACE_NUDGE;
-        if probe.z < 0.0 {
+        if probe.z < 0.0 || t_enter + t > max_t {
             return trace_miss(steps, cone, 0u);
         }
         let v = vec3<i32>(i32(floor(probe.x)), i32(floor(probe.y)), min(i32(floor(probe.z)), idims.z - 1));

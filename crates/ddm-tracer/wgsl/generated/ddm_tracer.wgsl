@@ -9,6 +9,8 @@ const TRACE_METHOD_RELIEF: u32 = 2u;
 
 const TRACE_NUDGE: f32 = 0x1.a36e2ep-14f; // 1e-4
 
+const TRACE_NO_LIMIT: f32 = 0x1.fffffep+127f; // 3.4028235e38
+
 const TRACE_POLYGON_TOLERANCE: f32 = 0x1.a36e2ep-14f; // 1e-4
 
 const TRACE_BOUNDED_PATCH: f32 = 0x1.000000p+0f; // 1e0

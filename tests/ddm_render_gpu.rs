@@ -87,6 +87,8 @@ fn settings() -> RenderSettings {
         ambient: 0.2,
         shadow_tolerance: Some(SHADOW_TOLERANCE),
         miss_color: Vec3::new(0.2, 0.25, 0.35),
+        albedo: ddm_render::DEFAULT_ALBEDO,
+        normal_tint: ddm_render::DEFAULT_NORMAL_TINT,
     }
 }
 

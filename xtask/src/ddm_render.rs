@@ -255,6 +255,8 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
                         ambient: 0.2,
                         shadow_tolerance: Some(*tolerance),
                         miss_color: Vec3::new(0.22, 0.27, 0.36),
+                        albedo: ddm_render::DEFAULT_ALBEDO,
+                        normal_tint: ddm_render::DEFAULT_NORMAL_TINT,
                     },
                     raster_timestamps: timer.as_ref().map(|t| PassTimestamps { query_set: &t.queries, first: 0 }),
                     trace_timestamps: timer.as_ref().map(|t| PassTimestamps { query_set: &t.queries, first: 2 }),
@@ -423,6 +425,8 @@ fn interpenetration(
         ambient: 0.2,
         shadow_tolerance: Some(0.02),
         miss_color: Vec3::new(0.22, 0.27, 0.36),
+        albedo: ddm_render::DEFAULT_ALBEDO,
+        normal_tint: ddm_render::DEFAULT_NORMAL_TINT,
     };
     for k in 0..INTERPENETRATION_FRAMES {
         // The ball's plane starts a quarter tile into the maze's and moves one tile along x,
@@ -431,7 +435,9 @@ fn interpenetration(
         let offset = Vec3::new((0.25 + along) * size.x, 0.25 * size.y, size.z / 3.0);
         let ball_camera =
             Camera { eye: plane.camera.eye - offset, target: plane.camera.target - offset, ..plane.camera };
-        let frames = [DdmFrame::new(&plane.camera, settings), DdmFrame::new(&ball_camera, settings)];
+        // The ball tile golden, as the paper's Fig. 1 ball.
+        let golden = RenderSettings { albedo: Vec3::new(1.0, 0.76, 0.3), normal_tint: 0.1, ..settings };
+        let frames = [DdmFrame::new(&plane.camera, settings), DdmFrame::new(&ball_camera, golden)];
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         targets[0].encode_clear(&mut encoder).map_err(|e| e.to_string())?;
         for ((renderer, target), frame) in renderers.iter().zip(&targets).zip(&frames) {

@@ -77,8 +77,9 @@ fn shade_texel(texel: BaseGBufferTexel, exit: f32) -> BaseRenderPixel {
             shadowed = 1.0;
         }
     }
-    // Albedo: warm, tinted by the normal so the relief reads in the images.
-    let albedo = vec3<f32>(0.85, 0.72, 0.5) * 0.7 + (normal * 0.5 + 0.5) * 0.3;
+    // The albedo, tinted by the normal so the relief reads in the images.
+    let tint = params.albedo.w;
+    let albedo = params.albedo.xyz * (1.0 - tint) + (normal * 0.5 + 0.5) * tint;
     let color = albedo * (ambient + (1.0 - ambient) * diffuse);
     return BaseRenderPixel(
         vec4<f32>(color, RENDER_PIXEL_HIT),

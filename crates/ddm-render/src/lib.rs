@@ -65,7 +65,7 @@ pub use gbuffer::{
 };
 pub use readback::{PixelReadback, pixels_to_image, render_to_pixels};
 pub use renderer::{
-    COLOR_TARGET_FORMAT, DEPTH_TARGET_FORMAT, DdmFrame, DdmRenderPipelines, DdmRenderer, DdmTarget, GpuSceneBuffers,
-    RenderSettings, TargetKind,
+    COLOR_TARGET_FORMAT, DEFAULT_ALBEDO, DEFAULT_NORMAL_TINT, DEPTH_TARGET_FORMAT, DdmFrame, DdmRenderPipelines,
+    DdmRenderer, DdmTarget, GpuSceneBuffers, RenderSettings, TargetKind,
 };
 pub use timing::{RendererTimes, time_frames};

@@ -74,6 +74,9 @@ gpu_struct! {
         pub slab: Vec4,
         /// Colour of the base mesh where the ray misses the mesostructure (`rgb`).
         pub miss_color: Vec4,
+        /// The mesostructure's albedo in `rgb`; in `w` how much of it is replaced by the
+        /// normal's colour `0.5 n + 0.5`, so that the relief reads in the images.
+        pub albedo: Vec4,
     }
 }
 

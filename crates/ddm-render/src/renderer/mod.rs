@@ -313,7 +313,18 @@ pub struct RenderSettings {
     pub shadow_tolerance: Option<f32>,
     /// Colour of the base mesh where the ray misses the mesostructure (linear RGB, finite).
     pub miss_color: Vec3,
+    /// The mesostructure's albedo (linear RGB, finite and ≥ 0): [`DEFAULT_ALBEDO`] is
+    /// `xtask ddm-render`'s warm sand.
+    pub albedo: Vec3,
+    /// How much of the albedo is replaced by the shading normal's colour `0.5 n + 0.5`
+    /// (in `[0, 1]`; [`DEFAULT_NORMAL_TINT`]), so that the relief reads in the images.
+    pub normal_tint: f32,
 }
+
+/// The albedo of `xtask ddm-render`'s images.
+pub const DEFAULT_ALBEDO: Vec3 = Vec3::new(0.85, 0.72, 0.5);
+/// The normal tint of `xtask ddm-render`'s images.
+pub const DEFAULT_NORMAL_TINT: f32 = 0.3;
 
 impl RenderSettings {
     /// The frame's [`BaseRenderParams`] for a camera at `eye`. Errors name the field that
@@ -336,6 +347,12 @@ impl RenderSettings {
         if !self.miss_color.is_finite() {
             return Err(DdmRenderError::InvalidSettings("miss_color must be finite"));
         }
+        if !(self.albedo.is_finite() && self.albedo.min_element() >= 0.0) {
+            return Err(DdmRenderError::InvalidSettings("albedo must be finite and ≥ 0"));
+        }
+        if !(0.0..=1.0).contains(&self.normal_tint) {
+            return Err(DdmRenderError::InvalidSettings("normal_tint must lie in [0, 1]"));
+        }
         if !eye.is_finite() {
             return Err(DdmRenderError::InvalidCamera("eye must be finite"));
         }
@@ -344,6 +361,7 @@ impl RenderSettings {
             light: self.light.extend(self.ambient),
             slab: self.slab.extend(tolerance),
             miss_color: self.miss_color.extend(0.0),
+            albedo: self.albedo.extend(self.normal_tint),
         })
     }
 }

@@ -73,12 +73,13 @@ struct BaseGBufferTexel {
     normal_depth: vec4<f32>, // offset 48
 }
 
-// Rust size 64 bytes.
+// Rust size 80 bytes.
 struct BaseRenderParams {
     eye: vec4<f32>, // offset 0
     light: vec4<f32>, // offset 16
     slab: vec4<f32>, // offset 32
     miss_color: vec4<f32>, // offset 48
+    albedo: vec4<f32>, // offset 64
 }
 
 // Rust size 64 bytes.

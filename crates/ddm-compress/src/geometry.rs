@@ -201,6 +201,82 @@ pub fn closest_point_on_triangle(point: Vec3, triangle: &Triangle) -> Vec3 {
     a + ab * v + ac * w
 }
 
+/// The distance between `aabb` and `triangle` (0 when they touch), less a rounding margin
+/// of a few float ulps, so never above the true distance.
+///
+/// Two disjoint convex polytopes have a closest pair with a vertex of one on the other, or
+/// on two edges (a face–face or face–edge pair slides to one of these): the minimum over
+/// the triangle's vertices against the box, the box's 8 corners against the triangle
+/// ([`closest_point_on_triangle`]) and the 3 × 12 edge pairs (Ericson, *Real-Time Collision
+/// Detection*, §5.1.9) is the distance. Each candidate is the distance of a real pair of
+/// points, so rounding can only lose the exact minimiser by a second-order amount; the
+/// margin covers it. Intersecting pairs ([`triangle_overlaps_box`]) are at distance 0.
+pub fn box_triangle_distance(aabb: &Aabb, triangle: &Triangle) -> f32 {
+    if triangle_overlaps_box(triangle, aabb) {
+        return 0.0;
+    }
+    let center = aabb.center();
+    let half = (aabb.max - aabb.min) * 0.5;
+    let local = Triangle(triangle.0.map(|v| v - center));
+    let [a, b, c] = local.0;
+    let mut best = [a, b, c].iter().map(|&v| v.distance_squared(v.clamp(-half, half))).fold(f32::INFINITY, f32::min);
+    let corner = |i: u32| {
+        Vec3::new(
+            if i & 1 == 0 { -half.x } else { half.x },
+            if i & 2 == 0 { -half.y } else { half.y },
+            if i & 4 == 0 { -half.z } else { half.z },
+        )
+    };
+    for i in 0..8 {
+        let p = corner(i);
+        best = best.min(p.distance_squared(closest_point_on_triangle(p, &local)));
+    }
+    for (p, q) in [(a, b), (b, c), (c, a)] {
+        for i in 0..8_u32 {
+            // Each box edge once: from corner `i` along each axis whose bit `i` lacks.
+            for axis in [1_u32, 2, 4] {
+                if i & axis == 0 {
+                    best = best.min(segment_distance_squared(p, q, corner(i), corner(i | axis)));
+                }
+            }
+        }
+    }
+    let scale = 1.0 + center.abs().max_element() + a.abs().max(b.abs()).max(c.abs()).max_element() + half.max_element();
+    (libm::sqrtf(best) - 2e-6 * scale).max(0.0)
+}
+
+/// The squared distance between segments `p1 q1` and `p2 q2`: that of the pair of points
+/// Ericson's closest-point method (*Real-Time Collision Detection*, §5.1.9) finds, clamped
+/// to the segments (so always that of a real pair).
+fn segment_distance_squared(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3) -> f32 {
+    let (d1, d2, r) = (q1 - p1, q2 - p2, p1 - p2);
+    let (a, e, f) = (d1.length_squared(), d2.length_squared(), d2.dot(r));
+    const DEGENERATE: f32 = 1e-12;
+    let (s, t) = if a <= DEGENERATE && e <= DEGENERATE {
+        (0.0, 0.0)
+    } else if a <= DEGENERATE {
+        (0.0, (f / e).clamp(0.0, 1.0))
+    } else {
+        let c = d1.dot(r);
+        if e <= DEGENERATE {
+            ((-c / a).clamp(0.0, 1.0), 0.0)
+        } else {
+            let b = d1.dot(d2);
+            let denominator = a * e - b * b;
+            let s = if denominator > 0.0 { ((b * f - c * e) / denominator).clamp(0.0, 1.0) } else { 0.0 };
+            let t = (b * s + f) / e;
+            if t < 0.0 {
+                ((-c / a).clamp(0.0, 1.0), 0.0)
+            } else if t > 1.0 {
+                (((b - c) / a).clamp(0.0, 1.0), 1.0)
+            } else {
+                (s, t)
+            }
+        }
+    };
+    (p1 + d1 * s).distance_squared(p2 + d2 * t)
+}
+
 /// A lower bound of `min |m − v|` over `v ∈ aabb`, `m ∈ triangle` with `m − v` inside
 /// `cone` (any direction when `cone` is `None`), or `f32::INFINITY` when no such pair
 /// exists. Never larger than the true value.
@@ -297,6 +373,36 @@ mod tests {
             }
         }
         best
+    }
+
+    #[test]
+    fn box_triangle_distance_is_the_sampled_distance_within_its_resolution() {
+        let unit = Aabb::voxel(0, 0, 0);
+        let below = Triangle([Vec3::new(-1.0, -1.0, -2.0), Vec3::new(3.0, -1.0, -2.0), Vec3::new(-1.0, 3.0, -2.0)]);
+        let d = box_triangle_distance(&unit, &below);
+        assert!(d <= 2.0 && d > 2.0 - 1e-4, "{d}");
+        // Edge to edge: a segment along y at x = 2, z = 2 is √2 from the box edge x = z = 1.
+        let skew = Triangle([Vec3::new(2.0, -3.0, 2.0), Vec3::new(2.0, 4.0, 2.0), Vec3::new(5.0, 0.5, 5.0)]);
+        let d = box_triangle_distance(&unit, &skew);
+        assert!((d - 2.0_f32.sqrt()).abs() < 1e-4, "{d}");
+        let mut next = crate::test_random::uniform(0x9f1c_3a5d_77e2_0b49_u64);
+        let mut compared = 0;
+        for _ in 0..300 {
+            let mut vertex = || Vec3::new(next(), next(), next()) * 6.0 - 2.5;
+            let triangle = Triangle([vertex(), vertex(), vertex()]);
+            let d = box_triangle_distance(&unit, &triangle);
+            // The sampled distance is an upper estimate within the sampling's spacing
+            // (the triangle's longest edge / 60, its edges below 6√3).
+            let sampled = sampled_box_triangle_distance(&triangle, &unit);
+            assert!(d <= sampled + 1e-5, "{triangle:?}: {d} > sampled {sampled}");
+            assert!(d >= sampled - 6.0 * 3.0_f32.sqrt() / 60.0, "{triangle:?}: {d} ≪ sampled {sampled}");
+            assert!(d >= separation_lower_bound(&triangle, &unit) - 1e-4, "{triangle:?}");
+            if triangle_overlaps_box(&triangle, &unit) {
+                assert_eq!(d, 0.0, "{triangle:?}");
+            }
+            compared += 1;
+        }
+        assert_eq!(compared, 300);
     }
 
     #[test]

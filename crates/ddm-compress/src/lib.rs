@@ -48,13 +48,14 @@
 //! # Modules
 //!
 //! - [`cones`]: the `m × n` direction cones over azimuth and elevation.
-//! - [`geometry`]: boxes, triangles, overlap and the conservative directional distance
-//!   bound.
+//! - [`geometry`]: boxes, triangles, overlap, the exact box–triangle distance
+//!   ([`box_triangle_distance`]) and the conservative directional distance bound.
 //! - [`bvh`]: the triangle hierarchy that makes [`compute_distance_maps`] fast.
 //! - [`ddm`]: directional and plain distance maps of a triangle mesh ([`MapKind`] says
 //!   which; [`DistanceMapError`] why inputs are refused; the per-voxel
 //!   search over all cones at once lives in the private `search` module, its cone-aware
-//!   duality bounds in the private `convex_cone` module).
+//!   duality bounds in the private `convex_cone` module, the plain map's box–mesh
+//!   distance by alternating projections in the private `plain` module).
 //! - [`compress`]: the lookup grid and atlas (Algorithm A.1) and access (Algorithm A.2);
 //!   [`CompressError`] says why a map cannot be compressed.
 //! - [`serialize`]: a versioned binary form that rejects corrupt data.
@@ -113,6 +114,7 @@ pub mod cones;
 mod convex_cone;
 pub mod ddm;
 pub mod geometry;
+mod plain;
 mod search;
 pub mod serialize;
 #[cfg(test)]
@@ -128,7 +130,7 @@ pub use cones::{Cone, ConeError, ConeRelation, DirectionCones, DirectionRange, E
 pub use ddm::{
     DistanceMapError, DistanceMapSettings, DistanceMaps, MAX_VALUES, MAX_VOXELS, MapKind, compute_distance_maps,
 };
-pub use geometry::{Aabb, Triangle};
+pub use geometry::{Aabb, Triangle, box_triangle_distance};
 pub use serialize::DecodeError;
 #[cfg(feature = "wgsl")]
 pub use wgsl::WGSL;

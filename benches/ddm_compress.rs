@@ -3,10 +3,14 @@
 //! (`compute_distance_maps`, all threads) against the previous per-cone computation
 //! (`reference_distance_maps`, one thread) on a small grid, and the current one at the
 //! paper's resolution (64 × 64 × 16, 8 cones) on a wavy floor and on every mesostructure
-//! (`cargo xtask bench -- ddm_compress/mesostructure` runs only the latter).
+//! (`cargo xtask bench -- ddm_compress/mesostructure` runs only the latter). The group
+//! `plain_map` times the plain (Euclidean) map of a 9 024-triangle torus at 64³ against the
+//! per-cone computation and against the point-sampled distance field of the `mesh_to_sdf`
+//! crate, and prints how tight each is.
 
 use std::hint::black_box;
 
+use benches::plain_map;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use ddm_compress::testing::reference_distance_maps;
 use ddm_compress::{CompressedMap, DirectionCones, DistanceMapSettings, MapKind, Triangle, compute_distance_maps};
@@ -21,6 +25,43 @@ fn wavy_floor(n: u32) -> Vec<Triangle> {
 /// The downward DDM `azimuths × elevations`.
 fn downward(azimuths: u32, elevations: u32) -> MapKind {
     MapKind::Directional(DirectionCones::downward(azimuths, elevations).unwrap_or_else(|e| panic!("{e}")))
+}
+
+/// The plain map of [`plain_map::torus_9024`] at [`plain_map::DIMS`] timed three ways, and
+/// their mean values (a larger mean is a tighter lower bound, hence longer steps).
+fn plain(c: &mut Criterion) {
+    let dims = plain_map::DIMS;
+    let torus = plain_map::torus_9024();
+    let settings = |tolerance| DistanceMapSettings { tolerance, periodic_xy: false };
+    let ours = compute_distance_maps(dims, &torus, MapKind::Plain, settings(0.25)).unwrap_or_else(|e| panic!("{e}"));
+    let baseline = plain_map::centre_sdf_bound(dims, &torus);
+    let off_surface: Vec<usize> = (0..ours.surface.len()).filter(|&i| !ours.surface[i]).collect();
+    let mean =
+        |values: &[f32]| off_surface.iter().map(|&i| f64::from(values[i])).sum::<f64>() / off_surface.len() as f64;
+    let looser = off_surface.iter().filter(|&&i| ours.values[0][i] < baseline[i] - 1e-3).count();
+    println!(
+        "plain map, {} voxels off the surface: mean {:.4} (ours, tolerance 0.25) vs {:.4} (mesh_to_sdf centre bound); ours \
+         more than 1e-3 below the baseline at {looser} (where the baseline, which propagates nearest triangles, exceeds \
+         the true centre bound: benches/tests/plain_map_baseline.rs)",
+        off_surface.len(),
+        mean(&ours.values[0]),
+        mean(&baseline),
+    );
+    let mut group = c.benchmark_group("plain_map");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(u64::from(dims.x * dims.y * dims.z)));
+    for tolerance in [0.25, 0.05] {
+        group.bench_function(format!("compute_distance_maps/torus_9024/64x64x64/tolerance_{tolerance}"), |b| {
+            b.iter(|| compute_distance_maps(black_box(dims), &torus, MapKind::Plain, settings(tolerance)));
+        });
+    }
+    group.bench_function("reference_distance_maps/torus_9024/64x64x64/tolerance_0.25", |b| {
+        b.iter(|| reference_distance_maps(black_box(dims), &torus, MapKind::Plain, settings(0.25)));
+    });
+    group.bench_function("mesh_to_sdf_centre_bound/torus_9024/64x64x64", |b| {
+        b.iter(|| plain_map::centre_sdf_bound(black_box(dims), &torus));
+    });
+    group.finish();
 }
 
 fn ddm(c: &mut Criterion) {
@@ -78,5 +119,5 @@ fn ddm(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, ddm);
+criterion_group!(benches, plain, ddm);
 criterion_main!(benches);

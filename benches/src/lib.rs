@@ -119,3 +119,63 @@ pub mod displaced {
         Domain { origin: Vec3::splat(-1.0), size: 2.0 }
     }
 }
+
+/// The closed mesh of the plain distance map's build benchmark (issue 13, part 6): a
+/// torus of 96 × 47 quads (9 024 triangles) tilted in a 64³ grid, and the baseline it is
+/// measured against.
+pub mod plain_map {
+    use ddm_compress::Triangle;
+    use glam::{UVec3, Vec3};
+    use mesostructure::Ring;
+
+    /// The grid of the benchmark.
+    pub const DIMS: UVec3 = UVec3::splat(64);
+
+    /// A torus of `segments × sides` quads (two triangles each) centred in a `dims` grid,
+    /// its axis tilted off z, centre radius `0.3 dims.x` and tube radius `0.12 dims.x`.
+    pub fn tilted_torus(dims: UVec3, segments: u32, sides: u32) -> Vec<Triangle> {
+        let size = dims.as_vec3();
+        Ring {
+            center: size * 0.5,
+            axis: Vec3::new(0.3, 0.2, 1.0).normalize(),
+            major_radius: 0.3 * size.x,
+            minor_radius: 0.12 * size.x,
+        }
+        .triangles(segments, sides)
+    }
+
+    /// The benchmark's mesh: [`tilted_torus`] of 96 × 47 quads in [`DIMS`].
+    pub fn torus_9024() -> Vec<Triangle> {
+        tilted_torus(DIMS, 96, 47)
+    }
+
+    /// The conservative bound a grid signed distance field gives: `|sdf|` at each voxel
+    /// centre (the `mesh_to_sdf` crate's `generate_grid_sdf`, which propagates nearest
+    /// triangles from the cells around each triangle) less half the voxel diagonal,
+    /// clamped at 0; voxel order `x + dims.x (y + dims.y z)`, as the distance maps.
+    pub fn centre_sdf_bound(dims: UVec3, triangles: &[Triangle]) -> Vec<f32> {
+        let vertices: Vec<[f32; 3]> = triangles.iter().flat_map(|t| t.0.map(|v| v.to_array())).collect();
+        let size = dims.as_vec3().to_array();
+        let cells = [dims.x as usize, dims.y as usize, dims.z as usize];
+        let grid = mesh_to_sdf::Grid::from_bounding_box(&[0.0, 0.0, 0.0], &size, cells);
+        let sdf = mesh_to_sdf::generate_grid_sdf(
+            &vertices,
+            mesh_to_sdf::Topology::TriangleList(None::<&[u32]>),
+            &grid,
+            mesh_to_sdf::SignMethod::Normal,
+        );
+        // `mesh_to_sdf` orders cells z fastest (`x · ny · nz + y · nz + z`).
+        let (ny, nz) = (dims.y as usize, dims.z as usize);
+        let half_diagonal = 0.75_f32.sqrt();
+        let mut bound = vec![0.0; sdf.len()];
+        for x in 0..dims.x as usize {
+            for y in 0..ny {
+                for z in 0..nz {
+                    let value = sdf[x * ny * nz + y * nz + z];
+                    bound[x + dims.x as usize * (y + ny * z)] = (value.abs() - half_diagonal).max(0.0);
+                }
+            }
+        }
+        bound
+    }
+}

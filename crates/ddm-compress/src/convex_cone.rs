@@ -334,7 +334,20 @@ impl ConvexCone {
         if h.is_nan() || h <= 0.0 {
             return 0.0;
         }
-        h / (self.project(w).length() + PROJECTION_SLACK)
+        h / self.bound_denominator(w)
+    }
+
+    /// The denominator `|P_K(w)| + δ` of [`ConvexCone::bound`] (see [`PROJECTION_SLACK`]).
+    pub(crate) fn bound_denominator(&self, w: Vec3) -> f32 {
+        self.project(w).length() + PROJECTION_SLACK
+    }
+
+    /// [`ConvexCone::bound`] from its denominator ([`ConvexCone::bound_denominator`]).
+    pub(crate) fn bound_over(h: f32, denominator: f32) -> f32 {
+        if h.is_nan() || h <= 0.0 {
+            return 0.0;
+        }
+        h / denominator
     }
 }
 

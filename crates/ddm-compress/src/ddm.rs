@@ -21,7 +21,7 @@ use crate::bvh::TriangleBvh;
 use crate::cones::{Cone, DirectionCones};
 use crate::geometry::{Aabb, Triangle};
 use crate::plain::{Child, PlainHierarchy};
-use crate::search::{CONES_PER_SEARCH, TriangleAxes, VoxelSearch};
+use crate::search::{AxisDenominators, CONES_PER_SEARCH, TriangleAxes, VoxelSearch};
 
 /// Which distance maps are computed: the plain distance map, or one directional distance
 /// map per cone.
@@ -214,6 +214,8 @@ pub(crate) struct Scene {
     pub(crate) bvh: TriangleBvh,
     /// The separating axes of each of the hierarchy's triangles, in its order.
     axes: Vec<TriangleAxes>,
+    /// Per group of [`CONES_PER_SEARCH`] cones, the bound denominators of the axes.
+    denominators: Vec<AxisDenominators>,
     /// The plain map's hierarchy (for [`MapKind::Plain`] only).
     plain: Option<PlainHierarchy>,
     /// Each map's cone (`None`: every direction).
@@ -273,11 +275,30 @@ impl Scene {
         let bvh = TriangleBvh::new(all);
         let plain = matches!(kind, MapKind::Plain).then(|| PlainHierarchy::new(&bvh));
         // The plain map searches its own hierarchy, which needs no separating axes.
-        let axes = if plain.is_some() { Vec::new() } else { bvh.triangles().iter().map(TriangleAxes::of).collect() };
+        // The periodic copies (after the first `triangles.len()`) take their originals' axes.
+        let axes: Vec<TriangleAxes> = if plain.is_some() {
+            Vec::new()
+        } else {
+            let originals: Vec<TriangleAxes> = triangles.iter().map(TriangleAxes::of).collect();
+            bvh.triangles()
+                .iter()
+                .zip(originals.iter().cycle())
+                .map(|(triangle, original)| original.translated(triangle))
+                .collect()
+        };
+        let denominators = if plain.is_some() {
+            Vec::new()
+        } else {
+            cone_list
+                .chunks(CONES_PER_SEARCH)
+                .map(|chunk| AxisDenominators::new(chunk, &axes, triangles.len()))
+                .collect()
+        };
         Ok(Self {
             dims,
             bvh,
             axes,
+            denominators,
             plain,
             cone_list,
             tolerance: settings.tolerance,
@@ -310,16 +331,16 @@ impl Scene {
                 scratch.nearest = found.nearest.or(scratch.nearest);
                 continue;
             }
-            for (k, (chunk, out)) in
-                self.cone_list.chunks(CONES_PER_SEARCH).zip(out.chunks_mut(CONES_PER_SEARCH)).enumerate()
-            {
+            let chunks = self.cone_list.chunks(CONES_PER_SEARCH).zip(out.chunks_mut(CONES_PER_SEARCH));
+            // One entry of `denominators` per chunk (built so in `new`).
+            for (k, ((chunk, out), denominators)) in chunks.zip(&self.denominators).enumerate() {
                 let mut search = VoxelSearch::new(chunk, self.tolerance, self.max_distance);
                 // The previous voxel's witnesses usually bound this one's values closely.
                 let seeds = scratch.seeds.get_mut(k);
                 if let Some(seeds) = &seeds {
                     search.seed(&voxel, seeds);
                 }
-                search.run(&self.bvh, &self.axes, &voxel, &mut scratch.nodes);
+                search.run(&self.bvh, &self.axes, denominators, &voxel, &mut scratch.nodes);
                 for (c, value) in out.iter_mut().enumerate() {
                     *value = search.value(c);
                 }

@@ -138,11 +138,13 @@ impl<'a> VoxelSearch<'a> {
     }
 
     /// Searches the triangles of `bvh` from `voxel`; `axes[i]` are the separating axes of
-    /// `bvh.triangles()[i]` ([`TriangleAxes::of`]).
+    /// `bvh.triangles()[i]` ([`TriangleAxes::of`]), `denominators` their bound
+    /// denominators for this search's cones.
     pub(crate) fn run(
         &mut self,
         bvh: &TriangleBvh,
         axes: &[TriangleAxes],
+        denominators: &AxisDenominators,
         voxel: &Aabb,
         stack: &mut Vec<(u32, f32, u32)>,
     ) {
@@ -167,7 +169,7 @@ impl<'a> VoxelSearch<'a> {
                     else {
                         continue;
                     };
-                    self.refine_with(voxel, triangle, triangle_axes, mask, 0.0);
+                    self.refine_with(voxel, triangle, triangle_axes, denominators.of(i as usize), mask, 0.0);
                 }
                 continue;
             }
@@ -232,11 +234,21 @@ impl<'a> VoxelSearch<'a> {
     /// Refines the pair (`aabb`, `triangle`) for the cones of `mask`; `parent` is the
     /// parent pair's (undirected) lower bound.
     fn refine(&mut self, aabb: &Aabb, triangle: &Triangle, mask: u32, parent: f32) {
-        self.refine_with(aabb, triangle, &TriangleAxes::of(triangle), mask, parent);
+        self.refine_with(aabb, triangle, &TriangleAxes::of(triangle), None, mask, parent);
     }
 
     /// [`VoxelSearch::refine`] with the triangle's separating axes already computed.
-    fn refine_with(&mut self, aabb: &Aabb, triangle: &Triangle, axes: &TriangleAxes, mask: u32, parent: f32) {
+    /// `denominators` are the triangle's [`AxisDenominators`] for every cone of the search
+    /// (`None`: computed as needed).
+    fn refine_with(
+        &mut self,
+        aabb: &Aabb,
+        triangle: &Triangle,
+        axes: &TriangleAxes,
+        denominators: Option<&[f32]>,
+        mask: u32,
+        parent: f32,
+    ) {
         let apart = axes.apart_from(triangle, aabb);
         let gap = apart.gap.max(parent);
         let mut open = self.still_open(mask, gap);
@@ -257,7 +269,8 @@ impl<'a> VoxelSearch<'a> {
             match (self.cones[c], self.convex[c]) {
                 (Some(cone), Some(convex)) => {
                     let (cone, convex) = (&cone, &convex);
-                    let (bound, best_axis) = cone_bound(convex, triangle, aabb, &apart);
+                    let cone_denominators = denominators.and_then(|d| d.get(c * AXIS_SLOTS..(c + 1) * AXIS_SLOTS));
+                    let (bound, best_axis) = cone_bound(convex, triangle, aabb, &apart, cone_denominators);
                     g = g.max(bound);
                     let upper = self.upper[c];
                     if !(g < self.lower[c] && g <= upper + 1e-4 * (1.0 + upper)) {
@@ -313,8 +326,8 @@ impl<'a> VoxelSearch<'a> {
             let halves = aabb.split();
             // The half nearer the triangle first: it lowers the minimum sooner.
             let first = usize::from(halves[1].center().distance_squared(ct) < halves[0].center().distance_squared(ct));
-            self.refine_with(&halves[first], triangle, axes, open, gap);
-            self.refine_with(&halves[1 - first], triangle, axes, open, gap);
+            self.refine_with(&halves[first], triangle, axes, denominators, open, gap);
+            self.refine_with(&halves[1 - first], triangle, axes, denominators, open, gap);
         } else {
             let halves = triangle.split();
             let first = usize::from(halves[1].center().distance_squared(cb) < halves[0].center().distance_squared(cb));
@@ -329,6 +342,7 @@ impl<'a> VoxelSearch<'a> {
 /// axes, the normal and the 9 edge–axis cross products), normalised, with the interval of
 /// the triangle's vertices along each. Splitting the box keeps them, so they are computed
 /// once per triangle piece.
+#[derive(Clone, Copy)]
 pub(crate) struct TriangleAxes {
     axes: [Vec3; 16],
     /// `(min, max)` of `axis · vertex`.
@@ -339,6 +353,7 @@ pub(crate) struct TriangleAxes {
 }
 
 impl TriangleAxes {
+    /// The axes of `triangle`.
     pub(crate) fn of(triangle: &Triangle) -> Self {
         let [a, b, c] = triangle.0;
         let edges = [b - a, c - b, a - c];
@@ -371,6 +386,20 @@ impl TriangleAxes {
         axes
     }
 
+    /// The axes of `self` with the extents of `triangle`, a translated copy of the
+    /// triangle `self` belongs to (a periodic neighbour). Any unit axis bounds the
+    /// distance along it, so these are as valid as the copy's own (which differ from them
+    /// by rounding), and the copy shares the triangle's [`AxisDenominators`] exactly.
+    pub(crate) fn translated(&self, triangle: &Triangle) -> Self {
+        let [a, b, c] = triangle.0;
+        let mut axes = Self { magnitude: a.abs().max(b.abs()).max(c.abs()).max_element(), ..*self };
+        for (extent, axis) in axes.extent[..axes.count].iter_mut().zip(&self.axes) {
+            let (pa, pb, pc) = (a.dot(*axis), b.dot(*axis), c.dot(*axis));
+            *extent = (pa.min(pb).min(pc), pa.max(pb).max(pc));
+        }
+        axes
+    }
+
     /// The axes along which the triangle and `aabb` are apart, each oriented from the box
     /// to the triangle with its gap `h ≤ h_A(w)`, and the largest gap (with the axis
     /// joining the centres): a lower bound of their distance.
@@ -379,24 +408,26 @@ impl TriangleAxes {
         let half = aabb.max - center;
         let scale = 1.0 + center.abs().max_element() + self.magnitude + half.max_element();
         let margin = 1e-6 * scale;
-        let mut apart = SeparatingAxes { axes: [(Vec3::ZERO, 0.0); 17], count: 0, gap: 0.0, margin };
-        let mut push = |axis: Vec3, low: f32, high: f32| {
+        let mut apart =
+            SeparatingAxes { axes: [(Vec3::ZERO, 0.0); 17], slots: [CENTRE_SLOT; 17], count: 0, gap: 0.0, margin };
+        let mut push = |axis: Vec3, low: f32, high: f32, slot: u8| {
             let s = axis.dot(center);
             let r = half.x * axis.x.abs() + half.y * axis.y.abs() + half.z * axis.z.abs();
             let (forward, backward) = (low - s - r - margin, s - r - high - margin);
-            let entry = if forward > 0.0 {
-                (axis, forward)
+            let (entry, slot) = if forward > 0.0 {
+                ((axis, forward), slot)
             } else if backward > 0.0 {
-                (-axis, backward)
+                ((-axis, backward), slot | 1)
             } else {
                 return;
             };
             apart.gap = apart.gap.max(entry.1);
             apart.axes[apart.count] = entry;
+            apart.slots[apart.count] = slot;
             apart.count += 1;
         };
-        for (&axis, &(low, high)) in self.axes[..self.count].iter().zip(&self.extent) {
-            push(axis, low, high);
+        for (j, (&axis, &(low, high))) in self.axes[..self.count].iter().zip(&self.extent).enumerate() {
+            push(axis, low, high, 2 * j as u8);
         }
         let centers = triangle.center() - center;
         let length = centers.length();
@@ -404,9 +435,68 @@ impl TriangleAxes {
             let axis = centers / length;
             let [a, b, c] = triangle.0;
             let (pa, pb, pc) = (a.dot(axis), b.dot(axis), c.dot(axis));
-            push(axis, pa.min(pb).min(pc), pa.max(pb).max(pc));
+            push(axis, pa.min(pb).min(pc), pa.max(pb).max(pc), CENTRE_SLOT);
         }
         apart
+    }
+}
+
+/// The slot of [`SeparatingAxes::slots`] that has no denominator in [`AxisDenominators`].
+const CENTRE_SLOT: u8 = u8::MAX;
+
+/// Denominators per triangle and cone: two per axis of [`TriangleAxes`].
+pub(crate) const AXIS_SLOTS: usize = 32;
+
+/// At most this many bytes of [`AxisDenominators`]; beyond, they are computed as needed.
+const MAX_DENOMINATOR_BYTES: usize = 128 << 20;
+
+/// The denominators `|P_K(±a)| + slack` of [`ConvexCone::bound`] for each fixed axis `a`
+/// of each triangle ([`TriangleAxes`]) and each cone of a search, computed once: the
+/// axes do not depend on the box, so every pair of the triangle with a voxel (or a piece
+/// of one) reuses them. The bound is the same number computed either way.
+pub(crate) struct AxisDenominators {
+    /// `values[(triangle · cones + cone) · AXIS_SLOTS + slot]`, `slot` as in
+    /// [`SeparatingAxes::slots`]; empty when over [`MAX_DENOMINATOR_BYTES`].
+    values: Vec<f32>,
+    /// Cones per triangle.
+    cones: usize,
+    /// Distinct triangles: the hierarchy's triangle `i` is a translated copy (same axes)
+    /// of triangle `i mod triangles`.
+    triangles: usize,
+}
+
+impl AxisDenominators {
+    /// The denominators of `cones` for the first `triangles` of `axes` (the later ones
+    /// being translated copies of those).
+    pub(crate) fn new(cones: &[Option<Cone>], axes: &[TriangleAxes], triangles: usize) -> Self {
+        let triangles = triangles.min(axes.len());
+        let size = triangles * cones.len() * AXIS_SLOTS;
+        if size * size_of::<f32>() > MAX_DENOMINATOR_BYTES {
+            return Self { values: Vec::new(), cones: cones.len(), triangles };
+        }
+        let convex: Vec<Option<ConvexCone>> = cones.iter().map(|c| c.as_ref().map(ConvexCone::holding)).collect();
+        let mut values = Vec::with_capacity(size);
+        for triangle_axes in &axes[..triangles] {
+            for convex in &convex {
+                let mut slots = [f32::NAN; AXIS_SLOTS];
+                if let Some(convex) = convex {
+                    for (j, &axis) in triangle_axes.axes[..triangle_axes.count].iter().enumerate() {
+                        slots[2 * j] = convex.bound_denominator(axis);
+                        slots[2 * j + 1] = convex.bound_denominator(-axis);
+                    }
+                }
+                values.extend_from_slice(&slots);
+            }
+        }
+        Self { values, cones: cones.len(), triangles }
+    }
+
+    /// The denominators of the hierarchy's triangle `index` for every cone, or `None`
+    /// when they were not stored.
+    fn of(&self, index: usize) -> Option<&[f32]> {
+        let base = index.checked_rem(self.triangles)?;
+        let per_triangle = self.cones * AXIS_SLOTS;
+        self.values.get(base * per_triangle..(base + 1) * per_triangle)
     }
 }
 
@@ -414,6 +504,10 @@ impl TriangleAxes {
 struct SeparatingAxes {
     /// `(unit axis w, h ≤ h_A(w))`, oriented from the box to the triangle.
     axes: [(Vec3, f32); 17],
+    /// Where each axis' denominator lies in [`AxisDenominators`]: `2 j` for the
+    /// triangle's axis `j`, `2 j + 1` for its opposite, [`CENTRE_SLOT`] for the axis
+    /// joining the centres (which depends on the box).
+    slots: [u8; 17],
     count: usize,
     gap: f32,
     /// Rounding margin subtracted from every gap.
@@ -487,15 +581,25 @@ fn box_witness(cone: &Cone, convex: &ConvexCone, aabb: &Aabb, m: Vec3) -> Option
 }
 
 /// A lower bound of the distance from `aabb` to `triangle` along directions of `convex`
-/// ([`ConvexCone::bound`] over the separating axes `apart` of the pair, the projection of
+/// ([`ConvexCone::bound`] over the separating axes `apart` of the pair, with the
+/// denominators of the triangle's own axes from `denominators` when given, the projection of
 /// the centres' offset onto the cone and its polar part), and the best axis other than the
 /// polar one (the projected offset when no separating axis gives a positive bound; `None`
 /// when that is zero too): where a witness is likely.
-fn cone_bound(convex: &ConvexCone, triangle: &Triangle, aabb: &Aabb, apart: &SeparatingAxes) -> (f32, Option<Vec3>) {
+fn cone_bound(
+    convex: &ConvexCone,
+    triangle: &Triangle,
+    aabb: &Aabb,
+    apart: &SeparatingAxes,
+    denominators: Option<&[f32]>,
+) -> (f32, Option<Vec3>) {
     let (center, half) = (aabb.center(), (aabb.max - aabb.min) * 0.5);
     let (mut g, mut best_axis) = (0.0_f32, None);
-    for &(axis, h) in &apart.axes[..apart.count] {
-        let bound = convex.bound(axis, h);
+    for (&(axis, h), &slot) in apart.axes[..apart.count].iter().zip(&apart.slots) {
+        let bound = match denominators.and_then(|d| d.get(usize::from(slot))) {
+            Some(&denominator) => ConvexCone::bound_over(h, denominator),
+            None => convex.bound(axis, h),
+        };
         if bound > g {
             (g, best_axis) = (bound, Some(axis));
         }
@@ -621,14 +725,18 @@ mod tests {
             let aabb = Aabb { min: Vec3::splat(-size / 2.0), max: Vec3::splat(size / 2.0) };
             let mut vertex = || Vec3::new(next(), next(), next()) * 6.0 - 3.0;
             let triangle = Triangle([vertex(), vertex(), vertex()]);
-            let apart = TriangleAxes::of(&triangle).apart_from(&triangle, &aabb);
+            let axes = TriangleAxes::of(&triangle);
+            let apart = axes.apart_from(&triangle, &aabb);
             let nearest = closest_point_on_triangle(aabb.center(), &triangle);
             for cones in cone_sets {
                 for index in 0..cones.count() {
                     let cone = cones.cone(index).unwrap();
                     let convex = ConvexCone::holding(&cone);
                     let truth = sampled(&aabb, &triangle, &cone);
-                    let (mut bound, axis) = cone_bound(&convex, &triangle, &aabb, &apart);
+                    let (mut bound, axis) = cone_bound(&convex, &triangle, &aabb, &apart, None);
+                    // The stored denominators give the same bound.
+                    let stored = AxisDenominators::new(&[Some(cone)], core::slice::from_ref(&axes), 1);
+                    assert_eq!(cone_bound(&convex, &triangle, &aabb, &apart, stored.of(0)), (bound, axis));
                     bound = bound.max(apart.gap);
                     if let Some(axis) = axis {
                         bound = bound.max(improve_bound(&convex, &triangle, &aabb, apart.margin, axis, bound).0);

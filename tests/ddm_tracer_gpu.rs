@@ -2,7 +2,8 @@
 //! Algorithms 3.1–3.3) against `ddm-tracer`'s CPU reference: plain distance map and DDM
 //! 4×1 sphere tracing, DDM + quadric (C⁰ patches, and the adaptive quadric / exact
 //! triangle patches) and relief mapping, on a maze and a ball, reading compressed maps;
-//! and lone bounded triangle patches.
+//! lone bounded triangle patches; and a tile that does not repeat, with rays from beside
+//! it.
 //!
 //! Compared per ray: hit or miss, the cone, the step count, the hit point and normal.
 //! Single precision on both sides; the GPU may contract `a + b * c` into fused
@@ -24,12 +25,12 @@
 //! `normalize` against glam's: within 4.9e-7, under [`NORMAL_FLOOR`]) and the 64 special
 //! rays at azimuth 270° (a 4-cone boundary), which the GPU assigns to the other cone.
 
-use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, MapKind, compute_distance_maps};
+use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, MapKind, Triangle, compute_distance_maps};
 use ddm_tracer::{
     CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceOutcome,
     TraceSettings, VoxelPatches, relief_trace, trace,
 };
-use ddm_tracer::{GpuScene, TraceResult};
+use ddm_tracer::{GpuScene, GpuSceneError, TraceResult};
 use glam::{UVec3, Vec2, Vec3};
 use integration_tests::gpu;
 use mesostructure::Mesostructure;
@@ -168,7 +169,16 @@ fn compare_scene(
     reference: impl Fn(Vec3, Vec3) -> TraceOutcome,
     seed: u64,
 ) -> Mismatches {
-    let rays = rays(6000, seed);
+    compare_rays(scene, kind, reference, &rays(6000, seed))
+}
+
+/// [`compare_scene`] over the given rays.
+fn compare_rays(
+    scene: &GpuScene,
+    kind: MapKind,
+    reference: impl Fn(Vec3, Vec3) -> TraceOutcome,
+    rays: &[(Vec3, Vec3)],
+) -> Mismatches {
     let inputs: Vec<TraceRay> = rays.iter().map(|&(o, d)| TraceRay::new(o, d)).collect();
     let uniforms = scene.uniforms(inputs.len() as u32);
     let (results, _): (Vec<TraceResult>, _) = gpu()
@@ -390,11 +400,7 @@ fn lone_triangle_patches_are_clipped_on_the_gpu_as_on_the_cpu() {
             for x in (y % 2..DIMS.x).step_by(2) {
                 let c = Vec3::new(x as f32 + 0.2, y as f32 + 0.25, z as f32 + 0.4);
                 let tilt = 0.05 * (x % 3) as f32;
-                triangles.push(ddm_compress::Triangle([
-                    c,
-                    c + Vec3::new(0.5, 0.1, tilt),
-                    c + Vec3::new(0.1, 0.45, -tilt),
-                ]));
+                triangles.push(Triangle([c, c + Vec3::new(0.5, 0.1, tilt), c + Vec3::new(0.1, 0.45, -tilt)]));
             }
         }
     }
@@ -435,4 +441,55 @@ fn scene_buffers_are_checked_against_the_adapter() {
     let result =
         gpu().compute_map_with_storage::<TraceRay, TraceResult>(&kernel, "trace_rays", &uniforms, &rays, &many);
     assert!(matches!(result, Err(gpu_harness::HarnessError::TooLarge { .. })), "{result:?}");
+}
+
+/// A tile that does not repeat (`periodic_xy: false` in maps, patches and GPU scene): a
+/// plane sloping from z = 1 at x = 0 to z = 4 at x = 12 and a sphere beside the x = 12
+/// border, traced from above a square reaching 3 voxels past the tile on each side, so
+/// that rays enter through the side walls (`trace_tile_entry`) and leave through them.
+#[test]
+fn a_single_tile_traces_on_the_gpu_as_on_the_cpu() {
+    let [a, b, c, d] =
+        [Vec3::new(0.0, 0.0, 1.0), Vec3::new(12.0, 0.0, 4.0), Vec3::new(12.0, 12.0, 4.0), Vec3::new(0.0, 12.0, 1.0)];
+    let mut triangles = vec![Triangle([a, b, c]), Triangle([a, c, d])];
+    triangles.extend(mesostructure::sphere(Vec3::new(10.3, 6.0, 4.4), 1.3, 16));
+    let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: false };
+    let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).unwrap());
+    let ddm = compute_distance_maps(DIMS, &triangles, ddm4x1, settings).unwrap();
+    let plain = compute_distance_maps(DIMS, &triangles, MapKind::Plain, settings).unwrap();
+    let patch_settings = PatchSettings { surface: PatchSurface::Triangles, periodic_xy: false, ..Default::default() };
+    let patches = VoxelPatches::build(DIMS, &triangles, &ddm.surface, patch_settings).unwrap();
+    // Patches built for the repeating tile do not go with these maps.
+    let periodic_patches = VoxelPatches::build(DIMS, &triangles, &ddm.surface, PatchSettings::default()).unwrap();
+    let quadric = TraceSettings { method: Method::Quadric, max_steps: 256, stepping: Stepping::Distance };
+    let error = GpuScene::uncompressed(&ddm, Some(&periodic_patches), quadric).unwrap_err();
+    assert_eq!(error, GpuSceneError::PatchTiling { maps_periodic: false });
+    let mut state = 0x5119_u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let rays: Vec<(Vec3, Vec3)> = (0..6000)
+        .map(|_| {
+            let origin = Vec3::new(next() * 18.0 - 3.0, next() * 18.0 - 3.0, DIMS.z as f32 + 0.5);
+            let azimuth = next() * std::f32::consts::TAU;
+            let elevation = -(5.0 + 85.0 * next()).to_radians();
+            (origin, Vec3::new(elevation.cos() * azimuth.cos(), elevation.cos() * azimuth.sin(), elevation.sin()))
+        })
+        .collect();
+    let sphere = TraceSettings { method: Method::SphereTracing, ..quadric };
+    let block_cells = TraceSettings { stepping: Stepping::BlockCells, ..quadric };
+    let compressed = CompressedMaps::compress(&ddm, 4).unwrap();
+    let scene = GpuScene::new(&compressed, Some(&patches), block_cells).unwrap_or_else(|e| panic!("{e}"));
+    let m = compare_rays(&scene, ddm.kind, |o, d| trace(&compressed, Some(&patches), o, d, block_cells), &rays);
+    m.report("single tile, DDM 4x1 + triangles, block cells");
+    let scene = GpuScene::uncompressed(&plain, None, sphere).unwrap_or_else(|e| panic!("{e}"));
+    let m = compare_rays(&scene, MapKind::Plain, |o, d| trace(&plain, None, o, d, sphere), &rays);
+    m.report("single tile, plain DM, uncompressed");
+    // The same scene refuses relief mapping (its height map would wrap).
+    let mesh = MeshRaycaster::new(&triangles, Vec2::ZERO);
+    let height_map = HeightMap::from_mesh(&mesh, DIMS, 2).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.with_relief(&height_map, 8, 4).unwrap_err(), GpuSceneError::ReliefNeedsPeriodicTile);
 }

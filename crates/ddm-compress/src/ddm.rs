@@ -151,6 +151,10 @@ pub struct DistanceMaps {
     pub surface: Vec<bool>,
     /// The cap stored where no surface point lies in a cone: the grid's diagonal.
     pub max_distance: f32,
+    /// Whether the maps were computed for a tile repeating in x and y
+    /// ([`DistanceMapSettings::periodic_xy`]); otherwise nothing lies outside the tile's
+    /// slab `[0, dims.x] × [0, dims.y]`, and a tracer must treat leaving it as a miss.
+    pub periodic_xy: bool,
 }
 
 /// Settings of [`compute_distance_maps`].
@@ -204,7 +208,14 @@ pub fn compute_distance_maps(
     // `values` is voxel-major (all cones of a voxel together); the maps are cone-major.
     let cone_count = scene.cone_list.len();
     let maps = (0..cone_count).map(|c| values.iter().skip(c).step_by(cone_count).copied().collect()).collect();
-    Ok(DistanceMaps { dims, kind, values: maps, surface, max_distance: scene.max_distance })
+    Ok(DistanceMaps {
+        dims,
+        kind,
+        values: maps,
+        surface,
+        max_distance: scene.max_distance,
+        periodic_xy: settings.periodic_xy,
+    })
 }
 
 /// The validated inputs of a distance-map computation: the triangle hierarchy (with the
@@ -444,7 +455,7 @@ mod tests {
                 }
             }
         }
-        DistanceMaps { dims, kind, values, surface, max_distance }
+        DistanceMaps { dims, kind, values, surface, max_distance, periodic_xy: false }
     }
 
     /// The downward DDM `azimuths × elevations`.

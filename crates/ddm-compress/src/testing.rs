@@ -59,7 +59,14 @@ pub fn reference_distance_maps(
             }
         }
     }
-    Ok(DistanceMaps { dims, kind, values, surface, max_distance: scene.max_distance })
+    Ok(DistanceMaps {
+        dims,
+        kind,
+        values,
+        surface,
+        max_distance: scene.max_distance,
+        periodic_xy: settings.periodic_xy,
+    })
 }
 
 /// A brute-force upper estimate of the directional distance from `voxel` to `triangles`

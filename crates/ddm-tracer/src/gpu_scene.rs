@@ -41,8 +41,10 @@ gpu_struct! {
         pub elevation_band: Vec4,
         /// Relief mapping: `(linear_steps, binary_steps, texels_per_voxel, 0)`.
         pub relief: UVec4,
-        /// `(stepping, 0, 0, 0)`: [`STEPPING_DISTANCE`], [`STEPPING_VOXEL_EXIT`] or [`STEPPING_BLOCK_CELLS`].
-        pub stepping: UVec4,
+        /// `(stepping, periodic, 0, 0)`: the stepping ([`STEPPING_DISTANCE`],
+        /// [`STEPPING_VOXEL_EXIT`] or [`STEPPING_BLOCK_CELLS`]) and 1 for a tile repeating in x
+        /// and y, 0 for a single tile ([`crate::DistanceSource::periodic_xy`]).
+        pub stepping_tiling: UVec4,
     }
 }
 
@@ -123,6 +125,14 @@ pub enum GpuSceneError {
         /// The voxel's index, `x + L_x (y + L_y z)`.
         voxel: usize,
     },
+    /// The patches were built for a periodic tile and the maps for a single one, or the
+    /// other way round ([`crate::PatchSettings::periodic_xy`]).
+    PatchTiling {
+        /// Whether the maps are periodic.
+        maps_periodic: bool,
+    },
+    /// Relief mapping was asked of a tile that does not repeat (its height map wraps).
+    ReliefNeedsPeriodicTile,
     /// The patches were built for another grid than the maps'.
     PatchDims {
         /// The maps' grid size.
@@ -161,6 +171,14 @@ impl fmt::Display for GpuSceneError {
             }
             Self::MapDims { map, expected, found } => {
                 write!(f, "GPU scene: map {map} is {found} voxels, the maps' grid {expected}")
+            }
+            Self::PatchTiling { maps_periodic } => {
+                let (maps, patches) =
+                    if *maps_periodic { ("periodic", "a single tile") } else { ("a single tile", "periodic") };
+                write!(f, "GPU scene: the maps are {maps} but the patches were built {patches}")
+            }
+            Self::ReliefNeedsPeriodicTile => {
+                write!(f, "GPU scene: relief mapping needs a periodic tile (its height map wraps)")
             }
             Self::PatchDims { expected, found } => {
                 write!(f, "GPU scene: the patches' grid {found} differs from the maps' grid {expected}")
@@ -213,7 +231,9 @@ impl GpuScene {
     /// # Errors
     ///
     /// [`GpuSceneError::MapCount`] or [`GpuSceneError::MapDims`] for maps that disagree
-    /// with their kind or grid, [`GpuSceneError::PatchDims`] when the patches' grid differs
+    /// with their kind or grid, [`GpuSceneError::PatchTiling`] when the patches were built
+    /// for another tiling ([`crate::PatchSettings::periodic_xy`]) than the maps',
+    /// [`GpuSceneError::PatchDims`] when the patches' grid differs
     /// from the maps', [`GpuSceneError::BufferOverflow`] when a buffer index would overflow
     /// `u32`.
     pub fn new(
@@ -243,7 +263,7 @@ impl GpuScene {
             grid.extend_from_slice(map.grid());
             atlas.extend_from_slice(map.atlas());
         }
-        Self::with_maps(dims, selector, cone_maps, grid, atlas, patches, settings)
+        Self::with_maps(dims, maps.periodic_xy, selector, cone_maps, grid, atlas, patches, settings)
     }
 
     /// Packs uncompressed `maps` and `patches` for `settings`: per cone a lookup grid of one
@@ -288,12 +308,23 @@ impl GpuScene {
             // + 0.0 turns -0.0 into +0.0, whose sign bit (the surface flag) is clear.
             grid.extend(values.iter().map(|v| (v + 0.0).to_bits()));
         }
-        Self::with_maps(dims, ConeSelector::new(maps.kind), cone_maps, grid, Vec::new(), patches, settings)
+        Self::with_maps(
+            dims,
+            maps.periodic_xy,
+            ConeSelector::new(maps.kind),
+            cone_maps,
+            grid,
+            Vec::new(),
+            patches,
+            settings,
+        )
     }
 
     /// The scene of packed maps: the patches, the uniforms, the placeholders of empty buffers.
+    #[expect(clippy::too_many_arguments, reason = "the private packing step of both constructors")]
     fn with_maps(
         dims: UVec3,
+        periodic: bool,
         selector: ConeSelector,
         cone_maps: Vec<TraceConeMap>,
         grid: Vec<u32>,
@@ -306,6 +337,11 @@ impl GpuScene {
             atlas.push(0.0);
         }
         let voxels = dims.x.checked_mul(dims.y).and_then(|n| n.checked_mul(dims.z)).ok_or(overflow("patch offsets"))?;
+        if let Some(p) = patches
+            && p.periodic_xy != periodic
+        {
+            return Err(GpuSceneError::PatchTiling { maps_periodic: periodic });
+        }
         let (patch_offsets, mut patch_list) = match patches {
             Some(p) if p.dims == dims => (p.offsets.clone(), p.patches.clone()),
             Some(p) => return Err(GpuSceneError::PatchDims { expected: dims, found: p.dims }),
@@ -319,7 +355,7 @@ impl GpuScene {
             cones_method: UVec4::new(selector.azimuths, selector.elevations, method_code(settings.method), 0),
             elevation_band: Vec4::new(selector.elevation_min, selector.elevation_max, 0.0, 0.0),
             relief: UVec4::ZERO,
-            stepping: UVec4::new(stepping_code(settings.stepping), 0, 0, 0),
+            stepping_tiling: UVec4::new(stepping_code(settings.stepping), u32::from(periodic), 0, 0),
         };
         Ok(Self { uniforms, cone_maps, grid, atlas, patch_offsets, patches: patch_list, heights: alloc::vec![0.0] })
     }
@@ -329,11 +365,15 @@ impl GpuScene {
     ///
     /// # Errors
     ///
+    /// [`GpuSceneError::ReliefNeedsPeriodicTile`] for maps of a single tile;
     /// [`GpuSceneError::ReliefTexelsPerVoxel`], [`GpuSceneError::ReliefTexels`] or
     /// [`GpuSceneError::ReliefHeights`] when the map does not cover the tile at a whole,
     /// non-zero number of texels per voxel with one height per texel;
     /// [`GpuSceneError::BufferOverflow`] when the texel count would overflow `u32`.
     pub fn with_relief(mut self, map: &HeightMap, linear_steps: u32, binary_steps: u32) -> Result<Self, GpuSceneError> {
+        if self.uniforms.stepping_tiling.y == 0 {
+            return Err(GpuSceneError::ReliefNeedsPeriodicTile);
+        }
         let dims = self.uniforms.dims_max_steps.truncate();
         let s = map.texels_per_voxel;
         if s == 0 {
@@ -402,6 +442,7 @@ mod tests {
             values: alloc::vec![values.clone(), values],
             surface,
             max_distance: DIMS.as_vec3().length(),
+            periodic_xy: true,
         };
         CompressedMaps::compress(&maps, 2).unwrap()
     }
@@ -426,6 +467,7 @@ mod tests {
             values: alloc::vec![alloc::vec![1.0; 8]],
             surface: alloc::vec![false; 8],
             max_distance: 3.0,
+            periodic_xy: true,
         };
         other.maps[1] = CompressedMaps::compress(&small, 2).unwrap().maps.remove(0);
         assert_eq!(
@@ -450,6 +492,7 @@ mod tests {
             values: alloc::vec![values.clone(), values.iter().map(|v| v + 1.0).collect()],
             surface: (0..32).map(|i| i < 16).collect(),
             max_distance: DIMS.as_vec3().length(),
+            periodic_xy: true,
         };
         let scene = GpuScene::uncompressed(&maps, None, SETTINGS).unwrap();
         assert_eq!(scene.grid.len(), 64);

@@ -1,5 +1,6 @@
 //! Ground truth: the exact first intersection of a ray with the original triangle mesh of
-//! a tile that repeats periodically in x and y (§3.2's rays through a tiled mesostructure).
+//! a tile that repeats periodically in x and y (§3.2's rays through a tiled mesostructure),
+//! or of a tile alone.
 //!
 //! A small bounding volume hierarchy (median split along the longest axis) holds the
 //! tile's triangles in double precision; a ray is tested against every copy of the tile
@@ -74,6 +75,12 @@ impl MeshRaycaster {
             build(&mut tris, 0, len, &mut nodes);
         }
         Self { triangles: tris, nodes, period }
+    }
+
+    /// The period in x and y (a component ≤ 0 or not finite: no repetition along that
+    /// axis).
+    pub fn period(&self) -> Vec2 {
+        self.period
     }
 
     /// Number of triangles in the hierarchy.

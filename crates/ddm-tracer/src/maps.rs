@@ -78,6 +78,10 @@ pub trait DistanceSource {
     fn dims(&self) -> UVec3;
     /// How rays choose their map.
     fn selector(&self) -> ConeSelector;
+    /// Whether the tile repeats in x and y (rays wrap around it); otherwise nothing lies
+    /// outside the slab `[0, L_x] × [0, L_y]` and a ray that leaves it misses
+    /// ([`ddm_compress::DistanceMaps::periodic_xy`]).
+    fn periodic_xy(&self) -> bool;
     /// The map of cone `cone`, `None` for an index outside the maps.
     fn cone_map(&self, cone: u32) -> Option<Self::ConeMap<'_>>;
     /// The stored distance of `voxel` (inside the grid) in map `cone`; 0 (always safe) for
@@ -141,6 +145,10 @@ impl DistanceSource for DistanceMaps {
         ConeSelector::new(self.kind)
     }
 
+    fn periodic_xy(&self) -> bool {
+        self.periodic_xy
+    }
+
     #[inline]
     fn cone_map(&self, cone: u32) -> Option<RawConeMap<'_>> {
         self.values.get(cone as usize).map(|values| RawConeMap { dims: self.dims, values })
@@ -196,6 +204,8 @@ pub struct CompressedMaps {
     pub kind: MapKind,
     /// One compressed map per cone.
     pub maps: Vec<CompressedMap>,
+    /// Whether the tile repeats in x and y (from [`DistanceMaps::periodic_xy`]).
+    pub periodic_xy: bool,
 }
 
 impl CompressedMaps {
@@ -220,7 +230,7 @@ impl CompressedMaps {
                     .map_err(|error| CompressMapsError::Map { map, error })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(Self { dims: maps.dims, kind: maps.kind, maps: compressed })
+        Ok(Self { dims: maps.dims, kind: maps.kind, maps: compressed, periodic_xy: maps.periodic_xy })
     }
 
     /// Bytes of the uncompressed maps over bytes of the lookup grids plus atlases.
@@ -240,6 +250,10 @@ impl DistanceSource for CompressedMaps {
 
     fn selector(&self) -> ConeSelector {
         ConeSelector::new(self.kind)
+    }
+
+    fn periodic_xy(&self) -> bool {
+        self.periodic_xy
     }
 
     #[inline]
@@ -302,6 +316,7 @@ mod tests {
             values: alloc::vec![alloc::vec![1.0; 4], alloc::vec![2.0; 4]],
             surface: alloc::vec![false; 4],
             max_distance: 3.0,
+            periodic_xy: true,
         };
         let compressed = CompressedMaps::compress(&maps, 2).unwrap();
         assert_eq!((compressed.kind, compressed.maps.len()), (maps.kind, 2));

@@ -82,11 +82,16 @@ pub struct PatchSettings {
     pub samples_per_edge: u32,
     /// What each voxel keeps ([`PatchSurface::C0`] by default, the paper's construction).
     pub surface: PatchSurface,
+    /// Whether the tile repeats in x and y (the default, as the paper's tiles), so that
+    /// the voxels on its border see the opposite border's triangles; otherwise nothing lies
+    /// outside the tile. Must be the maps' [`ddm_compress::DistanceMapSettings::periodic_xy`]
+    /// (the GPU scene refuses patches built otherwise).
+    pub periodic_xy: bool,
 }
 
 impl Default for PatchSettings {
     fn default() -> Self {
-        Self { margin: 0.0, samples_per_edge: 16, surface: PatchSurface::C0 }
+        Self { margin: 0.0, samples_per_edge: 16, surface: PatchSurface::C0, periodic_xy: true }
     }
 }
 
@@ -161,12 +166,15 @@ pub struct VoxelPatches {
     /// tracer never intersects those patches: 0 unless the mesh's sides were decided
     /// wrongly ([`PatchSurface::Watertight`]) or a fitted surface reaches into them.
     pub patch_voxels_off_surface: u32,
+    /// Whether they were built for a tile repeating in x and y ([`PatchSettings::periodic_xy`]).
+    pub periodic_xy: bool,
 }
 
 impl VoxelPatches {
     /// Fits and builds the patches of every voxel with `surface[v]` (index as in
     /// [`ddm_compress::DistanceMaps`]) from `triangles` (voxel coordinates, the tile
-    /// `[0, dims.x] × [0, dims.y]` repeating in x and y).
+    /// `[0, dims.x] × [0, dims.y]` repeating in x and y, or alone where
+    /// [`PatchSettings::periodic_xy`] is false).
     ///
     /// # Errors
     ///
@@ -193,11 +201,14 @@ impl VoxelPatches {
             return Err(PatchError::NonFiniteTriangle { index });
         }
         // The mesh around the padded grid: the tile and its 8 neighbours, moved by +1 voxel
-        // in x and y (padded voxel (i, j, k) is tile voxel (i - 1, j - 1, k) mod dims).
+        // in x and y (padded voxel (i, j, k) is tile voxel (i - 1, j - 1, k) mod dims); a
+        // tile that does not repeat has no neighbours and its padding voxels no surface.
+        let periodic = settings.periodic_xy;
         let (sx, sy) = (dims.x as f32, dims.y as f32);
-        let mut tiled = Vec::with_capacity(triangles.len() * 9);
-        for oy in -1..=1 {
-            for ox in -1..=1 {
+        let neighbours = if periodic { -1..=1 } else { 0..=0 };
+        let mut tiled = Vec::with_capacity(triangles.len() * if periodic { 9 } else { 1 });
+        for oy in neighbours.clone() {
+            for ox in neighbours.clone() {
                 let shift = Vec3::new(ox as f32 * sx + 1.0, oy as f32 * sy + 1.0, 0.0);
                 tiled.extend(triangles.iter().map(|t| t.0.map(|v| v + shift)));
             }
@@ -208,6 +219,9 @@ impl VoxelPatches {
         // sides of it).
         let mut bins: BTreeMap<(u32, u32, u32), Vec<u32>> = BTreeMap::new();
         let is_surface = |i: u32, j: u32, k: u32| {
+            if !periodic && (i == 0 || j == 0 || i > dims.x || j > dims.y) {
+                return false;
+            }
             let x = (i + dims.x - 1) % dims.x;
             let y = (j + dims.y - 1) % dims.y;
             surface[(x + dims.x * (y + dims.y * k)) as usize]
@@ -254,7 +268,7 @@ impl VoxelPatches {
             None
         };
         let watertight = (settings.surface == PatchSurface::Watertight).then(|| {
-            let mesh = MeshRaycaster::new(triangles, Vec2::new(sx, sy));
+            let mesh = MeshRaycaster::new(triangles, if periodic { Vec2::new(sx, sy) } else { Vec2::ZERO });
             let mut sides = MeshSides::new(&mesh, dims);
             let voxels = (0..dims.z).flat_map(|z| (0..dims.y).flat_map(move |y| (0..dims.x).map(move |x| (x, y, z))));
             build_watertight(voxels, &mut sides)
@@ -346,6 +360,7 @@ impl VoxelPatches {
             quadric_voxels,
             triangle_voxels,
             patch_voxels_off_surface,
+            periodic_xy: periodic,
         })
     }
 

@@ -30,7 +30,11 @@
 //!
 //! The grid is periodic in x and y: a corner, edge or face is reduced to the tile before
 //! it is decided, and an edge's point is moved back by whole tiles (exact in `f64`), so
-//! the copies of a decision on opposite borders of the tile are the same bits.
+//! the copies of a decision on opposite borders of the tile are the same bits. Over a mesh
+//! that does not repeat ([`MeshRaycaster::period`] 0) nothing is reduced; the winding rays
+//! lean toward the tile's middle instead of by fixed signs, and a grid point on the tile's
+//! upper border is moved inward, so that neither leaves the mesh's extent (a height field
+//! ends exactly at the borders) before meeting it.
 
 use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
@@ -111,8 +115,17 @@ impl<'a> MeshSides<'a> {
     /// `p` lies on the mesh.
     pub fn winding(&mut self, p: DVec3) -> Option<i32> {
         let mut winding = 0;
+        let period = self.mesh.period();
         for (attempt, direction) in DIRECTIONS.iter().enumerate() {
-            let direction = DVec3::from_array(*direction).normalize();
+            let mut direction = DVec3::from_array(*direction).normalize();
+            // Over a mesh that does not repeat, the ray leans toward the tile's middle, so
+            // that it does not leave the mesh's extent through a side before meeting it.
+            for (axis, (period, size)) in [(period.x, self.dims.x), (period.y, self.dims.y)].into_iter().enumerate() {
+                let repeats = period > 0.0 && period.is_finite();
+                if !repeats && (p[axis] - 0.5 * f64::from(size)) * direction[axis] > 0.0 {
+                    direction[axis] = -direction[axis];
+                }
+            }
             self.crossings.clear();
             self.mesh.crossings(p, direction, -ON_SURFACE, f64::MAX, &mut self.crossings);
             if self.crossings.iter().any(|c| c.t.abs() <= ON_SURFACE) {
@@ -130,9 +143,29 @@ impl<'a> MeshSides<'a> {
         Some(winding)
     }
 
-    /// The whole tiles to subtract from grid point `p` to bring it into the tile.
+    /// Where the decision about grid point `p` is taken: `p` moved by [`SAMPLE_OFFSET`],
+    /// except along an axis in which the mesh does not repeat, where a point on the tile's
+    /// upper border moves inward by it instead (outward it would leave the mesh, whose
+    /// surfaces may end exactly there).
+    fn sample(&self, p: DVec3) -> DVec3 {
+        let period = self.mesh.period();
+        let mut offset = DVec3::from_array(SAMPLE_OFFSET);
+        for (axis, (period, size)) in [(period.x, self.dims.x), (period.y, self.dims.y)].into_iter().enumerate() {
+            let repeats = period > 0.0 && period.is_finite();
+            if !repeats && p[axis] >= f64::from(size) {
+                offset[axis] = -offset[axis];
+            }
+        }
+        p + offset
+    }
+
+    /// The whole tiles to subtract from grid point `p` to bring it into the tile (none
+    /// along an axis in which the mesh does not repeat).
     fn tile_shift(&self, p: GridPoint) -> (u32, u32) {
-        (p.0 - p.0 % self.dims.x, p.1 - p.1 % self.dims.y)
+        let period = self.mesh.period();
+        let repeats = |period: f32| period > 0.0 && period.is_finite();
+        let shift = |p: u32, n: u32, period: f32| if repeats(period) { p - p % n } else { 0 };
+        (shift(p.0, self.dims.x, period.x), shift(p.1, self.dims.y, period.y))
     }
 }
 
@@ -144,7 +177,7 @@ impl SignedGrid for MeshSides<'_> {
             return inside;
         }
         let point = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2));
-        let inside = self.point_inside(point + DVec3::from_array(SAMPLE_OFFSET));
+        let inside = self.point_inside(self.sample(point));
         self.corners.insert(key, inside);
         inside
     }
@@ -158,13 +191,19 @@ impl SignedGrid for MeshSides<'_> {
         let (sx, sy) = self.tile_shift(edge.corner);
         let local = GridEdge { axis: edge.axis, corner: (edge.corner.0 - sx, edge.corner.1 - sy, edge.corner.2) };
         let shift = DVec3::new(f64::from(sx), f64::from(sy), 0.0);
-        let offset = DVec3::from_array(SAMPLE_OFFSET);
-        let (start, end) = (local.point(0.0) + offset, local.point(1.0) + offset);
+        let (start, end) = (self.sample(local.point(0.0)), self.sample(local.point(1.0)));
         let (start_winding, end_winding) = (self.winding(start), self.winding(end));
+        let axis = usize::from(edge.axis % 3);
         let mut direction = DVec3::ZERO;
-        direction[usize::from(edge.axis % 3)] = 1.0;
+        direction[axis] = 1.0;
         self.crossings.clear();
-        self.mesh.crossings(start, direction, -ON_SURFACE, 1.0 + ON_SURFACE, &mut self.crossings);
+        // 1, unless the end moved inward from the tile's border.
+        let length = if self.sample(DVec3::ZERO) == self.sample(local.point(1.0)) - local.point(1.0) {
+            1.0
+        } else {
+            end[axis] - start[axis]
+        };
+        self.mesh.crossings(start, direction, -ON_SURFACE, length + ON_SURFACE, &mut self.crossings);
         let mut crossings: Vec<(f64, i32)> =
             self.crossings.iter().map(|c| (c.t.clamp(0.0, 1.0), if c.exiting { -1 } else { 1 })).collect();
         crossings.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -195,7 +234,8 @@ impl SignedGrid for MeshSides<'_> {
     fn face_centre_inside(&mut self, face: GridFace) -> bool {
         let (sx, sy) = self.tile_shift(face.corner);
         let local = GridFace { normal: face.normal, corner: (face.corner.0 - sx, face.corner.1 - sy, face.corner.2) };
-        self.point_inside(local.centre() + DVec3::from_array(SAMPLE_OFFSET))
+        let centre = self.sample(local.centre());
+        self.point_inside(centre)
     }
 }
 

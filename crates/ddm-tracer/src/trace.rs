@@ -1,11 +1,15 @@
 //! Directional sphere tracing (Algorithm 3.1) with ray–quadric intersection in
 //! zero-distance voxels (Algorithm 3.2) and voxel-wall stepping (Algorithm 3.3), through
-//! the DDM volume of a tile that repeats in x and y. Mirrored by `trace_ray` in
-//! `shaders/ddm_tracer.wgsl`.
+//! the DDM volume of a tile that repeats in x and y, or of a single tile. Mirrored by
+//! `trace_ray` in `shaders/ddm_tracer.wgsl`.
 //!
 //! Coordinates are texture space in voxel units: the tile's slab is
 //! `[0, L_x] × [0, L_y] × [0, L_z]`, repeated in x and y. A viewing ray (`r_z < 0`) enters
 //! through the top `z = L_z` (or starts inside the slab) and leaves through `z = 0`.
+//! A tile that does not repeat ([`DistanceSource::periodic_xy`] false, beyond the paper)
+//! holds nothing outside its slab: the ray starts where it enters the slab through any
+//! wall, steps are not capped (the maps bound all the geometry there is), and a ray whose
+//! look-up point leaves the slab through a side wall misses.
 //!
 //! Each step reads the map of the ray's cone at the voxel containing the current point
 //! (one *step* = one map read):
@@ -33,7 +37,7 @@ use quadric_fit::normal;
 use crate::maps::{ConeDistances, DistanceSource};
 use crate::patch::{patch_hit, quadric_of};
 use crate::patches::VoxelPatches;
-use crate::voxel::{NUDGE, cell_exit, slab_entry, unit, voxel_entry, voxel_exit};
+use crate::voxel::{NUDGE, cell_exit, outside_tile, slab_entry, tile_entry, unit, voxel_entry, voxel_exit};
 
 /// What happens in a zero-distance voxel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -157,15 +161,24 @@ pub fn trace_within<S: DistanceSource>(
     let Some(cone) = source.selector().select(d) else { return TraceOutcome::miss(0, 0) };
     let Some(map) = source.cone_map(cone) else { return TraceOutcome::miss(0, cone) };
     let size = dims.as_vec3();
-    let t_enter = slab_entry(origin, d, size.z);
+    let periodic = source.periodic_xy();
+    // Periodic maps bound only what lies within one tile of the voxel; a single tile's
+    // maps bound all there is.
+    let (t_enter, step_cap) = if periodic {
+        (slab_entry(origin, d, size.z), size.x.min(size.y))
+    } else {
+        match tile_entry(origin, d, size) {
+            Some(t) if t.is_finite() => (t, f32::MAX),
+            _ => return TraceOutcome::miss(0, cone),
+        }
+    };
     let start = origin + d * t_enter;
-    let step_cap = size.x.min(size.y);
     let mut t = 0.0_f32;
     let mut steps = 0;
     while steps < settings.max_steps {
         let p = start + d * t;
         let probe = p + d * NUDGE;
-        if probe.z < 0.0 || t_enter + t > max_t {
+        if probe.z < 0.0 || t_enter + t > max_t || (!periodic && outside_tile(probe, size)) {
             return TraceOutcome::miss(steps, cone);
         }
         let v = IVec3::new(

@@ -13,6 +13,38 @@ pub fn slab_entry(origin: Vec3, direction: Vec3, size_z: f32) -> f32 {
     if origin.z > size_z { (size_z - origin.z) / direction.z } else { 0.0 }
 }
 
+/// `origin + t direction` (with `direction.z < 0`) enters the slab of a tile that does not
+/// repeat, `[0, size.x] × [0, size.y] × (−∞, size.z]`: the largest entry parameter of the
+/// walls that the origin lies beyond (0 when it is inside), or `None` when it lies beyond
+/// a side wall and moves away from it. The parameter may still be one where the ray is
+/// outside the slab (it passed another side first): the tracer's first look-up then finds
+/// the ray outside. WGSL twin: `trace_tile_entry` (negative for `None`).
+pub fn tile_entry(origin: Vec3, direction: Vec3, size: Vec3) -> Option<f32> {
+    let mut entry = slab_entry(origin, direction, size.z);
+    for axis in 0..2 {
+        let (o, r) = (origin[axis], direction[axis]);
+        if o < 0.0 {
+            if r <= 0.0 {
+                return None;
+            }
+            entry = entry.max(-o / r);
+        } else if o > size[axis] {
+            if r >= 0.0 {
+                return None;
+            }
+            entry = entry.max((size[axis] - o) / r);
+        }
+    }
+    Some(entry)
+}
+
+/// Whether the look-up point `probe` lies outside the side walls of a tile of `size`
+/// voxels that does not repeat (`[0, size.x) × [0, size.y)`). WGSL twin:
+/// `trace_outside_tile`.
+pub fn outside_tile(probe: Vec3, size: Vec3) -> bool {
+    !(probe.x >= 0.0 && probe.y >= 0.0 && probe.x < size.x && probe.y < size.y)
+}
+
 /// `direction / |direction|` computed as both CPU and GPU do.
 pub fn unit(direction: Vec3) -> Vec3 {
     direction * (1.0 / libm::sqrtf(direction.dot(direction)))

@@ -86,6 +86,10 @@ impl DistanceSource for VoxelCells<'_> {
         self.0.selector()
     }
 
+    fn periodic_xy(&self) -> bool {
+        self.0.periodic_xy
+    }
+
     fn cone_map(&self, cone: u32) -> Option<VoxelCellMap<'_>> {
         self.0.maps.get(cone as usize).map(VoxelCellMap)
     }

@@ -50,6 +50,32 @@ fn trace_slab_entry(origin: vec3<f32>, direction: vec3<f32>, size_z: f32) -> f32
     return select(0.0, (size_z - origin.z) / direction.z, origin.z > size_z);
 }
 
+// Rust: ddm_tracer::voxel::tile_entry (negative for None).
+fn trace_tile_entry(origin: vec3<f32>, direction: vec3<f32>, size: vec3<f32>) -> f32 {
+    var entry = trace_slab_entry(origin, direction, size.z);
+    for (var axis = 0u; axis < 2u; axis++) {
+        let o = origin[axis];
+        let r = direction[axis];
+        if o < 0.0 {
+            if r <= 0.0 {
+                return -1.0;
+            }
+            entry = max(entry, -o / r);
+        } else if o > size[axis] {
+            if r >= 0.0 {
+                return -1.0;
+            }
+            entry = max(entry, (size[axis] - o) / r);
+        }
+    }
+    return entry;
+}
+
+// Rust: ddm_tracer::voxel::outside_tile.
+fn trace_outside_tile(probe: vec3<f32>, size: vec3<f32>) -> bool {
+    return !(probe.x >= 0.0 && probe.y >= 0.0 && probe.x < size.x && probe.y < size.y);
+}
+
 // Rust: ddm_tracer::voxel::voxel_entry.
 fn trace_voxel_entry(local: vec3<f32>, direction: vec3<f32>) -> f32 {
     var entry = 0.0;
@@ -285,16 +311,25 @@ fn trace_ray_within(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>, m
     }
     let cone = u32(selected);
     let size = vec3<f32>(dims);
-    let t_enter = trace_slab_entry(origin, d, size.z);
+    let periodic = u.stepping_tiling.y != 0u;
+    var t_enter = trace_slab_entry(origin, d, size.z);
+    var step_cap = min(size.x, size.y);
+    if !periodic {
+        t_enter = trace_tile_entry(origin, d, size);
+        // Negative: the ray never enters (Rust: None); not finite: Rust's filter.
+        if !(t_enter >= 0.0 && t_enter <= 3.40282347e38) {
+            return trace_miss(0u, cone, 0u);
+        }
+        step_cap = 3.40282347e38;
+    }
     let start = origin + d * t_enter;
-    let step_cap = min(size.x, size.y);
     let idims = vec3<i32>(dims);
     var t = 0.0;
     var steps = 0u;
     while steps < u.dims_max_steps.w {
         let p = start + d * t;
         let probe = p + d * TRACE_NUDGE;
-        if probe.z < 0.0 || t_enter + t > max_t {
+        if probe.z < 0.0 || t_enter + t > max_t || (!periodic && trace_outside_tile(probe, size)) {
             return trace_miss(steps, cone, 0u);
         }
         let v = vec3<i32>(i32(floor(probe.x)), i32(floor(probe.y)), min(i32(floor(probe.z)), idims.z - 1));
@@ -305,7 +340,7 @@ fn trace_ray_within(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>, m
         if value > 0.0 {
             var inside = 0.0;
             let block = any(cell.size != vec3<u32>(1u));
-            if u.stepping.x == TRACE_STEPPING_VOXEL_EXIT || (u.stepping.x == TRACE_STEPPING_BLOCK_CELLS && block) {
+            if u.stepping_tiling.x == TRACE_STEPPING_VOXEL_EXIT || (u.stepping_tiling.x == TRACE_STEPPING_BLOCK_CELLS && block) {
                 // To the exit wall of the cell (the voxel, or a block without surface).
                 let corner = vec3<f32>(v) - vec3<f32>(wrapped - cell.origin);
                 inside = trace_cell_exit(p - corner, d, vec3<f32>(cell.size));

@@ -48,7 +48,7 @@ struct TraceUniforms {
     cones_method: vec4<u32>, // offset 16
     elevation_band: vec4<f32>, // offset 32
     relief: vec4<u32>, // offset 48
-    stepping: vec4<u32>, // offset 64
+    stepping_tiling: vec4<u32>, // offset 64
 }
 
 // Rust size 48 bytes.

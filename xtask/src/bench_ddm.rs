@@ -123,7 +123,8 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     let size = BenchSize::new(args, &gpu)?;
     let (width, height) = size.resolution;
     let source = TileSource::from_args(args)?;
-    let tiles = ddm_input::tiles(source.as_ref(), size.dims)?;
+    let periodic = ddm_input::periodic_from_args(args, source.as_ref())?;
+    let tiles = ddm_input::tiles(source.as_ref(), size.dims, periodic)?;
     let out = args.out_dir();
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     println!(

@@ -77,7 +77,7 @@ fn bean_pile(count: usize) -> Result<(Stacking, f32, f32), String> {
 
 pub fn run(args: &Args<'_>) -> Result<(), String> {
     const SVO_ONLY: [&str; 5] = ["height-map", "pixels", "levels", "zoom", "views"];
-    const DDM_ONLY: [&str; 5] = ["quick", "size", "scale", "fit-slab", "height"];
+    const DDM_ONLY: [&str; 7] = ["quick", "size", "scale", "fit-slab", "height", "periodic", "clamp"];
     if args.subject() == "ddm" {
         for flag in ["grains", "scene", "mesh-above", "samples", "pixels", "levels", "zoom", "views"] {
             if args.value(flag).is_some() {

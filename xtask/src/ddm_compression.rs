@@ -40,16 +40,19 @@ impl Options {
 
 /// Runs the experiment.
 pub fn run(args: &Args<'_>) -> Result<(), String> {
-    let Options { out, settings, tile } = Options::from_args(args)?;
+    let Options { out, mut settings, tile } = Options::from_args(args)?;
     let dims = settings.dims;
-    let tiles = ddm_input::tiles(tile.as_ref(), dims)?;
+    let periodic = ddm_input::periodic_from_args(args, tile.as_ref())?;
+    settings.map_settings.periodic_xy = periodic;
+    let tiles = ddm_input::tiles(tile.as_ref(), dims, periodic)?;
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     println!(
-        "DDM compression (Table 3): {}x{}x{} voxels, tolerance {} voxel, periodic in x and y; {}",
+        "DDM compression (Table 3): {}x{}x{} voxels, tolerance {} voxel, {}; {}",
         dims.x,
         dims.y,
         dims.z,
         settings.map_settings.tolerance,
+        if periodic { "periodic in x and y" } else { "a single tile (--clamp)" },
         ddm_input::describe(tile.as_ref())
     );
     println!("efficiency = uncompressed / (lookup + atlas); time = computing the map (all its cones)\n");

@@ -5,7 +5,12 @@
 //!
 //! **Units.** The tile is the command's grid of `X × Y × Z` voxels (`--size`, or the
 //! command's default grid), the slab `[0, X] × [0, Y] × [0, Z]`, repeated with period `X`
-//! in x and `Y` in y (the tracers and maps treat every tile as periodic in x and y).
+//! in x and `Y` in y (`--periodic`, the default), or alone (`--clamp`, for `ddm-render`,
+//! `ddm-compression` and `bench-gpu ddm`: nothing lies outside the slab, the maps count the
+//! tile's own triangles only, the patches see no neighbour, and the tracers (CPU and
+//! WGSL) treat a ray that leaves the slab through a side as a miss; relief mapping, whose
+//! height map wraps, is not run on such a tile). With `--clamp` the vertices must lie in
+//! the slab itself and the periodicity check is not made.
 //!
 //! - `--obj PATH`: a Wavefront OBJ file (read with `grain_mesh::parse_obj`, the workspace's
 //!   one OBJ reader, `tobj` inside: polygons are triangulated, every object of the file is
@@ -68,8 +73,12 @@ pub const FIT_SLAB: Flag = switch("fit-slab");
 pub const HEIGHT_MAP: Flag = value("height-map", "PNG");
 /// `--height H`: the height map's white, in voxels.
 pub const HEIGHT: Flag = value("height", "H");
+/// `--periodic`: the user's tile repeats in x and y (the default).
+pub const PERIODIC: Flag = switch("periodic");
+/// `--clamp`: the user's tile stands alone; nothing lies outside it.
+pub const CLAMP: Flag = switch("clamp");
 /// The pairs of these flags that exclude each other.
-pub const EXCLUSIVE: &[(&str, &str)] = &[("obj", "height-map"), ("scale", "fit-slab")];
+pub const EXCLUSIVE: &[(&str, &str)] = &[("obj", "height-map"), ("scale", "fit-slab"), ("periodic", "clamp")];
 
 /// Voxels of slack in the slab and periodicity checks.
 pub const TOLERANCE: f32 = 1e-3;
@@ -114,6 +123,9 @@ pub struct Tile {
     /// The procedural tile it is, if it is one (its own surface is then known:
     /// `ddm_experiments::reference`).
     pub structure: Option<Mesostructure>,
+    /// Whether it repeats in x and y (`--periodic`, the default) or stands alone
+    /// (`--clamp`): the maps, patches, tracers and ground truth all follow it.
+    pub periodic_xy: bool,
 }
 
 /// A positive, finite number.
@@ -159,29 +171,45 @@ impl TileSource {
         }
     }
 
-    /// Reads and checks the tile on a grid of `dims` voxels (see the module's
-    /// documentation).
-    pub fn load(&self, dims: UVec3) -> Result<Tile, String> {
+    /// Reads and checks the tile on a grid of `dims` voxels, repeating in x and y or
+    /// alone (`periodic`; see the module's documentation).
+    pub fn load(&self, dims: UVec3, periodic: bool) -> Result<Tile, String> {
         let (path, triangles, height_field) = match self {
-            Self::Obj { path, placement } => (path, obj_triangles(path, *placement, dims)?, false),
+            Self::Obj { path, placement } => (path, obj_triangles(path, *placement, dims, periodic)?, false),
             Self::HeightMap { path, height } => (path, height_map_triangles(path, *height, dims)?, true),
         };
-        if let Err(problem) = check_periodic(&triangles, dims) {
-            return Err(format!("{}: {problem}", self.named()));
+        if periodic && let Err(problem) = check_periodic(&triangles, dims) {
+            return Err(format!("{}: {problem} (or give --clamp for a tile that stands alone)", self.named()));
         }
         let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         if stem.is_empty() {
             return Err(format!("{}: the file name has no stem to name the tile by", self.named()));
         }
         // One name per run, shared by every row and image of the tile.
-        Ok(Tile { name: Box::leak(stem.into_boxed_str()), triangles, height_field, structure: None })
+        Ok(Tile {
+            name: Box::leak(stem.into_boxed_str()),
+            triangles,
+            height_field,
+            structure: None,
+            periodic_xy: periodic,
+        })
     }
 }
 
-/// The tiles a command runs on: the user's (`source`), else the five procedural ones.
-pub fn tiles(source: Option<&TileSource>, dims: UVec3) -> Result<Vec<Tile>, String> {
+/// Whether the user's tile repeats: `--clamp` (only with `--obj` or `--height-map`: the
+/// procedural tiles repeat) makes it stand alone, `--periodic` is the default said aloud.
+pub fn periodic_from_args(args: &Args<'_>, source: Option<&TileSource>) -> Result<bool, String> {
+    if args.flag("clamp") && source.is_none() {
+        return Err(args.error("--clamp needs --obj PATH or --height-map PNG (the procedural tiles repeat)"));
+    }
+    Ok(!args.flag("clamp"))
+}
+
+/// The tiles a command runs on: the user's (`source`, repeating or alone as `periodic`
+/// says), else the five procedural ones.
+pub fn tiles(source: Option<&TileSource>, dims: UVec3, periodic: bool) -> Result<Vec<Tile>, String> {
     match source {
-        Some(source) => Ok(vec![source.load(dims)?]),
+        Some(source) => Ok(vec![source.load(dims, periodic)?]),
         None => Ok(Mesostructure::ALL
             .into_iter()
             .map(|structure| Tile {
@@ -189,6 +217,7 @@ pub fn tiles(source: Option<&TileSource>, dims: UVec3) -> Result<Vec<Tile>, Stri
                 triangles: structure.triangles(dims),
                 height_field: matches!(structure, Mesostructure::Maze(_) | Mesostructure::Bricks),
                 structure: Some(structure),
+                periodic_xy: true,
             })
             .collect()),
     }
@@ -210,7 +239,7 @@ pub fn describe(source: Option<&TileSource>) -> String {
 
 /// The OBJ's triangles placed in the slab, or an error naming `--obj`, the file and (for
 /// text that is not OBJ) the line.
-fn obj_triangles(path: &Path, placement: Placement, dims: UVec3) -> Result<Vec<Triangle>, String> {
+fn obj_triangles(path: &Path, placement: Placement, dims: UVec3, periodic: bool) -> Result<Vec<Triangle>, String> {
     let named = format!("--obj {}", path.display());
     let bytes = std::fs::read(path).map_err(|e| format!("{named}: {e}"))?;
     let mesh = grain_mesh::parse_obj(&mut bytes.as_slice()).map_err(|problem| {
@@ -248,13 +277,22 @@ fn obj_triangles(path: &Path, placement: Placement, dims: UVec3) -> Result<Vec<T
     if !(lo.is_finite() && hi.is_finite()) {
         return Err(format!("{named}: the coordinates overflow{how}"));
     }
-    let (min, max) = (Vec3::new(-0.5 * slab.x, -0.5 * slab.y, 0.0), Vec3::new(1.5 * slab.x, 1.5 * slab.y, slab.z));
+    // A repeating tile's pieces may straddle its border by half a tile; a lone tile's not.
+    let (min, max, within) = if periodic {
+        (
+            Vec3::new(-0.5 * slab.x, -0.5 * slab.y, 0.0),
+            Vec3::new(1.5 * slab.x, 1.5 * slab.y, slab.z),
+            "within half a tile of",
+        )
+    } else {
+        (Vec3::ZERO, slab, "in (--clamp: the tile stands alone)")
+    };
     if let Some(&p) = positions.iter().find(|&&p| {
         let q = place(p);
         q.cmplt(min - TOLERANCE).any() || q.cmpgt(max + TOLERANCE).any()
     }) {
         return Err(format!(
-            "{named}: the vertex {} lies outside the slab{how}: z must be in [0, {}] and x, y within half a tile of \
+            "{named}: the vertex {} lies outside the slab{how}: z must be in [0, {}] and x, y {within} \
              [0, {}] × [0, {}], i.e. in [{}, {}] × [{}, {}] (voxels of the {}x{}x{} grid); the mesh's extent is \
              [{}, {}] × [{}, {}] × [{}, {}] (scale it with --scale S or --fit-slab)",
             place(p),
@@ -487,7 +525,7 @@ mod tests {
 
     /// Loads `source`, expecting an error containing each of `parts`.
     fn load_error(source: &TileSource, dims: UVec3, parts: &[&str]) -> String {
-        let error = source.load(dims).err().unwrap_or_else(|| panic!("{source:?} loaded"));
+        let error = source.load(dims, true).err().unwrap_or_else(|| panic!("{source:?} loaded"));
         for part in parts {
             assert!(error.contains(part), "expected {part:?} in {error:?}");
         }
@@ -501,7 +539,7 @@ mod tests {
             let triangles = structure.triangles(DIMS);
             check_periodic(&triangles, DIMS).unwrap_or_else(|e| panic!("{}: {e}", structure.name()));
             let path = write_tile(&dir, &format!("{}.obj", structure.name()), &triangles);
-            let tile = obj(&path).load(DIMS).unwrap_or_else(|e| panic!("{e}"));
+            let tile = obj(&path).load(DIMS, true).unwrap_or_else(|e| panic!("{e}"));
             assert_eq!(tile.name, structure.name());
             assert_eq!(tile.triangles, triangles, "{}", structure.name());
             assert!(!tile.height_field);
@@ -514,7 +552,7 @@ mod tests {
         let dir = TempDir::new("rows");
         let settings = CompressionSettings::quick();
         let bricks = Mesostructure::Bricks.triangles(settings.dims);
-        let tile = obj(&write_tile(&dir, "bricks.obj", &bricks)).load(settings.dims).unwrap();
+        let tile = obj(&write_tile(&dir, "bricks.obj", &bricks)).load(settings.dims, true).unwrap();
         let rows = |triangles: &[Triangle]| {
             map_compression("bricks", triangles, &settings)
                 .unwrap()
@@ -531,14 +569,14 @@ mod tests {
         let bricks = Mesostructure::Bricks.triangles(DIMS);
         let half: Vec<Triangle> = bricks.iter().map(|t| Triangle(t.0.map(|p| 0.5 * p))).collect();
         let path = write_tile(&dir, "half.obj", &half);
-        let scaled = TileSource::Obj { path: path.clone(), placement: Placement::Scale(2.0) }.load(DIMS).unwrap();
+        let scaled = TileSource::Obj { path: path.clone(), placement: Placement::Scale(2.0) }.load(DIMS, true).unwrap();
         assert_eq!(scaled.triangles, bricks);
         // Shifted up and shrunk: the box goes back to the origin and fills the slab in x
         // and y (bricks span z 0.2 Z .. 0.7 Z, so z does not limit the factor).
         let moved: Vec<Triangle> =
             bricks.iter().map(|t| Triangle(t.0.map(|p| 0.25 * p + Vec3::new(-3.0, 5.0, 7.0)))).collect();
         let path = write_tile(&dir, "moved.obj", &moved);
-        let fitted = TileSource::Obj { path, placement: Placement::FitSlab }.load(DIMS).unwrap();
+        let fitted = TileSource::Obj { path, placement: Placement::FitSlab }.load(DIMS, true).unwrap();
         let (lo, hi) = fitted
             .triangles
             .iter()
@@ -558,7 +596,7 @@ mod tests {
         // 4 × 3 pixels: a ramp in x, so the wrapped last column (back to 0) makes a cliff.
         let image = image::GrayImage::from_fn(4, 3, |x, _| image::Luma([(x * 85) as u8]));
         image.save(&path).unwrap();
-        let tile = TileSource::HeightMap { path, height: 3.0 }.load(DIMS).unwrap();
+        let tile = TileSource::HeightMap { path, height: 3.0 }.load(DIMS, true).unwrap();
         assert_eq!((tile.name, tile.height_field, tile.triangles.len()), ("ramp", true, 2 * 4 * 3));
         let corners: Vec<Vec3> = tile.triangles.iter().flat_map(|t| t.0).collect();
         for p in &corners {
@@ -645,8 +683,28 @@ mod tests {
         load_error(&obj(&path), DIMS, &["square.obj: the tile is not periodic: the open border point [1, 1, 1]"]);
         // The same square fills a 2 × 2 tile after --fit-slab, and repeats.
         let source = TileSource::Obj { path, placement: Placement::FitSlab };
-        let tile = source.load(UVec3::new(2, 2, 1)).unwrap();
+        let tile = source.load(UVec3::new(2, 2, 1), true).unwrap();
         assert_eq!(tile.triangles.len(), 2);
+    }
+
+    #[test]
+    fn a_tile_that_stands_alone_needs_no_match_but_must_lie_in_the_slab() {
+        let dir = TempDir::new("clamp");
+        // The square that is not periodic loads as a lone tile (--clamp) and says so.
+        let path = dir.file("square.obj", b"v 1 1 1\nv 3 1 1\nv 3 3 1\nv 1 3 1\nf 1 2 3 4\n");
+        let error = load_error(&obj(&path), DIMS, &["square.obj: the tile is not periodic"]);
+        assert!(error.ends_with("(or give --clamp for a tile that stands alone)"), "{error}");
+        let tile = obj(&path).load(DIMS, false).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!((tile.triangles.len(), tile.periodic_xy), (2, false));
+        // A repeating tile's pieces may straddle its border by half a tile; a lone tile's
+        // may not leave it.
+        let path = dir.file("straddle.obj", b"v -1 1 1\nv 3 1 1\nv 3 3 1\nf 1 2 3\n");
+        let error = obj(&path).load(DIMS, false).unwrap_err();
+        assert!(
+            error.contains("straddle.obj: the vertex [-1, 1, 1] lies outside the slab: z must be in [0, 6] and x, y in (--clamp: the tile stands alone) [0, 12] × [0, 12], i.e. in [0, 12] × [0, 12]"),
+            "{error}"
+        );
+        assert!(obj(&path).load(DIMS, true).unwrap_err().contains("the tile is not periodic"));
     }
 
     #[test]

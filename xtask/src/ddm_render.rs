@@ -164,7 +164,8 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
         return Err(format!("--resolution {width}x{height}: at most 4096 pixels a side"));
     }
     let source = TileSource::from_args(args)?;
-    let tiles = ddm_input::tiles(source.as_ref(), dims)?;
+    let periodic = ddm_input::periodic_from_args(args, source.as_ref())?;
+    let tiles = ddm_input::tiles(source.as_ref(), dims, periodic)?;
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
     println!(
@@ -483,7 +484,7 @@ impl TileMaps {
     pub(crate) fn build(tile: &Tile, dims: UVec3, watertight: bool) -> Result<Self, String> {
         let (name, triangles) = (tile.name, &tile.triangles);
         let failed = |what: &str, error: &dyn std::fmt::Display| format!("{name}: {what}: {error}");
-        let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+        let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: tile.periodic_xy };
         let plain =
             compute_distance_maps(dims, triangles, MapKind::Plain, settings).map_err(|e| failed("the DM maps", &e))?;
         let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).map_err(|e| failed("the DDM 4x1 cones", &e))?);
@@ -492,6 +493,7 @@ impl TileMaps {
         let patches = |what: &str, surface: Option<PatchSurface>| {
             let settings = PatchSettings {
                 surface: surface.unwrap_or(PatchSettings::default().surface),
+                periodic_xy: tile.periodic_xy,
                 ..PatchSettings::default()
             };
             VoxelPatches::build(dims, triangles, &ddm.surface, settings).map_err(|e| failed(what, &e))
@@ -501,7 +503,8 @@ impl TileMaps {
         let exact = patches("the triangle patches", Some(PatchSurface::Triangles))?;
         let watertight =
             if watertight { Some(patches("the watertight patches", Some(PatchSurface::Watertight))?) } else { None };
-        let height_map = if tile.height_field {
+        // Relief mapping's height map wraps: not for a tile that stands alone.
+        let height_map = if tile.height_field && tile.periodic_xy {
             let mesh = MeshRaycaster::new(triangles, Vec2::new(dims.x as f32, dims.y as f32));
             Some(HeightMap::from_mesh(&mesh, dims, 2).map_err(|e| failed("the relief height map", &e))?)
         } else {

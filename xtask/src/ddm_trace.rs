@@ -247,7 +247,7 @@ fn gpu_columns(row: &MethodRow) -> (String, String) {
 pub fn run(args: &Args<'_>) -> Result<(), String> {
     let Options { out, settings, tile } = Options::from_args(args)?;
     let (dims, width, height) = (settings.dims, settings.width, settings.height);
-    let tiles = ddm_input::tiles(tile.as_ref(), dims)?;
+    let tiles = ddm_input::tiles(tile.as_ref(), dims, true)?;
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
     println!(

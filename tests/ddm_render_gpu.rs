@@ -37,7 +37,7 @@ use ddm_tracer::tangent_space::{
     in_shadow, pixel_class, shell_exit, slab_bottom, tangent_space_ray,
 };
 use ddm_tracer::{CompressedMaps, Method, PatchSettings, Stepping, TraceSettings, VoxelPatches, trace, trace_within};
-use glam::{UVec2, UVec3, Vec3};
+use glam::{UVec2, UVec3, Vec3, Vec4};
 use grain_impostor::half::{f16_bits_to_f32, f32_to_f16_bits};
 use integration_tests::gpu;
 use mesostructure::Mesostructure;
@@ -86,7 +86,7 @@ fn settings() -> RenderSettings {
         light: Vec3::new(0.45, 0.3, 0.84).normalize(),
         ambient: 0.2,
         shadow_tolerance: Some(SHADOW_TOLERANCE),
-        miss_color: Vec3::new(0.2, 0.25, 0.35),
+        miss_color: Some(Vec3::new(0.2, 0.25, 0.35)),
         albedo: ddm_render::DEFAULT_ALBEDO,
         normal_tint: ddm_render::DEFAULT_NORMAL_TINT,
     }
@@ -235,6 +235,38 @@ fn check_frame(name: &str, scene: &PlaneScene, camera: &Camera, gbuffer: &GBuffe
     assert!(worst_origin < RASTER_ORIGIN_PIN, "{name}: {worst_origin} (regression pin)");
     assert!(worst_direction < RASTER_DIRECTION_PIN, "{name}: {worst_direction} (regression pin)");
     assert!(worst_eye_hit < RASTER_ORIGIN_PIN, "{name}: {worst_eye_hit} (regression pin)");
+}
+
+/// `miss_color: None` (an object standing alone on its base): every pixel that showed the
+/// base surface under the slab shows what lies behind instead (class and colour as where a
+/// ray leaves the shell), and every other pixel is the same bits.
+#[test]
+fn without_a_base_surface_misses_show_what_lies_behind() {
+    let gpu = gpu();
+    // The chain mail has no floor: rays between its rings reach the slab's bottom.
+    let scene = PlaneScene::new(Mesostructure::ChainMail);
+    let camera = plane_camera(WIDTH, HEIGHT);
+    let readback = PixelReadback::new(gpu, &scene.renderer).unwrap();
+    let mut frames = Vec::new();
+    for settings in [settings(), RenderSettings { miss_color: None, ..settings() }] {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        scene.renderer.encode(&gpu.queue, &mut encoder, &DdmFrame::new(&camera, settings), readback.target()).unwrap();
+        gpu.queue.submit([encoder.finish()]);
+        frames.push(readback.read(gpu).unwrap());
+    }
+    let (mut misses, mut others) = (0, 0);
+    for (i, (with_base, without)) in frames[0].iter().zip(&frames[1]).enumerate() {
+        if with_base.color.w == PIXEL_MISS {
+            misses += 1;
+            assert_eq!(without.color, Vec4::new(0.0, 0.0, 0.0, PIXEL_LEFT_SHELL), "pixel {i}");
+            assert_eq!((without.ray_origin, without.ray_direction), (with_base.ray_origin, with_base.ray_direction));
+        } else {
+            others += 1;
+            assert_eq!(without, with_base, "pixel {i}");
+        }
+    }
+    println!("no base surface: {misses} misses now show what lies behind, {others} other pixels unchanged");
+    assert!(misses > 500 && others > 500, "{misses} misses, {others} others");
 }
 
 #[test]

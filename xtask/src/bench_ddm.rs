@@ -256,7 +256,7 @@ fn render_settings(base: &Base, shadow_tolerance: Option<f32>) -> RenderSettings
         light: base.light,
         ambient: 0.2,
         shadow_tolerance,
-        miss_color: Vec3::new(0.22, 0.27, 0.36),
+        miss_color: Some(Vec3::new(0.22, 0.27, 0.36)),
         albedo: ddm_render::DEFAULT_ALBEDO,
         normal_tint: ddm_render::DEFAULT_NORMAL_TINT,
     }

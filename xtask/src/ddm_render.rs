@@ -255,7 +255,7 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
                         light: base.light,
                         ambient: 0.2,
                         shadow_tolerance: Some(*tolerance),
-                        miss_color: Vec3::new(0.22, 0.27, 0.36),
+                        miss_color: Some(Vec3::new(0.22, 0.27, 0.36)),
                         albedo: ddm_render::DEFAULT_ALBEDO,
                         normal_tint: ddm_render::DEFAULT_NORMAL_TINT,
                     },
@@ -352,9 +352,8 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
             }
         }
     }
-    if let (Some(maze), Some(ball)) = (tiles.iter().find(|t| t.name == "maze"), tiles.iter().find(|t| t.name == "ball"))
-    {
-        interpenetration(&gpu, &pipelines, &bases[0], [maze, ball], dims, &out)?;
+    if let Some(maze) = tiles.iter().find(|t| t.name == "maze") {
+        interpenetration(&gpu, &pipelines, &bases[0], maze, dims, &out)?;
     }
     let path = out.join("ddm_render_times.csv");
     std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
@@ -368,25 +367,36 @@ pub fn run(args: &crate::cli::Args<'_>) -> Result<(), String> {
     Ok(())
 }
 
-/// Frames of [`INTERPENETRATION_FRAMES`] in which the ball tile, on a plane of 2 × 2 tiles
-/// a third of a slab above the maze's plane, moves across the maze (paper Fig. 1's scene, its
-/// ball a tile of balls): both DDM 4×1 + adaptive (voxel-exit stepping) objects drawn one
+/// Frames of [`INTERPENETRATION_FRAMES`] in which a golden ball moves across the maze
+/// (paper Fig. 1's scene): the ball is a tile that stands alone (`periodic_xy: false`, one
+/// sphere filling the slab's height and no floor) on a plane of one tile a third of a slab
+/// above the maze's plane, drawn without its base surface (`miss_color: None`), so that
+/// only the ball shows; both DDM 4×1 + adaptive (voxel-exit stepping) objects drawn one
 /// after the other into one colour and depth target (`DdmRenderer::color_depth_target`),
-/// each pixel keeping the nearer, so that the maze's walls pierce the ball tile's floor and
-/// the balls rise between the walls (each object casts shadows on itself only). The ball's motion is its renderer's camera moved the
+/// each pixel keeping the nearer, so that the maze's walls cut into the ball (each object
+/// casts shadows on itself only). The ball's motion is its renderer's camera moved the
 /// other way (eye distances, and so depths, are unchanged by the translation): nothing is
 /// uploaded per frame. Writes `maze_ball_interpenetration_KK.png`.
 fn interpenetration(
     gpu: &Gpu,
     pipelines: &DdmRenderPipelines,
     plane: &Base,
-    tiles: [&Tile; 2],
+    maze: &Tile,
     dims: UVec3,
     out: &std::path::Path,
 ) -> Result<(), String> {
     let (width, height) = (plane.camera.width, plane.camera.height);
     let size = dims.as_vec3();
-    let ball_plane = plane_base_mesh(dims, UVec2::new(2, 2)).ok_or("empty plane")?;
+    let radius = 0.5 * size.min_element() - 0.1;
+    let ball = Tile {
+        name: "golden ball",
+        triangles: mesostructure::sphere(0.5 * size, radius, 32),
+        height_field: false,
+        structure: None,
+        periodic_xy: false,
+    };
+    let tiles = [maze, &ball];
+    let ball_plane = plane_base_mesh(dims, UVec2::ONE).ok_or("empty plane")?;
     let ball_gbuffer = GBufferPass::new(&gpu.device, pipelines.gbuffer(), &ball_plane, width, height)
         .map_err(|e| format!("the ball's plane: {e}"))?;
     let exit = TraceSettings { method: Method::Quadric, max_steps: MAX_STEPS, stepping: Stepping::VoxelExit };
@@ -425,7 +435,7 @@ fn interpenetration(
         light: plane.light,
         ambient: 0.2,
         shadow_tolerance: Some(0.02),
-        miss_color: Vec3::new(0.22, 0.27, 0.36),
+        miss_color: Some(Vec3::new(0.22, 0.27, 0.36)),
         albedo: ddm_render::DEFAULT_ALBEDO,
         normal_tint: ddm_render::DEFAULT_NORMAL_TINT,
     };
@@ -436,8 +446,9 @@ fn interpenetration(
         let offset = Vec3::new((0.25 + along) * size.x, 0.25 * size.y, size.z / 3.0);
         let ball_camera =
             Camera { eye: plane.camera.eye - offset, target: plane.camera.target - offset, ..plane.camera };
-        // The ball tile golden, as the paper's Fig. 1 ball.
-        let golden = RenderSettings { albedo: Vec3::new(1.0, 0.76, 0.3), normal_tint: 0.1, ..settings };
+        // The ball golden, as the paper's Fig. 1 ball, and no base surface under it.
+        let golden =
+            RenderSettings { albedo: Vec3::new(1.0, 0.76, 0.3), normal_tint: 0.1, miss_color: None, ..settings };
         let frames = [DdmFrame::new(&plane.camera, settings), DdmFrame::new(&ball_camera, golden)];
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         targets[0].encode_clear(&mut encoder).map_err(|e| e.to_string())?;
@@ -458,7 +469,10 @@ fn interpenetration(
         let path = out.join(format!("maze_ball_interpenetration_{k:02}.png"));
         image.save(&path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     }
-    println!("maze and ball: {INTERPENETRATION_FRAMES} interpenetration frames (one colour and depth target)");
+    println!(
+        "maze and a golden ball (a lone tile, radius {radius} voxels): {INTERPENETRATION_FRAMES} interpenetration \
+         frames (one colour and depth target)"
+    );
     Ok(())
 }
 

@@ -57,8 +57,9 @@ fn shade_texel(texel: BaseGBufferTexel, exit: f32) -> BaseRenderPixel {
         shell_exit,
         render_slab_bottom(ray[1], f32(uniforms.dims_max_steps.z)),
     );
-    if pixel_class == RENDER_PIXEL_LEFT_SHELL {
-        // The ray leaves the base mesh's solid before any hit: what lies behind shows.
+    // The ray leaves the base mesh's solid before any hit, or misses where no base surface
+    // is drawn (miss_color.w 0): what lies behind shows.
+    if pixel_class == RENDER_PIXEL_LEFT_SHELL || (pixel_class == RENDER_PIXEL_MISS && params.miss_color.w == 0.0) {
         return BaseRenderPixel(vec4<f32>(0.0, 0.0, 0.0, RENDER_PIXEL_LEFT_SHELL), vec4<f32>(ray[0], f32(result.counts.x)), vec4<f32>(ray[1], 0.0), vec4<f32>(0.0));
     }
     if pixel_class == RENDER_PIXEL_MISS {

@@ -72,7 +72,8 @@ gpu_struct! {
         /// `v`, voxels per world unit along `−N`, and how far short of the hit (voxels) a
         /// shadow ray's hit must be to shadow it; a negative tolerance disables shadows.
         pub slab: Vec4,
-        /// Colour of the base mesh where the ray misses the mesostructure (`rgb`).
+        /// Colour of the base mesh where the ray misses the mesostructure (`rgb`); `w` 1
+        /// where the base mesh is drawn, 0 where such a pixel shows what lies behind.
         pub miss_color: Vec4,
         /// The mesostructure's albedo in `rgb`; in `w` how much of it is replaced by the
         /// normal's colour `0.5 n + 0.5`, so that the relief reads in the images.

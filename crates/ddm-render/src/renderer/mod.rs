@@ -52,7 +52,7 @@
 
 use ddm_tracer::GpuScene;
 use ddm_tracer::tangent_space::{BaseRenderParams, BaseRenderPixel};
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use gpu_harness::error_scoped;
 use wgpu::util::DeviceExt;
 
@@ -311,8 +311,11 @@ pub struct RenderSettings {
     /// Shadow rays: how far short of the shaded point (voxels) a hit must be to shadow it
     /// (finite, ≥ 0); `None` casts no shadow ray.
     pub shadow_tolerance: Option<f32>,
-    /// Colour of the base mesh where the ray misses the mesostructure (linear RGB, finite).
-    pub miss_color: Vec3,
+    /// Colour of the base mesh where the ray misses the mesostructure (linear RGB, finite);
+    /// `None` draws no base surface: such a pixel shows what lies behind, as where the ray
+    /// leaves the base mesh's solid (an object standing alone on its base, like a tile
+    /// built with `periodic_xy: false` holding one ball).
+    pub miss_color: Option<Vec3>,
     /// The mesostructure's albedo (linear RGB, finite and ≥ 0): [`DEFAULT_ALBEDO`] is
     /// `xtask ddm-render`'s warm sand.
     pub albedo: Vec3,
@@ -344,7 +347,7 @@ impl RenderSettings {
             Some(_) => return Err(DdmRenderError::InvalidSettings("shadow_tolerance must be finite and ≥ 0")),
             None => -1.0,
         };
-        if !self.miss_color.is_finite() {
+        if !self.miss_color.is_none_or(Vec3::is_finite) {
             return Err(DdmRenderError::InvalidSettings("miss_color must be finite"));
         }
         if !(self.albedo.is_finite() && self.albedo.min_element() >= 0.0) {
@@ -360,7 +363,7 @@ impl RenderSettings {
             eye: eye.extend(0.0),
             light: self.light.extend(self.ambient),
             slab: self.slab.extend(tolerance),
-            miss_color: self.miss_color.extend(0.0),
+            miss_color: self.miss_color.map_or(Vec4::ZERO, |c| c.extend(1.0)),
             albedo: self.albedo.extend(self.normal_tint),
         })
     }

@@ -49,7 +49,7 @@ fn settings() -> RenderSettings {
         light: Vec3::new(0.0, 0.6, 0.8),
         ambient: 0.2,
         shadow_tolerance: Some(0.02),
-        miss_color: Vec3::splat(0.3),
+        miss_color: Some(Vec3::splat(0.3)),
         albedo: Vec3::new(0.9, 0.7, 0.2),
         normal_tint: 0.25,
     }
@@ -158,8 +158,10 @@ fn settings_become_the_frame_parameters_or_name_the_bad_field() {
     assert_eq!(params.eye, eye.extend(0.0));
     assert_eq!(params.light, Vec3::new(0.0, 0.6, 0.8).extend(0.2));
     assert_eq!(params.slab, Vec3::new(8.0, 8.0, 1.0).extend(0.02));
-    assert_eq!(params.miss_color, Vec3::splat(0.3).extend(0.0));
+    assert_eq!(params.miss_color, Vec3::splat(0.3).extend(1.0));
     assert_eq!(params.albedo, Vec3::new(0.9, 0.7, 0.2).extend(0.25));
+    let no_base = RenderSettings { miss_color: None, ..settings() }.params(eye).unwrap();
+    assert_eq!(no_base.miss_color, Vec4::ZERO, "no base surface: w 0");
     let unshadowed = RenderSettings { shadow_tolerance: None, ..settings() }.params(eye).unwrap();
     assert!(unshadowed.slab.w < 0.0, "no shadow rays: negative tolerance");
     let bad = [
@@ -170,7 +172,7 @@ fn settings_become_the_frame_parameters_or_name_the_bad_field() {
         (RenderSettings { ambient: 1.5, ..settings() }, "ambient"),
         (RenderSettings { ambient: f32::NAN, ..settings() }, "ambient"),
         (RenderSettings { shadow_tolerance: Some(-0.1), ..settings() }, "shadow_tolerance"),
-        (RenderSettings { miss_color: Vec3::splat(f32::NAN), ..settings() }, "miss_color"),
+        (RenderSettings { miss_color: Some(Vec3::splat(f32::NAN)), ..settings() }, "miss_color"),
         (RenderSettings { albedo: Vec3::new(0.5, -0.1, 0.5), ..settings() }, "albedo"),
         (RenderSettings { albedo: Vec3::splat(f32::INFINITY), ..settings() }, "albedo"),
         (RenderSettings { normal_tint: 1.5, ..settings() }, "normal_tint"),

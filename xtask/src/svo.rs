@@ -5,12 +5,16 @@
 //! surface; the depth-of-field and shadow images of the middle view against theirs; PNGs of
 //! every frame beside its truth, `svo_accuracy.csv`, `svo_times.csv`, `svo_effects.csv`,
 //! `svo_supersampling.csv` (supersampling itself as a method: the truth's sampling with fewer
-//! rays, timed on the CPU, against the truth, and the truth's own noise floor), and
+//! rays, timed on the CPU, and the octree's finest level supersampled on the tracer's GPU
+//! with up to 4 × 4 rays per pixel on a software adapter and 16 × 16 on a hardware one,
+//! timed as the tracer, each against the truth; and the truth's own noise floor), and
 //! `svo_error_vs_time.png` (ꟻLIP against µs per covered pixel per model and per supersampling
 //! rate, each view and the dolly's mean, the Pareto front of the means drawn).
 //!
 //! `cargo xtask bench-gpu svo` ([`bench()`]) times every model with and without shadows and
-//! depth of field at every view and writes `svo.csv`.
+//! depth of field at every view and writes `svo.csv`, and the finest voxels supersampled on
+//! the same adapter (16 × 16 rays per pixel on a hardware adapter, 4 × 4 on a software one)
+//! into `svo_truth.csv`.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -26,9 +30,9 @@ use svo_render::parallel::threads;
 use svo_render::renderer::pack_for;
 use svo_render::scene_input::SceneInput;
 use svo_render::scenes::Scene;
-use svo_render::timing::{BenchSettings, Variant, bench_csv, bench_dolly, frame_work, time_frames};
+use svo_render::timing::{BenchSettings, Variant, bench_csv, bench_dolly, frame_work, time_frames, time_voxel_truth};
 use svo_render::truth::{TruthSettings, render_source_truth};
-use svo_render::{Frame, FrameSettings, GpuRenderer};
+use svo_render::{Frame, FrameSettings, GpuRenderer, GpuVoxelTruth};
 use svo_tracer::{Camera, Lens, Light, Model, TraceSettings};
 
 use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
@@ -185,7 +189,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     for model in Model::ALL {
         println!("  {:>11}: zoom drift {:+.4}", model.name(), table.max_drift(model));
     }
-    let sampled = supersampling(&setup, &settings, &truths)?;
+    let sampled = supersampling(&setup, &settings, &truths, frames)?;
     write_supersampling(&sampled, &out.join("svo_supersampling.csv"))?;
     print_equal_error(&sampled, &points);
     effects(&setup, &settings, &out)?;
@@ -216,14 +220,26 @@ fn print_row(row: &AccuracyRow, gpu_ms: f64, per_pixel: f64) {
     );
 }
 
+/// Where a supersampled render ran, and of what.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Sampled {
+    /// The unfiltered source, on the CPU.
+    SourceOnCpu,
+    /// The octree's finest level, on the tracer's adapter ([`GpuVoxelTruth`]): what a
+    /// renderer without prefiltering computes to anti-alias.
+    FinestVoxelsOnGpu,
+}
+
 /// One render of the truth's own sampling at one view, against the truth.
 struct Supersampled {
     view: u32,
+    /// What was sampled, where.
+    what: Sampled,
     /// `k`: `k × k` rays per pixel.
     rays_per_axis: u32,
     /// Jittered strata (as the truth), or their centres (the noise-floor render).
     jitter: bool,
-    /// Wall clock on the CPU, all cores.
+    /// Wall clock on the CPU, all cores; or the median GPU frame (as the tracer's).
     ms: f64,
     /// `ms` per pixel the truth covers, in µs.
     per_pixel: f64,
@@ -237,16 +253,41 @@ impl Supersampled {
     }
 }
 
+/// `settings` for the GPU voxel truth: `ε` raised to the least that `f32` rays resolve
+/// ([`GpuVoxelTruth::min_epsilon`]) where the finest voxel's `10⁻⁴` is below it, and said.
+fn gpu_truth_settings(truth: &GpuVoxelTruth, settings: TruthSettings) -> TruthSettings {
+    let epsilon = settings.epsilon.max(truth.min_epsilon());
+    if epsilon > settings.epsilon {
+        println!(
+            "  the GPU voxel truth traces with ε = {epsilon:.3e} (f32's least along its rays) instead of {:.3e}",
+            settings.epsilon
+        );
+    }
+    TruthSettings { epsilon, ..settings }
+}
+
+/// The GPU voxel truth's rates: `k × k` rays per pixel, up to 16 × 16 (the 256 rays per
+/// pixel of a GPU ground truth) on a hardware adapter, 4 × 4 on a software one.
+fn gpu_rates(software: bool) -> &'static [u32] {
+    if software { &[1, 2, 4] } else { &[1, 2, 4, 8, 16] }
+}
+
 /// Supersampling as a method, view by view: the truth's sampling of the unfiltered surface
 /// with 1 × 1 and 2 × 2 jittered rays per pixel (those below the truth's `k × k`), timed on
-/// the CPU, against the truth; and the truth's noise floor: its own `k × k` rays at the
-/// strata's centres against the jittered truth (two independent estimates of the same
-/// integral: their difference is about √2 times the truth's own error).
+/// the CPU, against the truth; the octree's finest level supersampled on the tracer's
+/// adapter ([`GpuVoxelTruth`], [`gpu_rates`]), timed as the tracer is, against the truth;
+/// and the truth's noise floor: its own `k × k` rays at the strata's centres against the
+/// jittered truth (two independent estimates of the same integral: their difference is
+/// about √2 times the truth's own error).
 fn supersampling(
     setup: &Setup,
     settings: &DollySettings,
     truths: &[(u32, Frame)],
+    frames: u32,
 ) -> Result<Vec<Supersampled>, String> {
+    let gpu_truth =
+        GpuVoxelTruth::new(&setup.gpu.device, &setup.packed, (setup.size, setup.size)).map_err(|e| e.to_string())?;
+    let software = setup.gpu.is_software();
     let reference = settings.truth;
     let mut cases: Vec<TruthSettings> = [1, 2]
         .into_iter()
@@ -269,8 +310,33 @@ fn supersampling(
             let per_pixel = if covered > 0 { ms * 1e3 / covered as f64 } else { f64::INFINITY };
             out.push(Supersampled {
                 view: *view,
+                what: Sampled::SourceOnCpu,
                 rays_per_axis: case.rays_per_axis,
                 jitter: case.jitter,
+                ms,
+                per_pixel,
+                comparison,
+            });
+        }
+        for &k in gpu_rates(software) {
+            let case = gpu_truth_settings(&gpu_truth, TruthSettings { rays_per_axis: k, ..reference });
+            let (warm_up, timed) = if software { (0, 1) } else { (1, frames.min(3)) };
+            let times = time_voxel_truth(&setup.gpu, &gpu_truth, &camera, &settings.trace, &case, warm_up, timed)
+                .map_err(|e| e.to_string())?;
+            let frame = gpu_truth.read_frame(&setup.gpu).map_err(|e| e.to_string())?;
+            let ms = times.median();
+            let comparison =
+                compare(&frame, truth, settings.trace.background, settings.exposure).map_err(|e| e.to_string())?;
+            let per_pixel = if covered > 0 { ms * 1e3 / covered as f64 } else { f64::INFINITY };
+            println!(
+                "  view {view}: finest voxels {k}×{k} rays on the GPU: {ms:.2} ms, ꟻLIP {:.4}, SSIM {:.4}",
+                comparison.flip, comparison.ssim
+            );
+            out.push(Supersampled {
+                view: *view,
+                what: Sampled::FinestVoxelsOnGpu,
+                rays_per_axis: k,
+                jitter: true,
                 ms,
                 per_pixel,
                 comparison,
@@ -281,12 +347,16 @@ fn supersampling(
 }
 
 fn write_supersampling(rows: &[Supersampled], path: &Path) -> Result<(), String> {
-    let mut csv = String::from("view,rays_per_axis,strata,ms,us_per_covered_pixel,threads,ssim,flip,rmse\n");
+    let mut csv = String::from("view,sampled,rays_per_axis,strata,ms,us_per_covered_pixel,threads,ssim,flip,rmse\n");
     for r in rows {
         let _ = writeln!(
             csv,
-            "{},{},{},{:.3},{:.6},{},{:.6},{:.6},{:.6}",
+            "{},{},{},{},{:.3},{:.6},{},{:.6},{:.6},{:.6}",
             r.view,
+            match r.what {
+                Sampled::SourceOnCpu => "source (CPU wall clock)",
+                Sampled::FinestVoxelsOnGpu => "finest voxels (GPU, as the tracer)",
+            },
             r.rays_per_axis,
             if r.jitter { "jittered" } else { "centres (noise floor)" },
             r.ms,
@@ -304,28 +374,38 @@ fn write_supersampling(rows: &[Supersampled], path: &Path) -> Result<(), String>
 /// time against the masks' (or, where no rate tried reaches it, a lower bound of the ratio:
 /// the largest rate's), beside the truth's noise floor.
 fn print_equal_error(sampled: &[Supersampled], points: &[(Model, u32, f64, f64)]) {
-    println!("  supersampling on the CPU ({} threads) against the masks on the GPU, at equal ꟻLIP:", threads());
+    println!(
+        "  supersampling (the source on the CPU, {} threads; the finest voxels on the GPU) against the masks on the \
+         GPU, at equal ꟻLIP:",
+        threads()
+    );
     for &(_, view, masks_us, masks_flip) in points.iter().filter(|p| p.0 == Model::Masks) {
-        let rates: Vec<&Supersampled> = sampled.iter().filter(|r| r.view == view && r.is_method()).collect();
         let floor = sampled.iter().find(|r| r.view == view && !r.is_method()).map_or(f64::NAN, |r| r.comparison.flip);
-        let reached = rates.iter().find(|r| r.comparison.flip <= masks_flip);
-        let line = match (reached, rates.last()) {
-            (Some(r), _) => format!(
-                "{k}×{k} rays reach it (ꟻLIP {:.4}) at {:.3}× the masks' time",
-                r.comparison.flip,
-                r.per_pixel / masks_us,
-                k = r.rays_per_axis
-            ),
-            (None, Some(r)) => format!(
-                "{k}×{k} rays do not (ꟻLIP {:.4}): more than {:.3}× the masks' time",
-                r.comparison.flip,
-                r.per_pixel / masks_us,
-                k = r.rays_per_axis
-            ),
-            (None, None) => "no rate below the truth's was tried".to_owned(),
+        let line = |what: Sampled| {
+            let rates: Vec<&Supersampled> =
+                sampled.iter().filter(|r| r.view == view && r.is_method() && r.what == what).collect();
+            let reached = rates.iter().find(|r| r.comparison.flip <= masks_flip);
+            match (reached, rates.last()) {
+                (Some(r), _) => format!(
+                    "{k}×{k} rays reach it (ꟻLIP {:.4}) at {:.3}× the masks' time",
+                    r.comparison.flip,
+                    r.per_pixel / masks_us,
+                    k = r.rays_per_axis
+                ),
+                (None, Some(r)) => format!(
+                    "{k}×{k} rays do not (ꟻLIP {:.4}): more than {:.3}× the masks' time",
+                    r.comparison.flip,
+                    r.per_pixel / masks_us,
+                    k = r.rays_per_axis
+                ),
+                (None, None) => "no rate below the truth's was tried".to_owned(),
+            }
         };
         println!(
-            "    view {view}: masks ꟻLIP {masks_flip:.4}, {masks_us:.3} µs/px; {line}; truth noise floor ꟻLIP {floor:.4}"
+            "    view {view}: masks ꟻLIP {masks_flip:.4}, {masks_us:.3} µs/px; source on the CPU: {}; finest voxels \
+             on the GPU: {}; truth noise floor ꟻLIP {floor:.4}",
+            line(Sampled::SourceOnCpu),
+            line(Sampled::FinestVoxelsOnGpu)
         );
     }
 }
@@ -384,6 +464,14 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
 
 const SUPERSAMPLING_COLOURS: [RGBColor; 2] = [RGBColor(90, 90, 90), RGBColor(150, 60, 160)];
 const FLOOR_GREY: RGBColor = RGBColor(140, 140, 140);
+/// The GPU voxel truth's rates, in [`gpu_rates`] order (teal, lightening with the rate).
+const VOXEL_SUPERSAMPLING_COLOURS: [RGBColor; 5] = [
+    RGBColor(0, 90, 90),
+    RGBColor(0, 120, 120),
+    RGBColor(0, 150, 150),
+    RGBColor(60, 180, 180),
+    RGBColor(120, 205, 205),
+];
 
 fn chart(
     path: &Path,
@@ -406,7 +494,7 @@ fn chart(
     }
     let (x_lo, x_hi) = (x_lo * 0.8, x_hi * 1.25);
     let caption =
-        format!("SVO `{scene}`: error against time (tracer: {adapter}; supersampling: CPU, {} threads)", threads());
+        format!("SVO `{scene}`: error against time (tracer, voxels: {adapter}; source: CPU, {} threads)", threads());
     render_png(path, (1100, 750), |root| {
         let e = drawing_error;
         let mut chart = ChartBuilder::on(root)
@@ -418,7 +506,7 @@ fn chart(
             .map_err(e)?;
         chart
             .configure_mesh()
-            .x_desc("µs per covered pixel (tracer: median GPU frame; supersampling: CPU wall clock)")
+            .x_desc("µs per covered pixel (tracer, voxels: median GPU frame; source: CPU wall clock)")
             .y_desc("FLIP against the supersampled truth")
             .label_style(("sans-serif", 18))
             .draw()
@@ -447,9 +535,21 @@ fn chart(
             series_of(series, COLOURS[k % COLOURS.len()], format!("{} (dolly mean; small: each view)", model.name()))?;
         }
         for (i, rate) in [1, 2].into_iter().enumerate() {
-            let series =
-                methods.iter().filter(|r| r.rays_per_axis == rate).map(|r| (r.per_pixel, r.comparison.flip)).collect();
-            series_of(series, SUPERSAMPLING_COLOURS[i], format!("supersampling {rate}×{rate} rays (CPU)"))?;
+            let series = methods
+                .iter()
+                .filter(|r| r.what == Sampled::SourceOnCpu && r.rays_per_axis == rate)
+                .map(|r| (r.per_pixel, r.comparison.flip))
+                .collect();
+            series_of(series, SUPERSAMPLING_COLOURS[i], format!("supersampling {rate}×{rate} rays (source, CPU)"))?;
+        }
+        for (i, &rate) in gpu_rates(false).iter().enumerate() {
+            let series = methods
+                .iter()
+                .filter(|r| r.what == Sampled::FinestVoxelsOnGpu && r.rays_per_axis == rate)
+                .map(|r| (r.per_pixel, r.comparison.flip))
+                .collect();
+            let colour = VOXEL_SUPERSAMPLING_COLOURS[i % VOXEL_SUPERSAMPLING_COLOURS.len()];
+            series_of(series, colour, format!("finest voxels {rate}×{rate} rays (GPU)"))?;
         }
         if !floors.is_empty() {
             let floor = floors.iter().sum::<f64>() / floors.len() as f64;
@@ -514,11 +614,64 @@ pub fn bench(args: &Args<'_>) -> Result<(), String> {
     let csv = bench_csv(&rows, &adapter, setup.renderer.size(), setup.scene.name);
     let path = out.join("svo.csv");
     std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    // The finest voxels supersampled on the same adapter (what anti-aliasing costs without
+    // prefiltering): the largest of gpu_rates, plain, at every view; the median of 3 frames
+    // after 1 (a 16 × 16 frame at 1024² is ~10⁹ rays: the command must end in 5 minutes).
+    let truth =
+        GpuVoxelTruth::new(&setup.gpu.device, &setup.packed, (setup.size, setup.size)).map_err(|e| e.to_string())?;
+    let k = *gpu_rates(software).last().unwrap_or(&1);
+    let truth_settings = gpu_truth_settings(&truth, TruthSettings::for_voxel(setup.voxel, k));
+    let mut truth_csv = String::from(
+        "adapter,scene,width,height,view,distance,rays_per_pixel,median_ms,us_per_covered_pixel,masks_median_ms,\
+         masks_ratio,frames,timing\n",
+    );
+    for view in 0..settings.dolly.views {
+        let camera = settings.dolly.camera(view).map_err(|e| e.to_string())?;
+        let times = time_voxel_truth(
+            &setup.gpu,
+            &truth,
+            &camera,
+            &settings.trace,
+            &truth_settings,
+            settings.warm_up.min(1),
+            settings.frames.min(3),
+        )
+        .map_err(|e| e.to_string())?;
+        let frame = truth.read_frame(&setup.gpu).map_err(|e| e.to_string())?;
+        let (_, per_pixel, _, _) = frame_work(&frame, times.median());
+        let masks = rows
+            .iter()
+            .find(|r| r.view == view && r.model == Model::Masks && r.variant == Variant::Plain.name())
+            .map_or(f64::NAN, |r| r.median_ms);
+        println!(
+            "  view {view}: finest voxels {k}×{k} rays on the GPU {:.3} ms, {per_pixel:.5} µs/px ({:.1}× the masks)",
+            times.median(),
+            times.median() / masks
+        );
+        let _ = writeln!(
+            truth_csv,
+            "{},{},{},{},{view},{:.6},{},{:.5},{:.6},{masks:.5},{:.3},{},{:?}",
+            adapter.replace(',', ";"),
+            setup.scene.name,
+            setup.size,
+            setup.size,
+            settings.dolly.distance(view),
+            k * k,
+            times.median(),
+            per_pixel,
+            times.median() / masks,
+            times.ms.len(),
+            times.source
+        );
+    }
+    let truth_path = out.join("svo_truth.csv");
+    std::fs::write(&truth_path, truth_csv).map_err(|e| format!("cannot write {}: {e}", truth_path.display()))?;
     println!(
-        "bench-gpu svo: {} rows in {:.1} s, wrote {}",
+        "bench-gpu svo: {} rows in {:.1} s, wrote {} and {}",
         rows.len(),
         started.elapsed().as_secs_f64(),
-        path.display()
+        path.display(),
+        truth_path.display()
     );
     Ok(())
 }

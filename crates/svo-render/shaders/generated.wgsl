@@ -7,3 +7,9 @@ const SVO_RENDER_TILE: u32 = 8u;
 struct SvoFrameUniforms {
     exposure: vec4<f32>, // offset 0
 }
+
+// Rust size 32 bytes.
+struct GpuTruthSettings {
+    counts: vec4<u32>, // offset 0
+    epsilon_jitter: vec4<f32>, // offset 16
+}

@@ -56,6 +56,8 @@
 //!   the pipeline built once; per frame ([`FrameSettings`]) one compute pass of 8 × 8 tiles
 //!   through `svo-tracer`'s WGSL twin into radiance, coverage and work buffers and an
 //!   sRGB-encoded storage texture.
+//! - [`gpu_truth`]: [`GpuVoxelTruth`], the voxel truth on wgpu (the same rays as
+//!   [`truth::render_voxel_truth`], in `f32`), to time supersampling on the tracer's adapter.
 //! - [`shader`]: the frame kernel's WGSL (generated declarations and composition).
 //! - [`timing`]: frames timed by GPU timestamps (wall clock on software adapters), and the
 //!   benchmark of every model along a dolly with and without shadows and depth of field.
@@ -65,6 +67,7 @@ pub mod accuracy;
 pub mod cpu;
 mod error;
 pub mod frame;
+pub mod gpu_truth;
 pub mod parallel;
 pub mod renderer;
 pub mod scene_input;
@@ -76,4 +79,5 @@ pub mod truth;
 
 pub use error::RenderError;
 pub use frame::Frame;
+pub use gpu_truth::GpuVoxelTruth;
 pub use renderer::{FrameSettings, GpuRenderer};

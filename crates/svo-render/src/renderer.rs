@@ -20,6 +20,7 @@ use svo_tracer::{Camera, TraceSettings};
 use crate::error::{RenderError, check, gpu_failed};
 use crate::frame::Frame;
 use crate::shader::{SvoFrameUniforms, TILE, frame_shader};
+use wgsl_gen::ComposedShader;
 
 /// The largest storage binding the device allows, in bytes: the limit to pack an octree for
 /// (`PackedTree::with_binding_limit`).
@@ -63,6 +64,61 @@ pub struct GpuRenderer {
     octree_bytes: u64,
 }
 
+/// `shader`'s source once naga has validated it (`what` names the kernel in the error).
+pub(crate) fn validated_source(shader: &ComposedShader, what: &'static str) -> Result<String, RenderError> {
+    shader.validate().map_err(|e| RenderError::Gpu { what, message: e.to_string() })?;
+    Ok(shader.source().to_owned())
+}
+
+/// The device's binding limit ([`binding_limit`]) once `packed`'s node pool and each of its
+/// brick bindings are known to fit in it, or the pool that does not.
+pub(crate) fn check_pools(device: &wgpu::Device, packed: &PackedTree) -> Result<u64, RenderError> {
+    let limit = binding_limit(device);
+    let node_bytes = size_of_val(packed.nodes()) as u64;
+    if node_bytes > limit {
+        return Err(RenderError::Pools(PoolError::Nodes(node_bytes, limit)));
+    }
+    let largest = packed.brick_bindings().iter().map(|b| 4 * b.len() as u64).max().unwrap_or(0);
+    if largest > limit {
+        return Err(RenderError::Pools(PoolError::Bricks(4 * packed.words().len() as u64, limit)));
+    }
+    Ok(limit)
+}
+
+/// An octree on the GPU: its uniforms (binding 0), node pool (3) and brick bindings (4–7),
+/// as `svo-brick`'s WGSL twin reads them.
+pub(crate) struct OctreeBuffers {
+    uniforms: wgpu::Buffer,
+    nodes: wgpu::Buffer,
+    bricks: Vec<wgpu::Buffer>,
+}
+
+impl OctreeBuffers {
+    /// Uploads `packed` (checked by [`check_pools`]; call inside an error scope).
+    pub(crate) fn upload(device: &wgpu::Device, packed: &PackedTree) -> Self {
+        use wgpu::util::DeviceExt;
+        let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("svo octree uniforms"),
+            contents: bytemuck::bytes_of(&packed.uniforms()),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let nodes = storage(device, "svo nodes", bytemuck::cast_slice(packed.nodes()));
+        let bricks = packed
+            .brick_bindings()
+            .iter()
+            .map(|words| storage(device, "svo bricks", bytemuck::cast_slice(words)))
+            .collect();
+        Self { uniforms, nodes, bricks }
+    }
+
+    /// The bind group entries of the octree's bindings.
+    pub(crate) fn entries(&self) -> Vec<wgpu::BindGroupEntry<'_>> {
+        let mut entries = vec![buffer(0, &self.uniforms), buffer(3, &self.nodes)];
+        entries.extend(self.bricks.iter().enumerate().map(|(k, b)| buffer(4 + k as u32, b)));
+        entries
+    }
+}
+
 fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
     use wgpu::util::DeviceExt;
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -72,7 +128,7 @@ fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
     })
 }
 
-fn uniform(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
+pub(crate) fn uniform(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: size as u64,
@@ -81,11 +137,11 @@ fn uniform(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
     })
 }
 
-fn buffer(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+pub(crate) fn buffer(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
 }
 
-fn output(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+pub(crate) fn output(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size,
@@ -113,16 +169,7 @@ impl GpuRenderer {
     ) -> Result<Self, RenderError> {
         check(size.0 > 0 && size.1 > 0, "GpuRenderer::size", f64::from(size.0.min(size.1)), "at least 1 × 1 px")?;
         check(W <= 4, "MaskTable::WORDS", W as f64, "at most 4 words (128 samples), the WGSL twin's masks")?;
-        let limit = binding_limit(device);
-        let node_bytes = size_of_val(packed.nodes()) as u64;
-        if node_bytes > limit {
-            return Err(RenderError::Pools(PoolError::Nodes(node_bytes, limit)));
-        }
-        let bindings = packed.brick_bindings();
-        let largest = bindings.iter().map(|b| 4 * b.len() as u64).max().unwrap_or(0);
-        if largest > limit {
-            return Err(RenderError::Pools(PoolError::Bricks(4 * packed.words().len() as u64, limit)));
-        }
+        let limit = check_pools(device, packed)?;
         let pixels = u64::from(size.0) * u64::from(size.1);
         check(
             16 * pixels <= limit,
@@ -130,11 +177,7 @@ impl GpuRenderer {
             pixels as f64,
             "at most max_storage_buffer_binding_size / 16 pixels",
         )?;
-        let shader = frame_shader();
-        shader
-            .validate()
-            .map_err(|e| RenderError::Gpu { what: "validating the frame kernel", message: e.to_string() })?;
-        let shader_source = shader.source().to_owned();
+        let shader_source = validated_source(&frame_shader(), "validating the frame kernel")?;
         error_scoped(device, || {
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("svo_render_frame"),
@@ -148,14 +191,7 @@ impl GpuRenderer {
                 compilation_options: Default::default(),
                 cache: None,
             });
-            let tree_uniforms = {
-                use wgpu::util::DeviceExt;
-                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("svo octree uniforms"),
-                    contents: bytemuck::bytes_of(&packed.uniforms()),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                })
-            };
+            let octree = OctreeBuffers::upload(device, packed);
             let table_uniforms = {
                 use wgpu::util::DeviceExt;
                 device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -164,8 +200,6 @@ impl GpuRenderer {
                     usage: wgpu::BufferUsages::UNIFORM,
                 })
             };
-            let nodes = storage(device, "svo nodes", bytemuck::cast_slice(packed.nodes()));
-            let bricks = bindings.map(|words| storage(device, "svo bricks", bytemuck::cast_slice(words)));
             let masks = storage(device, "svo masks", bytemuck::cast_slice(table.words()));
             let camera = uniform(device, "svo camera", size_of::<svo_tracer::GpuCamera>());
             let settings = uniform(device, "svo settings", size_of::<svo_tracer::GpuTraceSettings>());
@@ -185,19 +219,17 @@ impl GpuRenderer {
                 view_formats: &[],
             });
             let view = image.create_view(&Default::default());
-            let mut entries = vec![
-                buffer(0, &tree_uniforms),
+            let mut entries = octree.entries();
+            entries.extend([
                 buffer(1, &table_uniforms),
                 buffer(2, &camera),
-                buffer(3, &nodes),
                 buffer(8, &masks),
                 buffer(9, &settings),
                 buffer(10, &frame),
                 buffer(11, &radiance_coverage),
                 buffer(12, &elements),
                 wgpu::BindGroupEntry { binding: 13, resource: wgpu::BindingResource::TextureView(&view) },
-            ];
-            entries.extend(bricks.iter().enumerate().map(|(k, b)| buffer(4 + k as u32, b)));
+            ]);
             let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("svo_render_frame"),
                 layout: &pipeline.get_bind_group_layout(0),
@@ -325,6 +357,6 @@ impl GpuRenderer {
     }
 }
 
-fn gpu_error(e: gpu_harness::HarnessError) -> RenderError {
+pub(crate) fn gpu_error(e: gpu_harness::HarnessError) -> RenderError {
     gpu_failed("reading the frame back")(e)
 }

@@ -1,7 +1,8 @@
-//! The GPU frame kernel's WGSL: the generated declarations of [`SvoFrameUniforms`] and
-//! [`TILE`], and the kernel `shaders/svo_render.wgsl` composed after `svo-tracer`'s twin.
+//! The GPU kernels' WGSL: the generated declarations of [`SvoFrameUniforms`],
+//! [`GpuTruthSettings`] and [`TILE`], and the kernels `shaders/svo_render.wgsl` (the frame)
+//! and `shaders/svo_truth.wgsl` (the voxel truth), composed after `svo-tracer`'s twin.
 
-use glam::Vec4;
+use glam::{UVec4, Vec4};
 use gpu_layout::{gpu_const, gpu_struct};
 use wgsl_gen::{ComposedShader, GenerateError, StructDecl, generate_declarations};
 
@@ -19,16 +20,29 @@ gpu_struct! {
     }
 }
 
+gpu_struct! {
+    /// [`crate::truth::TruthSettings`] for the voxel truth's kernel
+    /// (`svo_render_voxel_truth`).
+    pub struct GpuTruthSettings {
+        /// `(k rays per axis, m lens samples per axis, s shadow rays per axis, max steps)`.
+        pub counts: UVec4,
+        /// `(ε, jitter (0 or 1), 0, 0)`.
+        pub epsilon_jitter: Vec4,
+    }
+}
+
 /// Path of the committed generated declarations, relative to the workspace root.
 pub const GENERATED_WGSL_PATH: &str = "crates/svo-render/shaders/generated.wgsl";
 /// The committed generated declarations.
 pub const GENERATED_WGSL: &str = include_str!("../shaders/generated.wgsl");
 const FRAME_PATH: &str = "crates/svo-render/shaders/svo_render.wgsl";
 const FRAME: &str = include_str!("../shaders/svo_render.wgsl");
+const TRUTH_PATH: &str = "crates/svo-render/shaders/svo_truth.wgsl";
+const TRUTH: &str = include_str!("../shaders/svo_truth.wgsl");
 
 /// The structs of the crate, for WGSL generation.
 pub fn struct_declarations() -> Vec<StructDecl> {
-    vec![StructDecl::of::<SvoFrameUniforms>()]
+    vec![StructDecl::of::<SvoFrameUniforms>(), StructDecl::of::<GpuTruthSettings>()]
 }
 
 /// The declarations as the Rust source says they should be now (`cargo xtask codegen`
@@ -45,6 +59,14 @@ pub fn frame_shader() -> ComposedShader {
         .with_part(FRAME_PATH, FRAME)
 }
 
+/// The voxel truth's kernel (`svo_render_voxel_truth`, [`crate::GpuVoxelTruth`]): `svo-tracer`'s
+/// twin (with `svo-brick`'s), the declarations and `svo_truth.wgsl`.
+pub fn truth_shader() -> ComposedShader {
+    ComposedShader::of_module(&svo_tracer::WGSL)
+        .with_part(GENERATED_WGSL_PATH, GENERATED_WGSL)
+        .with_part(TRUTH_PATH, TRUTH)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -54,10 +76,12 @@ mod tests {
     fn committed_generated_wgsl_is_fresh_and_laid_out_like_rust() {
         let expected = generated_wgsl().unwrap();
         assert!(GENERATED_WGSL == expected, "stale {GENERATED_WGSL_PATH}; run `cargo xtask codegen`");
-        let module = frame_shader().validate().unwrap_or_else(|e| panic!("{e}"));
-        check_layout(&module.module, &struct_declarations()).unwrap();
-        let mut structs = struct_declarations();
-        structs.extend(svo_tracer::WGSL.structs.iter().cloned());
-        check_layout(&module.module, &structs).unwrap();
+        for shader in [frame_shader(), truth_shader()] {
+            let module = shader.validate().unwrap_or_else(|e| panic!("{e}"));
+            check_layout(&module.module, &struct_declarations()).unwrap();
+            let mut structs = struct_declarations();
+            structs.extend(svo_tracer::WGSL.structs.iter().cloned());
+            check_layout(&module.module, &structs).unwrap();
+        }
     }
 }

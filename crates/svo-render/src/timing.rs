@@ -1,4 +1,4 @@
-//! Timing [`GpuRenderer`] frames and the benchmark of a dolly (`cargo xtask bench-gpu svo`).
+//! Timing [`GpuRenderer`] and [`GpuVoxelTruth`] frames, and the benchmark of a dolly (`cargo xtask bench-gpu svo`).
 //!
 //! A frame is timed by GPU timestamps at the start and the end of its compute pass where
 //! the adapter has them and is not a software one; by wall clock around its submission and
@@ -13,7 +13,9 @@ use svo_tracer::{Camera, Lens, Model, TraceSettings};
 use crate::accuracy::Dolly;
 use crate::error::{RenderError, check, gpu_failed};
 use crate::frame::Frame;
+use crate::gpu_truth::GpuVoxelTruth;
 use crate::renderer::{FrameSettings, GpuRenderer};
+use crate::truth::TruthSettings;
 
 /// Renders `warm_up` untimed frames, then `frames` timed ones (see the module docs).
 pub fn time_frames(
@@ -23,13 +25,55 @@ pub fn time_frames(
     warm_up: u32,
     frames: u32,
 ) -> Result<FrameTimes, RenderError> {
+    time_passes(
+        gpu,
+        |encoder, timestamps| match timestamps {
+            Some((set, index)) => renderer.encode_timed(&gpu.queue, encoder, frame, set, index),
+            None => renderer.encode(&gpu.queue, encoder, frame),
+        },
+        warm_up,
+        frames,
+    )
+}
+
+/// [`time_frames`] for the GPU voxel truth: `warm_up` untimed frames of `truth` with
+/// `camera`, `trace` and `settings`, then `frames` timed ones.
+pub fn time_voxel_truth(
+    gpu: &Gpu,
+    truth: &GpuVoxelTruth,
+    camera: &Camera,
+    trace: &TraceSettings,
+    settings: &TruthSettings,
+    warm_up: u32,
+    frames: u32,
+) -> Result<FrameTimes, RenderError> {
+    time_passes(
+        gpu,
+        |encoder, timestamps| {
+            let writes = timestamps.map(|(query_set, index)| wgpu::ComputePassTimestampWrites {
+                query_set,
+                beginning_of_pass_write_index: Some(index),
+                end_of_pass_write_index: Some(index + 1),
+            });
+            truth.encode(&gpu.queue, encoder, camera, trace, settings, writes)
+        },
+        warm_up,
+        frames,
+    )
+}
+
+/// Times the one compute pass that `record` encodes, given the query set and the index of
+/// its start timestamp to write (or none); see the module docs.
+fn time_passes(
+    gpu: &Gpu,
+    record: impl Fn(&mut wgpu::CommandEncoder, Option<(&wgpu::QuerySet, u32)>) -> Result<(), RenderError>,
+    warm_up: u32,
+    frames: u32,
+) -> Result<FrameTimes, RenderError> {
     check(frames >= 1, "frames", f64::from(frames), "at least 1")?;
     let submit = |timestamps: Option<(&wgpu::QuerySet, u32)>| -> Result<(), RenderError> {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        match timestamps {
-            Some((set, index)) => renderer.encode_timed(&gpu.queue, &mut encoder, frame, set, index)?,
-            None => renderer.encode(&gpu.queue, &mut encoder, frame)?,
-        }
+        record(&mut encoder, timestamps)?;
         gpu.queue.submit([encoder.finish()]);
         Ok(())
     };

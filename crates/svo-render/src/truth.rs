@@ -21,7 +21,9 @@
 //!
 //! Each ray is sphere-traced against the geometry's distance ([`TruthGeometry`]) in `f64`
 //! along the ray (an `f32` parameter stalls where its ulp exceeds the tolerance, ~8 units from
-//! the origin): from the entry into the domain cube, step by the distance `d` until
+//! the origin): from `ε` past the entry into the domain cube (at the entry itself the point,
+//! rounded to `f32`, may lie on a face where the octree has no sample: such a ray was lost
+//! whole, as a miss), step by the distance `d` until
 //! `|d| < ε` ([`TruthSettings::epsilon`], a hit), the ray leaves the domain (a miss), or
 //! [`TruthSettings::max_steps`] evaluations are spent (a miss: a ray grazing the surface
 //! closer than the steps could resolve). A negative distance after a positive one (an
@@ -221,7 +223,9 @@ fn intersect<G: TruthGeometry + ?Sized>(
     let exit = exit.min(limit);
     let epsilon = settings.epsilon;
     let at = |t: f64| geometry.distance((origin + direction * t).as_vec3());
-    let (mut t, mut previous, mut evaluations) = (enter, None::<f64>, 0_u32);
+    // From ε inside the domain: at its entry the point may round (to f32) onto or beyond a
+    // face, where the octree has no sample and the ray would be lost.
+    let (mut t, mut previous, mut evaluations) = (enter + f64::from(epsilon), None::<f64>, 0_u32);
     while evaluations < settings.max_steps {
         if t > exit {
             return (None, evaluations);

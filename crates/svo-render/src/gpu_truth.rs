@@ -24,7 +24,7 @@ use svo_tracer::{Camera, TraceSettings};
 
 use crate::error::{RenderError, check, gpu_failed};
 use crate::frame::Frame;
-use crate::renderer::{OctreeBuffers, buffer, check_pools, gpu_error, output, uniform, validated_source};
+use crate::renderer::{OctreeBuffers, buffer, check_pools, output, read_frame_buffers, uniform, validated_source};
 
 /// The kernel's bindings: the octree's uniforms (0), nodes (3) and bricks (4–7), the camera
 /// (2), the trace settings (9), the truth's settings (10), the per-pixel sums (11) and
@@ -273,13 +273,6 @@ impl GpuVoxelTruth {
     /// Reads the last frame back into a [`Frame`], its work being the distance evaluations
     /// per pixel (waits for the GPU: a tool's call, never a frame loop's).
     pub fn read_frame(&self, gpu: &Gpu) -> Result<Frame, RenderError> {
-        let pixels = self.size.0 as usize * self.size.1 as usize;
-        let radiance = gpu.read_buffer(&self.radiance_coverage, 16 * pixels as u64).map_err(gpu_error)?;
-        let evaluations = gpu.read_buffer(&self.evaluations, 4 * pixels as u64).map_err(gpu_error)?;
-        let radiance: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&radiance);
-        let evaluations: Vec<u32> = bytemuck::pod_collect_to_vec(&evaluations);
-        let pixels =
-            radiance.iter().zip(evaluations).map(|(r, e)| (glam::Vec3::new(r[0], r[1], r[2]), r[3], e)).collect();
-        Frame::from_pixels(self.size.0, self.size.1, pixels)
+        read_frame_buffers(gpu, self.size, &self.radiance_coverage, &self.evaluations)
     }
 }

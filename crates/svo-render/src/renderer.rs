@@ -340,13 +340,7 @@ impl GpuRenderer {
     /// Reads the last frame back into a [`Frame`] (waits for the GPU: a tool's call, never
     /// a frame loop's).
     pub fn read_frame(&self, gpu: &Gpu) -> Result<Frame, RenderError> {
-        let pixels = self.size.0 as usize * self.size.1 as usize;
-        let radiance = gpu.read_buffer(&self.radiance_coverage, 16 * pixels as u64).map_err(gpu_error)?;
-        let elements = gpu.read_buffer(&self.elements, 4 * pixels as u64).map_err(gpu_error)?;
-        let radiance: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&radiance);
-        let elements: Vec<u32> = bytemuck::pod_collect_to_vec(&elements);
-        let pixels = radiance.iter().zip(elements).map(|(r, e)| (glam::Vec3::new(r[0], r[1], r[2]), r[3], e)).collect();
-        Frame::from_pixels(self.size.0, self.size.1, pixels)
+        read_frame_buffers(gpu, self.size, &self.radiance_coverage, &self.elements)
     }
 }
 
@@ -355,6 +349,24 @@ impl GpuRenderer {
     pub fn read_image(&self, gpu: &Gpu) -> Result<image::RgbaImage, RenderError> {
         gpu.read_rgba8_texture(&self.image).map_err(gpu_error)
     }
+}
+
+/// A [`Frame`] of `size` read back from a kernel's `(linear radiance, coverage)` buffer
+/// (`vec4<f32>` per pixel) and its work buffer (`u32` per pixel), row-major (waits for the
+/// GPU).
+pub(crate) fn read_frame_buffers(
+    gpu: &Gpu,
+    size: (u32, u32),
+    radiance_coverage: &wgpu::Buffer,
+    work: &wgpu::Buffer,
+) -> Result<Frame, RenderError> {
+    let pixels = size.0 as usize * size.1 as usize;
+    let radiance = gpu.read_buffer(radiance_coverage, 16 * pixels as u64).map_err(gpu_error)?;
+    let work = gpu.read_buffer(work, 4 * pixels as u64).map_err(gpu_error)?;
+    let radiance: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&radiance);
+    let work: Vec<u32> = bytemuck::pod_collect_to_vec(&work);
+    let pixels = radiance.iter().zip(work).map(|(r, e)| (glam::Vec3::new(r[0], r[1], r[2]), r[3], e)).collect();
+    Frame::from_pixels(size.0, size.1, pixels)
 }
 
 pub(crate) fn gpu_error(e: gpu_harness::HarnessError) -> RenderError {

@@ -265,10 +265,12 @@ struct SvoMarch {
     done: bool,
 }
 
-// An element that adds coverage: its sample, position and added coverage.
+// An element that adds coverage: its sample, position, level of detail and added coverage.
 struct SvoElement {
     voxel: SvoRawVoxel,
     z: f32,
+    lod: f32,
+    half_length: f32,
     added: f32,
     found: bool,
 }
@@ -356,7 +358,7 @@ fn svo_march_next(tree: OctreeUniforms, table: MaskTableUniforms, cone: SvoCone,
                 if (*state).alpha >= 1.0 - 1.0 / 1024.0 {
                     (*state).done = true;
                 }
-                return SvoElement(s, z, added, true);
+                return SvoElement(s, z, lod, l, added, true);
             }
         } else {
             var mask = vec4<u32>(0u);
@@ -375,7 +377,7 @@ fn svo_march_next(tree: OctreeUniforms, table: MaskTableUniforms, cone: SvoCone,
                 if abuffer_mask_popcount((*state).mask) >= table.sample_count {
                     (*state).done = true;
                 }
-                return SvoElement(s, z, f32(added) * (1.0 / f32(table.sample_count)), true);
+                return SvoElement(s, z, lod, l, f32(added) * (1.0 / f32(table.sample_count)), true);
             }
         }
     }
@@ -424,6 +426,31 @@ fn svo_light_visibility(tree: OctreeUniforms, table: MaskTableUniforms, surface:
     return 1.0 - svo_march_coverage(table, settings, state);
 }
 
+// Rust: trace::shading_points: (where the element is sampled, that point on its plane).
+fn svo_shading_points(p: vec3<f32>, direction: vec3<f32>, voxel: SvoRawVoxel, lod: f32, half_length: f32) -> mat2x3<f32> {
+    let slope = dot(voxel.normal, direction);
+    var t = 0.0;
+    if slope != 0.0 {
+        t = clamp(-voxel.distance / slope, -half_length, half_length);
+    }
+    let x = p + direction * t - voxel.normal * (voxel.distance + t * slope);
+    let w = clamp(1.0 - lod, 0.0, 1.0);
+    let sampled = p + (x - p) * w;
+    return mat2x3<f32>(sampled, sampled - voxel.normal * ((1.0 - w) * voxel.distance));
+}
+
+// Rust: trace::surface_voxel.
+fn svo_surface_voxel(tree: OctreeUniforms, voxel: SvoRawVoxel, point: vec3<f32>, lod: f32, model: u32) -> SvoRawVoxel {
+    if model == SVO_MODEL_NEAREST {
+        return voxel;
+    }
+    let there = svo_sample(tree, point, lod);
+    if there.inside && any(there.voxel.normal != vec3<f32>(0.0)) {
+        return there.voxel;
+    }
+    return voxel;
+}
+
 // Rust: trace::trace_cone.
 fn svo_trace_cone(tree: OctreeUniforms, table: MaskTableUniforms, cone: SvoCone, settings: GpuTraceSettings) -> SvoConeResult {
     let view = -cone.direction;
@@ -438,15 +465,17 @@ fn svo_trace_cone(tree: OctreeUniforms, table: MaskTableUniforms, cone: SvoCone,
             break;
         }
         let p = cone.origin + cone.direction * element.z;
-        let to_light = settings.light.xyz - p;
+        let points = svo_shading_points(p, cone.direction, element.voxel, element.lod, element.half_length);
+        let surface = points[1];
+        let shading = svo_surface_voxel(tree, element.voxel, points[0], element.lod, settings.model_limits.x);
+        let to_light = settings.light.xyz - surface;
         let light = select(vec3<f32>(0.0), normalize(to_light), dot(to_light, to_light) > 0.0);
         if shadows < settings.model_limits.w {
             let r = 0.5 * svo_cone_width(cone, element.z);
-            let surface = p - element.voxel.normal * element.voxel.distance;
             visibility = svo_light_visibility(tree, table, surface, element.voxel.normal, 2.0 * r, settings);
             shadows += 1u;
         }
-        radiance += svo_element_radiance(element.voxel, view, light, settings, separate, visibility) * element.added;
+        radiance += svo_element_radiance(shading, view, light, settings, separate, visibility) * element.added;
     }
     let coverage = svo_march_coverage(table, settings, state);
     return SvoConeResult(radiance + settings.background_floor.xyz * (1.0 - coverage), coverage, state.elements);

@@ -76,6 +76,9 @@ fn bean_pile(count: usize) -> Result<(Stacking, f32, f32), String> {
 }
 
 pub fn run(args: &Args<'_>) -> Result<(), String> {
+    if args.subject() != "stackings" && args.value("dolly-frames").is_some() {
+        return Err(format!("bench-gpu {}: --dolly-frames applies to `bench-gpu stackings` only", args.subject()));
+    }
     const SVO_ONLY: [&str; 5] = ["height-map", "pixels", "levels", "zoom", "views"];
     const DDM_ONLY: [&str; 7] = ["quick", "size", "scale", "fit-slab", "height", "periodic", "clamp"];
     if args.subject() == "ddm" {

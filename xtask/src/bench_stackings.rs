@@ -1,7 +1,9 @@
-//! `cargo xtask bench-gpu stackings [OUT_DIR] [--grains LIST] [--frames N] [--scene NAME |
-//! --obj PATH --mesh-above PX] [--samples S] [--resolution WxH]`: the multiscale renderer (`grain-renderer`)
-//! stage by stage (occluder map, split, meshes, impostor and point visibility, resolve, shading) over
-//! a backward dolly of 5 frames at 1920×1080 (`--resolution` another size), on piles of coffee beans and of sand grains
+//! `cargo xtask bench-gpu stackings [OUT_DIR] [--grains LIST] [--frames N] [--dolly-frames LIST]
+//! [--scene NAME | --obj PATH --mesh-above PX] [--samples S] [--resolution WxH]`: the multiscale
+//! renderer (`grain-renderer`) stage by stage (occluder map, split, meshes, impostor and point
+//! visibility, resolve, shading) over a backward dolly of 5 frames at 1920×1080 (`--resolution`
+//! another size; `--dolly-frames 0,4` only those of the five, 0 the close-up and 4 the whole
+//! pile), on piles of coffee beans and of sand grains
 //! (`rock`; `--scene` picks one procedural grain, `--obj` any OBJ grain, whose mesh threshold
 //! `--mesh-above` must give), for each visibility buffer the adapter has (64-bit, 32-bit) and
 //! each impostor path: compute with the software early-Z of the double draw on and off, and
@@ -37,6 +39,22 @@ const SIZE: (u32, u32) = (1920, 1080);
 const DOLLY_FRAMES: u32 = 5;
 const DEFAULT_REPEATS: u32 = 3;
 const SCENES: [&str; 2] = ["bean", "rock"];
+
+/// `--dolly-frames`: distinct frame indices of the dolly, ascending, each below
+/// [`DOLLY_FRAMES`].
+fn dolly_frames(text: &str) -> Result<Vec<u32>, String> {
+    let frames: Vec<u32> = text
+        .split(',')
+        .map(|k| match k.parse::<u32>() {
+            Ok(k) if k < DOLLY_FRAMES => Ok(k),
+            _ => Err(format!("`{k}` is not a dolly frame: expected 0 to {}", DOLLY_FRAMES - 1)),
+        })
+        .collect::<Result<_, _>>()?;
+    if frames.windows(2).any(|w| w[0] >= w[1]) {
+        return Err("frames must be distinct and ascending".to_owned());
+    }
+    Ok(frames)
+}
 
 fn median(mut values: Vec<f64>) -> f64 {
     values.sort_by(f64::total_cmp);
@@ -81,6 +99,7 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
         vec![20_000, 200_000, 1_600_000, 20_000_000]
     });
     let repeats = args.parse_value("frames", positive::<u32>)?.unwrap_or(DEFAULT_REPEATS);
+    let dolly_frames = args.parse_value("dolly-frames", dolly_frames)?.unwrap_or_else(|| (0..DOLLY_FRAMES).collect());
     let size = args.parse_value("resolution", crate::cli::resolution)?.unwrap_or(SIZE);
     let samples = args.parse_value("samples", samples_per_side)?.unwrap_or(1);
     let out = args.out_dir();
@@ -90,7 +109,7 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
         kinds.insert(0, VisibilityKind::Atomic64);
     }
     println!(
-        "bench-gpu stackings on {} ({DOLLY_FRAMES} dolly frames, median of {repeats} each, {}×{})",
+        "bench-gpu stackings on {} (dolly frames {dolly_frames:?} of {DOLLY_FRAMES}, median of {repeats} each, {}×{})",
         gpu.describe(),
         size.0,
         size.1
@@ -150,7 +169,7 @@ pub fn run(args: &Args<'_>, counts: Option<Vec<usize>>) -> Result<(), String> {
                 let scene = renderer.upload(&gpu.device, &instances).map_err(|e| format!("{count} {name}: {e}"))?;
                 for (path, early_z) in PATHS {
                     let tier = TierSettings { early_z, path, ..TierSettings::default() };
-                    for k in 0..DOLLY_FRAMES {
+                    for &k in &dolly_frames {
                         let camera = dolly(&shots, k, DOLLY_FRAMES, size)?;
                         // One untimed frame: the two-phase history and the hysteresis settle.
                         time_frame(&gpu, renderer, &scene, &camera, &lighting, tier).map_err(|e| e.to_string())?;
@@ -251,5 +270,20 @@ impl Row {
             "{:.4},{},{},{},{},{},{},{},{evaluated:.4},{skipped:.4},{}",
             self.total, c.count[0], c.count[1], c.count[2], c.count[3], c.culled[0], c.culled[1], c.culled[2], s[4]
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::dolly_frames;
+
+    #[test]
+    fn dolly_frames_are_distinct_ascending_indices_of_the_dolly() {
+        assert_eq!(dolly_frames("0,4").unwrap(), vec![0, 4]);
+        assert_eq!(dolly_frames("2").unwrap(), vec![2]);
+        assert!(dolly_frames("5").unwrap_err().contains("`5` is not a dolly frame: expected 0 to 4"));
+        assert!(dolly_frames("0,x").unwrap_err().contains("`x`"));
+        assert!(dolly_frames("4,0").unwrap_err().contains("ascending"));
+        assert!(dolly_frames("1,1").unwrap_err().contains("distinct"));
     }
 }

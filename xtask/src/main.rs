@@ -135,6 +135,7 @@ pub const COMMANDS: &[Command] = &[
         flags: &[
             value("grains", "LIST"),
             value("frames", "N"),
+            value("dolly-frames", "LIST"),
             value("scene", "NAME"),
             OBJ,
             value("mesh-above", "PX"),
@@ -568,6 +569,11 @@ mod tests {
         // Checked before any adapter is asked for.
         let error = bench_gpu::run(&parse("bench-gpu", "ddm --grains 20k").unwrap()).unwrap_err();
         assert!(error.contains("--grains does not apply to `bench-gpu ddm`"), "{error}");
+        for subject in ["culling", "ddm", "svo"] {
+            let error =
+                bench_gpu::run(&parse("bench-gpu", &format!("{subject} --dolly-frames 0,4")).unwrap()).unwrap_err();
+            assert!(error.contains("--dolly-frames applies to `bench-gpu stackings` only"), "{subject}: {error}");
+        }
         for subject in ["culling", "stackings", "svo"] {
             for flag in ["--quick", "--size 8x8x4", "--fit-slab", "--height 2"] {
                 let error = bench_gpu::run(&parse("bench-gpu", &format!("{subject} {flag}")).unwrap()).unwrap_err();

@@ -7,7 +7,7 @@ use gpu_layout::{StructDecl, WgslModule, gpu_const};
 
 use crate::gpu::{GpuCamera, GpuTraceSettings};
 use crate::lambert::{FRAC_1_SQRT_2, FRAC_1_SQRT_2PI, RECTIFIED_CUTOFF};
-use crate::trace::{ERROR_BOUND_FACTOR, Model, SHADOW_LIFT_VOXELS};
+use crate::trace::{ERROR_BOUND_FACTOR, Model, SHADING_POINT_REFINEMENTS, SHADOW_LIFT_VOXELS};
 
 /// The WGSL twin of this crate: `svo_pixel_cone` (the camera's cone of a pixel),
 /// `svo_trace_cone` (Algorithm 1 with the four models, depth of field, shadow cones and the
@@ -36,6 +36,7 @@ pub const WGSL: WgslModule = WgslModule {
         gpu_const!("SVO_FRAC_1_PI": f32 = core::f32::consts::FRAC_1_PI),
         gpu_const!(ERROR_BOUND_FACTOR: f32 as "SVO_ERROR_BOUND_FACTOR"),
         gpu_const!(SHADOW_LIFT_VOXELS: f32 as "SVO_SHADOW_LIFT_VOXELS"),
+        gpu_const!(SHADING_POINT_REFINEMENTS: u32 as "SVO_SHADING_POINT_REFINEMENTS"),
         gpu_const!(FRAC_1_SQRT_2: f32 as "SVO_FRAC_1_SQRT_2"),
         gpu_const!(FRAC_1_SQRT_2PI: f32 as "SVO_FRAC_1_SQRT_2PI"),
         gpu_const!(RECTIFIED_CUTOFF: f32 as "SVO_RECTIFIED_CUTOFF"),

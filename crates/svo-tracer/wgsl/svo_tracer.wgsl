@@ -465,7 +465,16 @@ fn svo_trace_cone(tree: OctreeUniforms, table: MaskTableUniforms, cone: SvoCone,
             break;
         }
         let p = cone.origin + cone.direction * element.z;
-        let points = svo_shading_points(p, cone.direction, element.voxel, element.lod, element.half_length);
+        var points = svo_shading_points(p, cone.direction, element.voxel, element.lod, element.half_length);
+        if settings.model_limits.x != SVO_MODEL_NEAREST && element.lod < 1.0 {
+            for (var k = 0u; k < SVO_SHADING_POINT_REFINEMENTS; k++) {
+                let there = svo_sample(tree, points[0], element.lod);
+                if !there.inside || all(there.voxel.normal == vec3<f32>(0.0)) {
+                    break;
+                }
+                points = svo_shading_points(points[0], cone.direction, there.voxel, element.lod, element.half_length);
+            }
+        }
         let surface = points[1];
         let shading = svo_surface_voxel(tree, element.voxel, points[0], element.lod, settings.model_limits.x);
         let to_light = settings.light.xyz - surface;

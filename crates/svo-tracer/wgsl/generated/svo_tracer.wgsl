@@ -21,6 +21,8 @@ const SVO_ERROR_BOUND_FACTOR: f32 = 0x1.bd70a4p+0f; // 1.74e0
 
 const SVO_SHADOW_LIFT_VOXELS: f32 = 0x1.bb67aep-1f; // 8.660254e-1
 
+const SVO_SHADING_POINT_REFINEMENTS: u32 = 2u;
+
 const SVO_FRAC_1_SQRT_2: f32 = 0x1.6a09e6p-1f; // 7.0710677e-1
 
 const SVO_FRAC_1_SQRT_2PI: f32 = 0x1.988454p-2f; // 3.989423e-1

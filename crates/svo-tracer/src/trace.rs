@@ -42,27 +42,32 @@
 //! pixels of a magnified view.) The plane is the distance's tangent at `p_d`, and a curved
 //! surface departs from it by the curvature times the square of the distance, so `x` is
 //! refined by [`SHADING_POINT_REFINEMENTS`] (2) Newton steps along the axis: each samples
-//! the octree at the last point and moves to where the axis meets that sample's plane (again
-//! kept within `l_d` of it). On a plane of linear colour the first point is exact; on the
-//! bumpy sphere the steps lower the masks' ꟻLIP at 0.064 pixels per voxel from 0.111 (no
-//! step) to 0.087 (one) and 0.074 (two). Between the two regimes, `0 < λ < 1`, each point
-//! moves linearly from `x` towards `p_d` in `λ`, so that a zoom sees no jump. Coverage is
-//! still the centre's plane. Where the point leaves the domain or falls in an empty node, the
-//! centre's sample shades; [`Model::Nearest`] always shades the voxel it hits (Fig. 10a).
-//! The light direction and the shadow cone start from the shading point projected onto
-//! the plane (for `λ ≥ 1` the foot of the centre, as before), as the truth's start from its
-//! hit (`tests/shading_point.rs`: a magnified plane of linear
-//! colour is shaded as at each axis's hit; at the centre or the foot it fails).
+//! the octree at the last point and moves to where the axis meets that sample's plane, the
+//! axis parameter kept within the element (`|t| ≤ l_d`) throughout, so that the point never
+//! leaves the element it shades (steps free to wander moved silhouette and grazing pixels
+//! to surfaces beyond it: ꟻLIP at 85° 0.063 → 0.088 in `svo-render`'s grazing sweep, 0.078
+//! kept within). On a plane of linear colour the first point is exact. Between the two
+//! regimes, `0 < λ < 1`, the point moves linearly from `x` towards `p_d` in `λ`, so that a
+//! zoom sees no jump. Coverage is still the centre's plane. Where the point leaves the
+//! domain or falls in an empty node, the centre's sample shades; [`Model::Nearest`] always
+//! shades the voxel it hits (Fig. 10a). The light direction and the shadow cone start from
+//! the shading point projected onto the last plane sampled (for `λ ≥ 1` the foot of the
+//! centre, as before), as the truth's start from its hit (`tests/shading_point.rs`: a
+//! magnified plane of linear colour is shaded as at each axis's hit; at the centre or the
+//! foot it fails).
 //!
 //! Why not `x` at every level: where a feature is thinner than the level's voxels (H7),
 //! the mean normal at its surface cancels (a plate's two faces), while the sample in front
 //! of it, at the centre, still carries the facing side's; shading at `x` there darkened a
 //! 3-voxel plate seen from afar by 0.25 → 0.30 RMSE (`svo-render`'s thin-plate sweep).
+//!
 //! Measured on `cargo xtask svo --quick` (the bumpy sphere against its supersampled
 //! source), the masks' ꟻLIP at 1, 0.26 and 0.064 pixels per voxel goes from 0.031, 0.118,
-//! 0.148 (shaded at centres) to 0.020, 0.077, 0.074, below the finest voxels traced with one
-//! ray per pixel at the first two (0.026, 0.080; 0.059 at the third), for 8–18 % more time
-//! on lavapipe (up to three more samples per element that adds coverage).
+//! 0.148 (shaded at centres) to 0.024, 0.091, 0.111 at `x`, and 0.022, 0.082, 0.084 with the
+//! steps, against 0.026, 0.080, 0.059 for the finest voxels traced with one ray per pixel.
+//! Where the paper's hypotheses fail it is not always better (`svo-stability --quick`): a
+//! sphere of radius 2 voxels seen magnified 0.071 → 0.077, grazing views at 85° 0.063 →
+//! 0.078, while 0° goes 0.110 → 0.098 (`docs/failure-modes.md` §2.4).
 //!
 //! # Empty-space skip (beyond the paper)
 //!
@@ -432,24 +437,56 @@ fn march<const W: usize>(
     (coverage.fraction(), elements)
 }
 
+/// The axis parameter and point of the plane through `anchor` of normal `n` (unit), on
+/// which `anchor` has the sampled height `height`, that the axis `p + t direction` sees,
+/// from the axis parameter `t` of the last point: the axis meets that plane at
+/// `t' = t − h(t)/(n·d)`, `t'` is kept within the element (`[−l, l]`, `l = half_length`),
+/// and the axis point there is projected onto the plane, so that a plane seen edge-on (or
+/// crossed outside the element) gives the foot of the element's nearest axis point.
+fn axis_step(
+    p: Vec3,
+    direction: Vec3,
+    t: f32,
+    (anchor, n, height): (Vec3, Vec3, f32),
+    half_length: f32,
+) -> (f32, Vec3) {
+    let slope = n.dot(direction);
+    let above = |a: Vec3| height + n.dot(a - anchor);
+    let next = if slope != 0.0 { (t - above(p + direction * t) / slope).clamp(-half_length, half_length) } else { t };
+    let next = if next.is_nan() { t } else { next };
+    let a = p + direction * next;
+    (next, a - n * above(a))
+}
+
 /// Where an element centred at `p` on the axis `direction`, of sample `voxel`, level of
-/// detail `lod` and half-length `half_length`, is shaded (see the module documentation,
-/// "Where an element is shaded"), and that point projected onto its plane `(h̄, n̂)`, where
-/// its light direction and shadow cone start. The point is, for `lod ≤ 0`, the point of
-/// the plane that the axis sees — the axis meets the plane at `t = −h̄ / (n̂·d)`, `t` is
-/// kept within `[−l, l]`, and the point of the axis there is projected onto the plane, so
-/// that a plane seen edge-on (or crossed outside the element) gives the foot of the nearest
-/// point of the element's axis; for `lod ≥ 1` the centre `p` (whose projection is its foot
-/// `p − h̄ n̂`); linearly between.
-fn shading_points(p: Vec3, direction: Vec3, voxel: &Voxel, lod: f32, half_length: f32) -> (Vec3, Vec3) {
-    let slope = voxel.normal.dot(direction);
-    let t = if slope != 0.0 { (-voxel.distance / slope).clamp(-half_length, half_length) } else { 0.0 };
-    let t = if t.is_nan() { 0.0 } else { t };
-    let x = p + direction * t - voxel.normal * (voxel.distance + t * slope);
-    let w = (1.0 - lod).clamp(0.0, 1.0);
-    let sampled = p + (x - p) * w;
-    // `x` lies on the plane and `p` at the height h̄ above it.
-    (sampled, sampled - voxel.normal * ((1.0 - w) * voxel.distance))
+/// detail `lod` and half-length `half_length`, is shaded, and that point projected onto
+/// the plane last sampled, where its light direction and shadow cone start (see the module
+/// documentation, "Where an element is shaded"). For `lod ≤ 0`: the point of its plane
+/// `(h̄, n̂)` that the axis sees ([`axis_step`]), then `refine` ×
+/// [`SHADING_POINT_REFINEMENTS`] Newton steps, each from the octree's sample at the last
+/// point, the axis parameter kept within the element throughout; for `lod ≥ 1` the centre
+/// `p` (projected: its foot `p − h̄ n̂`); linearly between.
+fn shading_points(
+    tree: &PackedTree,
+    p: Vec3,
+    direction: Vec3,
+    voxel: &Voxel,
+    lod: f32,
+    half_length: f32,
+    refine: bool,
+) -> (Vec3, Vec3) {
+    let mut plane = (p, voxel.normal, voxel.distance);
+    let (mut t, mut x) = axis_step(p, direction, 0.0, plane, half_length);
+    if refine && lod < 1.0 {
+        for _ in 0..SHADING_POINT_REFINEMENTS {
+            let Some(there) = tree.sample(x, lod).filter(|v| v.normal != Vec3::ZERO) else { break };
+            plane = (x, there.normal, there.distance);
+            (t, x) = axis_step(p, direction, t, plane, half_length);
+        }
+    }
+    let sampled = p + (x - p) * (1.0 - lod).clamp(0.0, 1.0);
+    let (anchor, n, height) = plane;
+    (sampled, sampled - n * (height + n.dot(sampled - anchor)))
 }
 
 /// The attributes that shade an element: the octree sampled at its shading point `point`
@@ -529,13 +566,8 @@ pub fn trace_cone<const W: usize>(
     let (coverage, elements) = march(tree, table, &geometry, 0.0, settings, |voxel, at, added| {
         let z = at.z;
         let p = cone.point(z);
-        let (mut sampled, mut surface) = shading_points(p, cone.direction, voxel, at.lod, at.half_length);
-        if settings.model != Model::Nearest && at.lod < 1.0 {
-            for _ in 0..SHADING_POINT_REFINEMENTS {
-                let Some(there) = tree.sample(sampled, at.lod).filter(|v| v.normal != Vec3::ZERO) else { break };
-                (sampled, surface) = shading_points(sampled, cone.direction, &there, at.lod, at.half_length);
-            }
-        }
+        let refine = settings.model != Model::Nearest;
+        let (sampled, surface) = shading_points(tree, p, cone.direction, voxel, at.lod, at.half_length, refine);
         let shading = surface_voxel(tree, voxel, sampled, at.lod, settings.model);
         let light = (settings.light.position - surface).normalize_or_zero();
         if shadows < settings.shadow_cones {

@@ -426,17 +426,37 @@ fn svo_light_visibility(tree: OctreeUniforms, table: MaskTableUniforms, surface:
     return 1.0 - svo_march_coverage(table, settings, state);
 }
 
-// Rust: trace::shading_points: (where the element is sampled, that point on its plane).
-fn svo_shading_points(p: vec3<f32>, direction: vec3<f32>, voxel: SvoRawVoxel, lod: f32, half_length: f32) -> mat2x3<f32> {
-    let slope = dot(voxel.normal, direction);
-    var t = 0.0;
+// Rust: trace::axis_step: (the point, the axis parameter in w).
+fn svo_axis_step(p: vec3<f32>, direction: vec3<f32>, t: f32, anchor: vec3<f32>, n: vec3<f32>, height: f32, half_length: f32) -> vec4<f32> {
+    let slope = dot(n, direction);
+    var next = t;
     if slope != 0.0 {
-        t = clamp(-voxel.distance / slope, -half_length, half_length);
+        next = clamp(t - (height + dot(n, p + direction * t - anchor)) / slope, -half_length, half_length);
     }
-    let x = p + direction * t - voxel.normal * (voxel.distance + t * slope);
-    let w = clamp(1.0 - lod, 0.0, 1.0);
-    let sampled = p + (x - p) * w;
-    return mat2x3<f32>(sampled, sampled - voxel.normal * ((1.0 - w) * voxel.distance));
+    let a = p + direction * next;
+    return vec4<f32>(a - n * (height + dot(n, a - anchor)), next);
+}
+
+// Rust: trace::shading_points: (where the element is sampled, that point on the last plane).
+fn svo_shading_points(tree: OctreeUniforms, p: vec3<f32>, direction: vec3<f32>, voxel: SvoRawVoxel, lod: f32, half_length: f32, refine: bool) -> mat2x3<f32> {
+    var anchor = p;
+    var n = voxel.normal;
+    var height = voxel.distance;
+    var step = svo_axis_step(p, direction, 0.0, anchor, n, height, half_length);
+    if refine && lod < 1.0 {
+        for (var k = 0u; k < SVO_SHADING_POINT_REFINEMENTS; k++) {
+            let there = svo_sample(tree, step.xyz, lod);
+            if !there.inside || all(there.voxel.normal == vec3<f32>(0.0)) {
+                break;
+            }
+            anchor = step.xyz;
+            n = there.voxel.normal;
+            height = there.voxel.distance;
+            step = svo_axis_step(p, direction, step.w, anchor, n, height, half_length);
+        }
+    }
+    let sampled = p + (step.xyz - p) * clamp(1.0 - lod, 0.0, 1.0);
+    return mat2x3<f32>(sampled, sampled - n * (height + dot(n, sampled - anchor)));
 }
 
 // Rust: trace::surface_voxel.
@@ -465,16 +485,8 @@ fn svo_trace_cone(tree: OctreeUniforms, table: MaskTableUniforms, cone: SvoCone,
             break;
         }
         let p = cone.origin + cone.direction * element.z;
-        var points = svo_shading_points(p, cone.direction, element.voxel, element.lod, element.half_length);
-        if settings.model_limits.x != SVO_MODEL_NEAREST && element.lod < 1.0 {
-            for (var k = 0u; k < SVO_SHADING_POINT_REFINEMENTS; k++) {
-                let there = svo_sample(tree, points[0], element.lod);
-                if !there.inside || all(there.voxel.normal == vec3<f32>(0.0)) {
-                    break;
-                }
-                points = svo_shading_points(points[0], cone.direction, there.voxel, element.lod, element.half_length);
-            }
-        }
+        let refine = settings.model_limits.x != SVO_MODEL_NEAREST;
+        let points = svo_shading_points(tree, p, cone.direction, element.voxel, element.lod, element.half_length, refine);
         let surface = points[1];
         let shading = svo_surface_voxel(tree, element.voxel, points[0], element.lod, settings.model_limits.x);
         let to_light = settings.light.xyz - surface;

@@ -447,52 +447,53 @@ fn the_point_tier_covers_the_centres_pixels_and_averages_their_grains() {
     }
 }
 
-/// The point threshold's measurement runs on a small pile: one row per diameter, losses in
-/// range, and the threshold the rows define (`point_threshold::threshold_of`).
+/// The tier measurement runs on a small pile: one row per diameter, both tiers' losses in
+/// range and measured on the same crop as the reference, a positive time per tier, and the
+/// table rows it gives read back by the point threshold's rule.
 #[test]
-fn the_point_threshold_is_measured_against_the_supersampled_mesh() {
-    use grain_renderer::point_threshold::{measure, threshold_of};
+fn the_point_tier_is_measured_against_the_supersampled_mesh() {
+    use grain_renderer::point_threshold::{MeasureView, measure};
+    use grain_renderer::tier_selection::{IMPOSTORS, POINTS, measurements, point_threshold};
+    use model_select::{Budget, Metric};
     let gpu = gpu();
     let scene = scene(6, grain_mesh::CoffeeBean::default().mesh().unwrap());
     let diameters = [1.0, 2.0, 4.0];
-    let measured = measure(
-        &gpu.device,
-        &gpu.queue,
-        &scene.mesh,
-        &scene.atlas,
-        &scene.grains,
-        (scene.target, scene.eye - scene.target),
-        SIZE,
-        &diameters,
-        0.05,
-    )
-    .unwrap();
+    let view = MeasureView { target: scene.target, direction: scene.eye - scene.target, size: SIZE, frames: 2 };
+    let measured = measure(gpu, &scene.mesh, &scene.atlas, &scene.grains, view, &diameters).unwrap();
     for row in &measured.rows {
         println!(
-            "{} px: SSIM loss points {:.4}, impostors {:.4} ({} px)",
+            "{} px: ꟻLIP points {:.4}, impostors {:.4}; SSIM loss points {:.4}, impostors {:.4}; {:.3} ms and {:.3} ms ({:?}; {} px)",
             row.diameter,
-            1.0 - row.points.ssim,
-            1.0 - row.impostors.ssim,
-            row.pixels
+            row.points.flip,
+            row.impostors.flip,
+            row.points.ssim_loss,
+            row.impostors.ssim_loss,
+            row.points.ms,
+            row.impostors.ms,
+            measured.timing,
+            row.pixels()
         );
-        for ssim in [row.points.ssim, row.impostors.ssim] {
-            assert!((-1.0..=1.0).contains(&ssim), "{ssim}");
+        for tier in [&row.points, &row.impostors] {
+            assert!((0.0..=2.0).contains(&tier.ssim_loss), "{}", tier.ssim_loss);
+            assert!((0.0..=1.0).contains(&tier.flip), "{}", tier.flip);
+            assert!(tier.ms > 0.0 && tier.ms.is_finite(), "{}", tier.ms);
+            assert_eq!(tier.image.dimensions(), row.reference.dimensions());
         }
-        assert!(row.pixels >= 256);
+        assert!(row.pixels() >= 256);
     }
     assert_eq!(measured.rows.iter().map(|r| r.diameter).collect::<Vec<_>>(), diameters);
-    assert_eq!(measured.threshold, threshold_of(&measured.rows, 0.05));
-    println!("threshold: {:?}", measured.threshold);
-    let e = measure(
-        &gpu.device,
-        &gpu.queue,
-        &scene.mesh,
-        &scene.atlas,
-        &scene.grains,
-        (scene.target, Vec3::Z),
-        SIZE,
-        &[2.0, 1.0],
-        0.05,
-    );
+    let rows = measurements("bean", &measured);
+    assert_eq!(rows.len(), 2 * diameters.len());
+    assert_eq!(rows.iter().filter(|r| r.representation == POINTS).count(), diameters.len());
+    assert_eq!(rows.iter().filter(|r| r.representation == IMPOSTORS).count(), diameters.len());
+    // Points wherever their ꟻLIP is within budget: the leading run of diameters (the
+    // table's rows are the worst up to each, so a run within budget is one of raw rows).
+    let budget = Budget::new(Metric::Flip, 0.1).unwrap();
+    let threshold = point_threshold(&rows, "bean", budget).unwrap();
+    let leading = measured.rows.iter().take_while(|r| r.points.flip <= 0.1).last().map(|r| r.diameter);
+    assert_eq!(threshold, leading);
+    println!("threshold: {threshold:?}");
+    let backwards = MeasureView { direction: Vec3::Z, ..view };
+    let e = measure(gpu, &scene.mesh, &scene.atlas, &scene.grains, backwards, &[2.0, 1.0]);
     assert!(e.err().unwrap().to_string().contains("diameters"));
 }

@@ -79,14 +79,14 @@ pub const COMMANDS: &[Command] = &[
     },
     Command {
         name: "select-tables",
-        flags: &[value("only", "ddm|smith|grains")],
+        flags: &[value("only", "ddm|smith|grains|tiers")],
         exclusive: &[],
         positional: Positional::None,
         run: select::tables,
     },
     Command {
         name: "select",
-        flags: &[value("only", "ddm|smith|grains"), repeated("budget", "METRIC:MAX")],
+        flags: &[value("only", "ddm|smith|grains|tiers"), repeated("budget", "METRIC:MAX")],
         exclusive: &[],
         positional: Positional::OutDir("target/select"),
         run: select::run,

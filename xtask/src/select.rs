@@ -1,40 +1,23 @@
-//! `cargo xtask select-tables` and `cargo xtask select [OUT_DIR] [--budget METRIC:MAX]...`:
-//! *model no more than a scene needs*, for the DDM tracing methods
-//! (`ddm_experiments::selection`, `model_select`).
-//!
-//! `select-tables` measures the table the selector reads — every mesostructure, every
-//! method, two magnifications of the tables' view: ꟻLIP and 1 − SSIM of its image
-//! against the exact mesh's, CPU ns per ray — and writes it, stamped with the commit, the
-//! processor and the fingerprint of the sources that produce it, to
-//! `crates/ddm-experiments/tables/ddm_selection.csv` (committed; a test fails when those
-//! sources change and the table is not measured again).
-//!
-//! `select` reads that table (an error when it is stale), and for each budget and
-//! mesostructure lets the selector choose the cheapest method within budget at the
-//! held-out view's magnification, then traces the held-out view (another camera) with
-//! every method: the choice's measured error there, whether it is within budget, and
-//! which methods the table called cheaper met the budget there too. Writes to `OUT_DIR`
-//! (default `target/select`) `selection.csv`, per mesostructure the truth's image, each
-//! chosen method's image and ꟻLIP map, and `<mesostructure>_selection.png`: ꟻLIP against
-//! the table's cost of every candidate at the magnification chosen at, its Pareto front,
-//! the budgets and the choices.
-
 //! `cargo xtask select-tables [--only TABLE]` and
 //! `cargo xtask select [OUT_DIR] [--only TABLE] [--budget METRIC:MAX]...`: *model no more
 //! than a scene needs* (`model_select`), for the DDM tracing methods
 //! (`ddm_experiments::selection`, table `ddm`) and the Smith appearance models
 //! (`microsurface_truth::selection`, table `smith`) and the grains' impostor atlases
 //! (`grain_impostor::selection`, table `grains`: `(n, p)`, sampling mode and layout, the
-//! cost the atlas's GPU memory).
+//! cost the atlas's GPU memory) and the grains' tiers (`grain_renderer::tier_selection`,
+//! table `tiers`: a pile all points or all impostors by projected diameter, the cost its
+//! frame time; `stackings` reads its point thresholds from it).
 //!
 //! `select-tables` measures the tables the selector reads — per object (mesostructure,
 //! surface) and representation (method, model), at each calibration condition (the
 //! view's magnification, its largest view angle): ꟻLIP and 1 − SSIM of its image against
 //! the truth's, CPU ns per ray or per pixel — and writes them, stamped with the commit,
 //! the processor and the fingerprint of the sources that produce them, to
-//! `crates/ddm-experiments/tables/ddm_selection.csv` and
-//! `crates/microsurface-truth/tables/smith_selection.csv` (committed; a test fails when
-//! those sources change and a table is not measured again).
+//! `crates/ddm-experiments/tables/ddm_selection.csv`,
+//! `crates/microsurface-truth/tables/smith_selection.csv`,
+//! `crates/grain-impostor/tables/grain_selection.csv` and
+//! `crates/grain-renderer/tables/tier_selection.csv` (committed; a test fails when those
+//! sources change and a table is not measured again).
 //!
 //! `select` reads the tables (an error when one is stale), and for each budget and
 //! object lets the selector choose the cheapest representation within budget at the
@@ -53,6 +36,9 @@ use std::time::Instant;
 
 use ddm_experiments::selection::SelectionSettings;
 use ddm_experiments::trace_tables::TraceScene;
+use grain_renderer::point_threshold::{self, MeasureView, PointMeasurement};
+use grain_renderer::tier_selection::{self, TierTableSettings};
+use grain_splitter::sweep::Shot;
 use image::RgbaImage;
 use mesostructure::Mesostructure;
 use model_select::{Budget, HeldOutCheck, Measurement, Metric, Stamp, Table, fingerprint, pareto_front};
@@ -101,8 +87,12 @@ pub struct HeldOutView {
 /// The grains' default budgets (mean ꟻLIP of the comparison image).
 const GRAIN_BUDGETS: [(Metric, f64); 3] = [(Metric::Flip, 0.2), (Metric::Flip, 0.1), (Metric::Flip, 0.05)];
 
+/// The tiers' default budgets (mean ꟻLIP of the cropped pile against its meshes 4 × 4
+/// supersampled), spanning the table: both tiers measure 0.055 to 0.14 between 1 and 4 px.
+const TIER_BUDGETS: [(Metric, f64); 3] = [(Metric::Flip, 0.15), (Metric::Flip, 0.1), (Metric::Flip, 0.09)];
+
 /// Every selector, in page order.
-pub const SELECTORS: [Selector; 3] = [
+pub const SELECTORS: [Selector; 4] = [
     Selector {
         name: "ddm",
         table_name: ddm_experiments::selection::TABLE_NAME,
@@ -139,7 +129,24 @@ pub const SELECTORS: [Selector; 3] = [
         measure: grains_table,
         held_out: grains_held_out,
     },
+    Selector {
+        name: "tiers",
+        table_name: tier_selection::TABLE_NAME,
+        table_file: tier_selection::TABLE_FILE,
+        sources: &tier_selection::TABLE_SOURCES,
+        condition_unit: (tier_selection::CONDITION_UNIT, "px wide"),
+        cost_unit: tier_selection::COST_UNIT,
+        row_note: "a pile of 2000 from the wide shot, worst size up to it",
+        default_budgets: TIER_BUDGETS,
+        measure: tiers_table,
+        held_out: tiers_held_out,
+    },
 ];
+
+/// The selector `--only NAME` names.
+pub fn selector(name: &str) -> Option<&'static Selector> {
+    SELECTORS.iter().find(|s| s.name == name)
+}
 
 fn ddm_scenes(settings: &SelectionSettings) -> Result<Vec<TraceScene>, String> {
     Mesostructure::ALL.iter().map(|&s| TraceScene::build(s, &settings.tables).map_err(|e| e.to_string())).collect()
@@ -213,6 +220,77 @@ fn grains_held_out() -> Result<Vec<HeldOutView>, String> {
         .collect())
 }
 
+/// One grain's pile for the tier table: its atlas (n = 8, p = 64, as `stackings` bakes
+/// it), the grains, and the pile's three shots (Fig. 15).
+fn tier_pile(
+    gpu: &gpu_harness::Gpu,
+    mesh: &grain_mesh::GrainMesh,
+    settings: &TierTableSettings,
+) -> Result<(grain_impostor::atlas::ImpostorAtlas, Vec<grain_impostor::scene::GrainInstance>, [Shot; 3]), String> {
+    let (stacking, grains) = crate::stackings::pile_instances(settings.grain_count, mesh)?;
+    let region = stacking.bounds();
+    let atlas = crate::stackings::bake_atlas(gpu, mesh)?;
+    Ok((atlas, grains, Shot::fig15(region.min, region.max)))
+}
+
+/// Each procedural grain's pile seen from `shot` (0 the table's, 1 the held-out) at
+/// `diameters`.
+fn tier_measurements(
+    shot: usize,
+    diameters: impl Fn(&TierTableSettings) -> Vec<f32>,
+) -> Result<(Vec<(String, PointMeasurement)>, String), String> {
+    let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
+    let settings = TierTableSettings::standard();
+    settings.validate().map_err(|e| e.to_string())?;
+    let mut measured = Vec::new();
+    let mut timing = None;
+    for (name, mesh) in selection_grains()? {
+        let (atlas, grains, shots) = tier_pile(&gpu, &mesh, &settings)?;
+        let view = MeasureView {
+            target: shots[shot].target,
+            direction: shots[shot].eye - shots[shot].target,
+            size: settings.size,
+            frames: settings.frames,
+        };
+        let m = point_threshold::measure(&gpu, &mesh, &atlas, &grains, view, &diameters(&settings))
+            .map_err(|e| format!("{name}: {e}"))?;
+        timing = Some(m.timing);
+        measured.push((name, m));
+    }
+    let clock = match timing {
+        Some(gpu_harness::TimingSource::Timestamps) => "GPU timestamps",
+        _ => "wall clock",
+    };
+    Ok((measured, format!("{} ({clock})", gpu.describe()).replace(',', ";")))
+}
+
+fn tiers_table() -> Result<MeasuredTable, String> {
+    let (measured, adapter) = tier_measurements(0, |s| s.diameters.clone())?;
+    let rows = measured.iter().flat_map(|(name, m)| tier_selection::measurements(name, m)).collect();
+    Ok((rows, adapter))
+}
+
+fn tiers_held_out() -> Result<Vec<HeldOutView>, String> {
+    let (measured, _) = tier_measurements(1, |s| vec![s.held_out_diameter])?;
+    let mut views = Vec::new();
+    for (name, m) in measured {
+        let rows = tier_selection::measurements(&name, &m);
+        for (row, [points, impostors]) in
+            m.rows.into_iter().zip(rows.chunks_exact(2).map(|c| [c[0].clone(), c[1].clone()]))
+        {
+            views.push(HeldOutView {
+                object: name.clone(),
+                truth: row.reference,
+                representations: vec![
+                    (points, row.points.image, "points".into()),
+                    (impostors, row.impostors.image, "impostors".into()),
+                ],
+            });
+        }
+    }
+    Ok(views)
+}
+
 fn smith_held_out() -> Result<Vec<HeldOutView>, String> {
     let settings = microsurface_truth::selection::SelectionSettings::standard();
     let views = microsurface_truth::selection::held_out_rows(&settings).map_err(|e| e.to_string())?;
@@ -231,7 +309,7 @@ fn smith_held_out() -> Result<Vec<HeldOutView>, String> {
 fn selected(args: &Args<'_>) -> Result<Vec<&'static Selector>, String> {
     match args.value("only") {
         None => Ok(SELECTORS.iter().collect()),
-        Some(name) => SELECTORS.iter().find(|s| s.name == name).map(|s| vec![s]).ok_or_else(|| {
+        Some(name) => selector(name).map(|s| vec![s]).ok_or_else(|| {
             let names: Vec<&str> = SELECTORS.iter().map(|s| s.name).collect();
             format!("--only {name}: no such table (the tables: {})", names.join(", "))
         }),
@@ -522,6 +600,7 @@ fn chart(
             .configure_mesh()
             .x_desc(format!("cost: {}, {adapter}", selector.cost_unit))
             .y_desc("mean FLIP against the truth's image")
+            .x_labels(8)
             .label_style(("sans-serif", 14))
             .draw()
             .map_err(e)?;
@@ -601,7 +680,7 @@ mod tests {
     fn the_committed_tables_are_fresh_and_complete() {
         // Fails when a source that produces a table changed since it was measured: run
         // `cargo xtask select-tables --only NAME` and commit the table.
-        let [ddm, smith, grains] = &SELECTORS;
+        let [ddm, smith, grains, tiers] = &SELECTORS;
         let table = fresh_table(ddm).unwrap_or_else(|e| panic!("{e}"));
         let settings = SelectionSettings::standard();
         let objects: Vec<&str> = Mesostructure::ALL.iter().map(|m| m.name()).collect();
@@ -629,6 +708,11 @@ mod tests {
         let configurations =
             settings.subdivisions.len() * settings.texels.len() * settings.modes.len() * settings.layouts.len();
         assert_eq!(table.rows().len(), 4 * configurations * settings.diameters.len());
+
+        let table = fresh_table(tiers).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(table.objects(), ["ball", "bean", "rock", "nut"]);
+        // Two tiers at every calibration diameter.
+        assert_eq!(table.rows().len(), 4 * 2 * TierTableSettings::standard().diameters.len());
     }
 
     #[test]
@@ -639,8 +723,8 @@ mod tests {
         assert_eq!(selected(&args).unwrap().iter().map(|s| s.name).collect::<Vec<_>>(), ["smith"]);
         let crate::cli::Parsed::Run(args) = command.parse(&words(&["--only", "grain"])).unwrap() else { panic!() };
         let error = selected(&args).err().unwrap();
-        assert_eq!(error, "--only grain: no such table (the tables: ddm, smith, grains)");
+        assert_eq!(error, "--only grain: no such table (the tables: ddm, smith, grains, tiers)");
         let crate::cli::Parsed::Run(args) = command.parse(&[]).unwrap() else { panic!() };
-        assert_eq!(selected(&args).unwrap().len(), 3);
+        assert_eq!(selected(&args).unwrap().len(), 4);
     }
 }

@@ -145,6 +145,19 @@ pub const STAGES: &[Stage] = &[
         subject: ImageSubject::FirstWords(1),
     },
     Stage {
+        folder: "select-tiers",
+        paper: "stackings",
+        title: "Model no more than a scene needs: points or impostors by projected size",
+        about: "For three ꟻLIP budgets, per grain, the tier (every grain a point or an impostor) the selector picks from \
+                the committed table (crates/grain-renderer/tables/tier_selection.csv: a pile of 2000 grains from the \
+                wide shot at 1 to 4 px per grain against its meshes 4 × 4 supersampled, worst size up to each; cost the \
+                frame's time), checked on the middle shot at 2.5 px: the choice's image, its ꟻLIP map and measured \
+                error. `stackings` reads its point thresholds from the same table (points wherever ꟻLIP ≤ 0.1).",
+        command: "select",
+        flags: [&["--only", "tiers"], &["--only", "tiers"], &["--only", "tiers"]],
+        subject: ImageSubject::FirstWords(1),
+    },
+    Stage {
         folder: "ddm-compression",
         paper: "ddm",
         title: "Compression of directional distance maps (Table 3)",

@@ -7,9 +7,11 @@
 //!
 //! The mesh threshold is the measured impostor table's (`TierThresholds::from_impostor_table`,
 //! SSIM loss ≤ 0.05) for the procedural grains; an OBJ grain has no measured table, so
-//! `--mesh-above` must say it (pixels of projected diameter). The point threshold is measured
-//! on the pile itself before the dolly (`grain_renderer::point_threshold`, same budget), unless
-//! `--point-below` gives it.
+//! `--mesh-above` must say it (pixels of projected diameter). The point threshold is the
+//! committed tier table's for a procedural grain (`grain_renderer::tier_selection`: the
+//! largest diameter up to which points measure ꟻLIP ≤ 0.1 against the meshes; `cargo xtask
+//! select-tables --only tiers` measures it), measured on the pile itself before the dolly for an OBJ grain, unless `--point-below`
+//! gives it.
 //!
 //! With `--accuracy` the dolly runs again with a fresh renderer, each frame against every
 //! grain as a mesh 4×4 supersampled (`grain_renderer::frame_accuracy`): standard SSIM, ꟻLIP,
@@ -30,13 +32,16 @@ use grain_impostor::atlas::ImpostorAtlas;
 use grain_impostor::bake::{BakeSettings, Baker, Progress};
 use grain_impostor::scene::{GrainInstance, ShadingUniforms};
 use grain_renderer::bench::time_frame;
+use grain_renderer::point_threshold::MeasureView;
 use grain_renderer::renderer::NO_POINT_TIER;
+use grain_renderer::tier_selection;
 use grain_renderer::{
     GrainType, RendererOptions, StackingCamera, StackingRenderer, Stage, TierSettings, VisibilityKind,
 };
 use grain_scenes::{GrainRadii, Region, Stacking, StackingSpec};
 use grain_splitter::sweep::Shot;
 use grain_splitter::{OccluderMapKind, TierThresholds};
+use model_select::{Budget, Metric};
 
 use crate::cli::{Args, positive};
 use crate::impostor_cloud::{GRAINS, load_grain};
@@ -99,8 +104,9 @@ pub(crate) fn pile(count: usize, inner: f32, outer: f32) -> Result<Stacking, Str
 
 /// The diameters (pixels) at which the point threshold is measured.
 const POINT_DIAMETERS: [f32; 5] = [1.0, 1.5, 2.0, 3.0, 4.0];
-/// The SSIM loss the switch from impostors to points may add (the mesh threshold's budget).
-const POINT_BUDGET: f64 = 0.05;
+/// The point tier's budget: mean ꟻLIP of the pile against its meshes 4 × 4 supersampled
+/// (the tier table's; both tiers measure 0.055 to 0.14 there between 1 and 4 px).
+const POINT_BUDGET: f64 = 0.1;
 
 /// How much nearer than the foreground shot the dolly starts (its first frame shows grains
 /// above the mesh threshold).
@@ -201,43 +207,48 @@ fn instances(stacking: &Stacking, indices: impl Iterator<Item = usize>, scale: f
         .collect()
 }
 
-/// The point threshold, measured on `stacking` made all of one grain type (`mesh`, `atlas`,
-/// scaled by `scale`; `grain_renderer::point_threshold`), printed.
-fn measure_point_threshold(
+/// The point threshold of grain type `name` (pixels of projected diameter;
+/// `grain_renderer::tier_selection::point_threshold`: ꟻLIP ≤ [`POINT_BUDGET`]), its rows
+/// printed: a procedural grain's from the committed tier table
+/// (an error when it is stale), an OBJ grain's measured on `stacking` made all of it
+/// (`mesh`, `atlas`, scaled by `scale`) from the wide shot.
+#[allow(clippy::too_many_arguments)]
+fn point_threshold(
     gpu: &gpu_harness::Gpu,
     options: &Options,
     stacking: &Stacking,
     shots: &[Shot; 3],
-    mesh: &grain_mesh::GrainMesh,
-    atlas: &ImpostorAtlas,
+    (name, mesh, atlas): (&str, &grain_mesh::GrainMesh, &ImpostorAtlas),
     scale: f32,
 ) -> Result<f32, String> {
-    let whole = instances(stacking, 0..stacking.len(), scale);
-    let measured = grain_renderer::point_threshold::measure(
-        &gpu.device,
-        &gpu.queue,
-        mesh,
-        atlas,
-        &whole,
-        (shots[0].target, shots[0].eye - shots[0].target),
-        options.size,
-        &POINT_DIAMETERS,
-        POINT_BUDGET,
-    )
-    .map_err(|e| e.to_string())?;
-    for row in &measured.rows {
-        println!(
-            "  against the mesh (4×4 supersampled) at {:.1} px: SSIM loss points {:.4}, impostors {:.4}; RMSE points {:.4}, impostors {:.4} ({} px)",
-            row.diameter,
-            1.0 - row.points.ssim,
-            1.0 - row.impostors.ssim,
-            row.points.rmse,
-            row.impostors.rmse,
-            row.pixels
-        );
+    let (rows, source) = if options.obj.is_none() {
+        let selector = crate::select::selector("tiers").ok_or("the tier table has no selector")?;
+        let table = crate::select::fresh_table(selector)?;
+        let rows: Vec<_> = table.rows().iter().filter(|r| r.object == name).cloned().collect();
+        (rows, format!("{} (commit {})", selector.table_file, table.stamp().commit))
+    } else {
+        let whole = instances(stacking, 0..stacking.len(), scale);
+        let view = MeasureView {
+            target: shots[0].target,
+            direction: shots[0].eye - shots[0].target,
+            size: options.size,
+            frames: 1,
+        };
+        let measured = grain_renderer::point_threshold::measure(gpu, mesh, atlas, &whole, view, &POINT_DIAMETERS)
+            .map_err(|e| e.to_string())?;
+        (tier_selection::measurements(name, &measured), "measured on the pile".to_owned())
+    };
+    for pair in rows.chunks(2) {
+        let line: Vec<String> = pair
+            .iter()
+            .map(|r| format!("{} ꟻLIP {:.4}, SSIM loss {:.4}, {:.2} ms", r.representation, r.flip, r.ssim_loss, r.cost))
+            .collect();
+        println!("  against the mesh (4×4 supersampled), worst up to {:.1} px: {}", pair[0].condition, line.join("; "));
     }
-    println!("  point threshold: {:?} px (points' SSIM loss ≤ impostors' + {POINT_BUDGET})", measured.threshold);
-    Ok(measured.threshold.unwrap_or(NO_POINT_TIER))
+    let budget = Budget::new(Metric::Flip, POINT_BUDGET).map_err(|e| e.to_string())?;
+    let threshold = tier_selection::point_threshold(&rows, name, budget).map_err(|e| e.to_string())?;
+    println!("  point threshold: {threshold:?} px (points' ꟻLIP ≤ {POINT_BUDGET}; {source})");
+    Ok(threshold.unwrap_or(NO_POINT_TIER))
 }
 
 /// Runs the command.
@@ -277,7 +288,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
                 println!("  point threshold: {given} px (given)");
                 given
             }
-            None => measure_point_threshold(&gpu, &options, &stacking, &shots, &mesh, &atlas, scale)?,
+            None => point_threshold(&gpu, &options, &stacking, &shots, (&name, &mesh, &atlas), scale)?,
         };
         types.push(PileType { name, mesh, atlas, mesh_above, point_below, scale, grains: Vec::new() });
     }

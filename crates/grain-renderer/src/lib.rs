@@ -21,7 +21,8 @@
 //! - [`grain_type`]: one grain type's passes ([`GrainType`]); a scene may mix several.
 //! - [`options`]: what a renderer is built for, [`RendererOptions`].
 //! - [`bench`](mod@bench): a frame timed stage by stage.
-//! - [`point_threshold`]: the point tier's threshold, measured against the impostor tier.
+//! - [`point_threshold`]: the point tier against the impostor tier, measured (error and time).
+//! - [`tier_selection`]: the committed tier table and the point threshold read from it.
 //! - [`frame_accuracy`]: whole-frame SSIM and ꟻLIP along a camera path, and popping.
 //! - [`mesh_reference`]: the ground truth, every grain a mesh 4 × 4 supersampled.
 //! - [`mesh_tier`]: [`MeshTier`], the mesh list in one indirect draw.
@@ -46,6 +47,7 @@ pub mod point_threshold;
 pub mod renderer;
 pub mod shaders;
 pub mod tier_layout;
+pub mod tier_selection;
 
 pub use error::RenderError;
 pub use grain_type::{GrainType, TypeRenderer};

@@ -148,6 +148,7 @@ pub const COMMANDS: &[Command] = &[
         flags: &[
             QUICK,
             SIZE,
+            value("resolution", "WxH"),
             value("timing-rounds", "N"),
             ddm_input::OBJ,
             ddm_input::SCALE,

@@ -1,7 +1,8 @@
-//! `cargo xtask ddm-trace [OUT_DIR] [--quick] [--size WxHxD] [--timing-rounds N] [--obj PATH |
-//! --height-map PNG] [--scale S | --fit-slab] [--height H]`: Mehra & Kumar's Tables 1–3,
-//! measured by `ddm_experiments::trace_tables` (24×24×8 voxel tiles by default, 12×12×6
-//! with `--quick`, any grid with `--size`); this command writes the rows, images and charts.
+//! `cargo xtask ddm-trace [OUT_DIR] [--quick] [--size WxHxD] [--resolution WxH] [--timing-rounds N]
+//! [--obj PATH | --height-map PNG] [--scale S | --fit-slab] [--height H]`: Mehra & Kumar's
+//! Tables 1–3, measured by `ddm_experiments::trace_tables` (24×24×8 voxel tiles and 192×144
+//! rays by default, 12×12×6 and 96×72 with `--quick`, any grid with `--size`, any view with
+//! `--resolution`); this command writes the rows, images and charts.
 //! With `--obj` or `--height-map`, on the user's tile instead of the five procedural ones
 //! ([`crate::ddm_input`] says what the coordinates mean and what is checked; relief
 //! mapping runs on height maps only).
@@ -75,13 +76,17 @@ pub struct Options {
 }
 
 impl Options {
-    /// `[OUT_DIR] [--quick] [--size WxHxD] [--timing-rounds N]` (`--size` replaces the tile,
-    /// not the view; `--timing-rounds` the rounds of Table 3's interleaved time ratio) and
-    /// the tile flags of [`crate::ddm_input`].
+    /// `[OUT_DIR] [--quick] [--size WxHxD] [--resolution WxH] [--timing-rounds N]` (`--size`
+    /// replaces the tile, not the camera; `--resolution` the view's rays; `--timing-rounds`
+    /// the rounds of Table 3's interleaved time ratio) and the tile flags of
+    /// [`crate::ddm_input`].
     pub fn from_args(args: &Args<'_>) -> Result<Self, String> {
         let mut settings = if args.flag("quick") { TraceTablesSettings::quick() } else { TraceTablesSettings::full() };
         if let Some(dims) = args.parse_value("size", grid_size)? {
             settings.dims = dims;
+        }
+        if let Some((width, height)) = args.parse_value("resolution", crate::cli::resolution)? {
+            (settings.width, settings.height) = (width, height);
         }
         if let Some(rounds) = args.parse_value("timing-rounds", positive::<usize>)? {
             settings.ratio_rounds = rounds;

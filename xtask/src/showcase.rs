@@ -173,7 +173,11 @@ pub const STAGES: &[Stage] = &[
         about: "Every tracing method on the five mesostructure tiles against the exact mesh: accuracy, steps, time; \
                 the steps against the view angle.",
         command: "ddm-trace",
-        flags: [&["--quick", "--size", "8x8x4", "--timing-rounds", "3"], Q, &[]],
+        flags: [
+            &["--quick", "--resolution", "64x48", "--timing-rounds", "3"],
+            &["--quick", "--timing-rounds", "5"],
+            &[],
+        ],
         subject: ImageSubject::FirstWords(1),
     },
     Stage {

@@ -11,7 +11,7 @@
 //! accuracy. A change that moves a measured value should move its pin in the same
 //! commit, saying why. The full sweep is `cargo xtask impostor-accuracy`.
 
-use grain_impostor::accuracy::{AccuracySweep, SweepRow, SweepSettings};
+use grain_impostor::accuracy::{AccuracySweep, SweepClock, SweepRow, SweepSettings, SweepTiming};
 use grain_mesh::{Ball, CoffeeBean, GrainMesh, HexNut};
 use integration_tests::gpu;
 use octahedral_map::{SamplingMode, ViewLayout};
@@ -26,10 +26,16 @@ fn measure(name: &str, mesh: GrainMesh, modes: &[SamplingMode], layouts: &[ViewL
         layouts: layouts.to_vec(),
         view_count: 16,
         apparent_diameters: vec![32.0],
+        timing: Some(SweepTiming { passes: 1, clock: SweepClock::WallClock }),
     };
     let rows = sweep.run(&gpu.device, &gpu.queue, &[(name.to_owned(), mesh)], &settings, |_| {}).unwrap();
     for r in &rows {
-        println!("{name} n=8 p=64 {:?} {:?}: SSIM {:.4}, RMSE {:.4}", r.mode, r.layout, r.error.ssim, r.error.rmse);
+        let ms = r.cloud_ms.expect("a timed sweep times every configuration");
+        println!(
+            "{name} n=8 p=64 {:?} {:?}: SSIM {:.4}, RMSE {:.4}, cloud {ms:.3} ms",
+            r.mode, r.layout, r.error.ssim, r.error.rmse
+        );
+        assert!(ms.is_finite() && ms > 0.0, "{name} {:?}: cloud pass time {ms} ms", r.mode);
     }
     rows
 }

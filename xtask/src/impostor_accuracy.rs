@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use grain_impostor::accuracy::{
-    AccuracySweep, SweepRow, SweepSettings, rows_to_csv, sampling_mode_name, view_layout_name,
+    AccuracySweep, SweepClock, SweepRow, SweepSettings, SweepTiming, rows_to_csv, sampling_mode_name, view_layout_name,
 };
 use grain_impostor::atlas_gpu::AtlasTextures;
 use grain_impostor::bake::{BakeSettings, Baker, Progress};
@@ -129,6 +129,103 @@ fn draw_chart(path: &Path, rows: &[SweepRow], diameter: f32, grain_names: &[Stri
     })
 }
 
+/// Timed cloud passes per configuration (the fastest is charted).
+const TIMED_PASSES: u32 = 5;
+
+/// A configuration's short label on the time chart: `n8 p64 mixed` (`, compact` for the
+/// compact layout).
+fn configuration_label(r: &SweepRow) -> String {
+    let layout = if r.layout == ViewLayout::Compact { ", compact" } else { "" };
+    format!("n{} p{} {}{layout}", r.subdivisions, r.texels, sampling_mode_name(r.mode))
+}
+
+/// SSIM loss (1 − SSIM) against the cloud pass's time for every configuration at `diameter`,
+/// one panel per grain, with the Pareto front (`model_select::pareto_front`) drawn and its
+/// configurations labelled; `time_axis` names the adapter and the clock.
+fn draw_time_chart(
+    path: &Path,
+    rows: &[SweepRow],
+    diameter: f32,
+    grain_names: &[String],
+    time_axis: &str,
+) -> Result<(), String> {
+    render_png(path, (1400, 1000), |root| {
+        let e = drawing_error;
+        let root = root
+            .titled(
+                &format!(
+                    "Impostor error vs time (grains {diameter} px wide; dots: every (n, p, mode), crosses: compact layout, black: Pareto front)"
+                ),
+                ("sans-serif", 22),
+            )
+            .map_err(e)?;
+        let panels = root.split_evenly((2, grain_names.len().div_ceil(2).max(1)));
+        for (panel, grain) in panels.iter().zip(grain_names) {
+            let mine: Vec<(&SweepRow, f64, f64)> = rows
+                .iter()
+                .filter(|r| &r.grain == grain && r.apparent_diameter == diameter)
+                .filter_map(|r| Some((r, r.cloud_ms?, 1.0 - r.error.ssim)))
+                .filter(|(_, ms, _)| ms.is_finite() && *ms > 0.0)
+                .collect();
+            if mine.is_empty() {
+                return Err(format!("{}: no timed configuration of {grain} at {diameter} px", path.display()));
+            }
+            let (lo_ms, hi_ms, hi_loss) = mine
+                .iter()
+                .fold((f64::MAX, 0.0_f64, 0.0_f64), |(a, b, c), &(_, ms, loss)| (a.min(ms), b.max(ms), c.max(loss)));
+            let mut chart = ChartBuilder::on(panel)
+                .caption(grain, ("sans-serif", 22))
+                .margin(12)
+                .x_label_area_size(45)
+                .y_label_area_size(60)
+                .build_cartesian_2d(lo_ms * 0.9..hi_ms * 1.1, 0.0..(hi_loss * 1.1).max(1e-3))
+                .map_err(e)?;
+            chart
+                .configure_mesh()
+                .x_desc(time_axis)
+                .y_desc("1 − SSIM against the mesh")
+                .x_labels(8)
+                .y_labels(8)
+                .x_label_formatter(&|ms| format!("{ms:.3}"))
+                .y_label_formatter(&|loss| format!("{loss:.3}"))
+                .label_style(("sans-serif", 14))
+                .draw()
+                .map_err(e)?;
+            for mode in SamplingMode::ALL {
+                let colour = mode_colour(mode);
+                let of_mode = |layout| {
+                    mine.iter()
+                        .filter(move |(r, ..)| r.mode == mode && r.layout == layout)
+                        .map(|&(_, ms, loss)| (ms, loss))
+                };
+                chart
+                    .draw_series(of_mode(ViewLayout::Listing1).map(|p| Circle::new(p, 4, colour.filled())))
+                    .map_err(e)?
+                    .label(sampling_mode_name(mode))
+                    .legend(legend_stroke(colour, 3, 20));
+                chart
+                    .draw_series(of_mode(ViewLayout::Compact).map(|p| Cross::new(p, 5, colour.stroke_width(2))))
+                    .map_err(e)?;
+            }
+            let points: Vec<(f64, f64)> = mine.iter().map(|&(_, ms, loss)| (ms, loss)).collect();
+            let front = model_select::pareto_front(&points);
+            chart
+                .draw_series(LineSeries::new(front.iter().map(|&i| points[i]), BLACK.stroke_width(2)))
+                .map_err(e)?
+                .label("Pareto front")
+                .legend(legend_stroke(BLACK, 2, 20));
+            chart
+                .draw_series(front.iter().map(|&i| {
+                    EmptyElement::at(points[i])
+                        + Text::new(configuration_label(mine[i].0), (6, -14), ("sans-serif", 13).into_font())
+                }))
+                .map_err(e)?;
+            draw_legend(&mut chart, 15, SeriesLabelPosition::UpperRight)?;
+        }
+        Ok(())
+    })
+}
+
 /// The markdown table of SSIM at `(n, p)` for every grain, mode and diameter.
 fn table(rows: &[SweepRow], n: u32, p: u32) -> String {
     let mut out = format!(
@@ -227,6 +324,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
             layouts: vec![ViewLayout::Listing1, ViewLayout::Compact],
             view_count: 16,
             apparent_diameters: vec![32.0],
+            timing: None,
         }
     } else {
         SweepSettings::full()
@@ -234,12 +332,15 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     let grains = grains(quick, &objs)?;
     let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
     println!("impostor accuracy on {}", gpu.describe());
+    // Timestamps only where they bracket the work (not on a software adapter).
+    let clock = if gpu.has_timestamps() && !gpu.is_software() { SweepClock::Timestamps } else { SweepClock::WallClock };
+    let settings = SweepSettings { timing: Some(SweepTiming { passes: TIMED_PASSES, clock }), ..settings };
     let sweep = AccuracySweep::new(&gpu.device).map_err(|e| e.to_string())?;
     let start = Instant::now();
     let rows = sweep
         .run(&gpu.device, &gpu.queue, &grains, &settings, |r| {
             println!(
-                "{:>5} n={:<2} p={:<3} {:>9} {:>7} {:>3} px  SSIM {:.4}  RMSE {:.4}  {:.2} MiB  [{:.0} s]",
+                "{:>5} n={:<2} p={:<3} {:>9} {:>7} {:>3} px  SSIM {:.4}  RMSE {:.4}  {:.2} MiB  {:.3} ms  [{:.0} s]",
                 r.grain,
                 r.subdivisions,
                 r.texels,
@@ -249,6 +350,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
                 r.error.ssim,
                 r.error.rmse,
                 r.atlas_bytes as f64 / MIB,
+                r.cloud_ms.unwrap_or(f64::NAN),
                 start.elapsed().as_secs_f64()
             );
         })
@@ -260,6 +362,10 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     for &diameter in &settings.apparent_diameters {
         let path = out.join(format!("impostor_ssim_vs_memory_{diameter}px.png"));
         draw_chart(&path, &rows, diameter, &names)?;
+        println!("wrote {}", path.display());
+        let path = out.join(format!("impostor_ssim_vs_time_{diameter}px.png"));
+        let axis = format!("cloud pass ms on {}, {} (fastest of {TIMED_PASSES})", gpu.describe(), clock.name());
+        draw_time_chart(&path, &rows, diameter, &names, &axis)?;
         println!("wrote {}", path.display());
     }
     let (n, p) = if quick { (8, 64) } else { (8, 128) };

@@ -106,7 +106,8 @@ pub const STAGES: &[Stage] = &[
         paper: "stackings",
         title: "Impostor accuracy (Fig. 12–13)",
         about: "SSIM and RMSE of octahedral impostors against the mesh for the four procedural grains, every (n, p), \
-                the three sampling modes; per grain a strip mesh | planar | spherical | mixed.",
+                the three sampling modes, against atlas memory and against the time of the cloud pass that draws them (the \
+                Pareto front labelled); per grain a strip mesh | planar | spherical | mixed.",
         command: "impostor-accuracy",
         flags: [Q, Q, &[]],
         subject: ImageSubject::FirstWords(2),

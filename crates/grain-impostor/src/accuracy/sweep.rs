@@ -11,6 +11,7 @@ use octahedral_map::sampling::{ImpostorSampler, SamplingMode, ViewLayout, ViewSe
 use wgpu::util::DeviceExt;
 
 use super::metrics::{ImageError, MetricError, compare_images};
+use super::timing::{SweepTiming, fastest_ms};
 use super::view_set::{ComparisonScene, fibonacci_directions};
 use crate::atlas::ImpostorAtlas;
 use crate::atlas_gpu::AtlasTextures;
@@ -48,11 +49,14 @@ pub struct SweepSettings {
     pub view_count: u32,
     /// On-screen diameters of the grains' outer spheres, in pixels.
     pub apparent_diameters: Vec<f32>,
+    /// Whether each impostor render's cloud pass is timed, and how ([`SweepRow::cloud_ms`]);
+    /// `None`: untimed.
+    pub timing: Option<SweepTiming>,
 }
 
 impl SweepSettings {
     /// The full sweep: `n ∈ {4, 6, 8, 10, 12}`, `p ∈ {32, 64, 128}`, every sampling
-    /// mode, both layouts, 64 views, grains 32 and 64 pixels wide.
+    /// mode, both layouts, 64 views, grains 32 and 64 pixels wide; untimed.
     pub fn full() -> Self {
         Self {
             subdivisions: vec![4, 6, 8, 10, 12],
@@ -61,6 +65,7 @@ impl SweepSettings {
             layouts: vec![ViewLayout::Listing1, ViewLayout::Compact],
             view_count: 64,
             apparent_diameters: vec![32.0, 64.0],
+            timing: None,
         }
     }
 }
@@ -84,6 +89,9 @@ pub struct SweepRow {
     pub error: ImageError,
     /// GPU bytes of the atlas in `layout` (full mips).
     pub atlas_bytes: u64,
+    /// The fastest timed cloud pass drawing the comparison scene, milliseconds
+    /// ([`SweepSettings::timing`]; `None` when untimed).
+    pub cloud_ms: Option<f64>,
 }
 
 /// Why the sweep stopped.
@@ -212,7 +220,6 @@ impl AccuracySweep {
     }
 
     /// The impostor of `atlas` (uploaded as `textures`) rendered into `scene` with `mode`.
-    #[allow(clippy::too_many_arguments)]
     pub fn impostor(
         &self,
         device: &wgpu::Device,
@@ -222,6 +229,22 @@ impl AccuracySweep {
         scene: &ComparisonScene,
         mode: SamplingMode,
     ) -> Result<RgbaImage, SweepError> {
+        Ok(self.impostor_timed(device, queue, atlas, textures, scene, mode, None)?.0)
+    }
+
+    /// [`Self::impostor`], and with `timing` the fastest of its timed cloud passes (the
+    /// passes that draw the G-buffer, without the shading), milliseconds.
+    #[allow(clippy::too_many_arguments)]
+    pub fn impostor_timed(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        atlas: &ImpostorAtlas,
+        textures: &AtlasTextures,
+        scene: &ComparisonScene,
+        mode: SamplingMode,
+        timing: Option<SweepTiming>,
+    ) -> Result<(RgbaImage, Option<f64>), SweepError> {
         let sampler = ImpostorSampler::new(
             atlas.views,
             atlas.outer_radius,
@@ -260,11 +283,17 @@ impl AccuracySweep {
         };
         let [normal_coverage, albedo, material, depth] = &gbuffer.views;
         let targets = GBufferBinding { normal_coverage, albedo, material, depth };
+        let cloud_ms = match timing {
+            Some(timing) => Some(fastest_ms(device, queue, timing, |encoder, timestamps| {
+                self.cloud_pass.encode(device, encoder, &frame, &binding, &targets, timestamps)
+            })?),
+            None => None,
+        };
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("impostor cloud") });
         self.cloud_pass.encode(device, &mut encoder, &frame, &binding, &targets, None)?;
         queue.submit([encoder.finish()]);
-        self.shade(device, queue, scene, &gbuffer)
+        Ok((self.shade(device, queue, scene, &gbuffer)?, cloud_ms))
     }
 
     /// Runs the sweep over `grains`, calling `on_row` after each measurement (for progress
@@ -298,7 +327,15 @@ impl AccuracySweep {
                         let textures = AtlasTextures::upload(device, queue, &atlas)?;
                         for (scene, reference) in scenes.iter().zip(&references) {
                             for &mode in &settings.modes {
-                                let render = self.impostor(device, queue, &atlas, &textures, scene, mode)?;
+                                let (render, cloud_ms) = self.impostor_timed(
+                                    device,
+                                    queue,
+                                    &atlas,
+                                    &textures,
+                                    scene,
+                                    mode,
+                                    settings.timing,
+                                )?;
                                 let row = SweepRow {
                                     grain: name.clone(),
                                     subdivisions: n,
@@ -308,6 +345,7 @@ impl AccuracySweep {
                                     apparent_diameter: scene.apparent_diameter,
                                     error: compare_images(reference, &render)?,
                                     atlas_bytes: atlas.memory().gpu_bytes,
+                                    cloud_ms,
                                 };
                                 on_row(&row);
                                 rows.push(row);

@@ -8,8 +8,12 @@ use octahedral_map::{SamplingMode, ViewLayout};
 use super::metrics::ImageError;
 use super::sweep::SweepRow;
 
-/// The CSV header.
-pub const CSV_HEADER: &str = "grain,n,p,mode,layout,diameter_px,ssim,rmse,atlas_bytes";
+/// The CSV header; `cloud_ms` is empty for an untimed row.
+pub const CSV_HEADER: &str = "grain,n,p,mode,layout,diameter_px,ssim,rmse,atlas_bytes,cloud_ms";
+/// The header of tables written before the sweep was timed (the committed
+/// `data/impostor_accuracy.csv`): [`CSV_HEADER`] without `cloud_ms`; [`rows_from_csv`] reads
+/// both.
+pub const UNTIMED_CSV_HEADER: &str = "grain,n,p,mode,layout,diameter_px,ssim,rmse,atlas_bytes";
 
 /// The name of a sampling mode in tables and charts.
 pub fn sampling_mode_name(mode: SamplingMode) -> &'static str {
@@ -45,7 +49,7 @@ pub fn rows_to_csv(rows: &[SweepRow]) -> String {
     for r in rows {
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{:.6},{:.6},{}",
+            "{},{},{},{},{},{},{:.6},{:.6},{},{}",
             r.grain,
             r.subdivisions,
             r.texels,
@@ -54,20 +58,23 @@ pub fn rows_to_csv(rows: &[SweepRow]) -> String {
             r.apparent_diameter,
             r.error.ssim,
             r.error.rmse,
-            r.atlas_bytes
+            r.atlas_bytes,
+            r.cloud_ms.map(|ms| format!("{ms:.4}")).unwrap_or_default()
         );
     }
     csv
 }
 
-/// Parses CSV written by [`rows_to_csv`]; the error names the line and the field.
+/// Parses CSV written by [`rows_to_csv`] (or with [`UNTIMED_CSV_HEADER`]); the error names
+/// the line and the field.
 pub fn rows_from_csv(text: &str) -> Result<Vec<SweepRow>, String> {
     let mut lines = text.lines().enumerate();
-    match lines.next() {
-        Some((_, header)) if header.trim() == CSV_HEADER => {}
+    let field_count = match lines.next() {
+        Some((_, header)) if header.trim() == CSV_HEADER => 10,
+        Some((_, header)) if header.trim() == UNTIMED_CSV_HEADER => 9,
         Some((_, header)) => return Err(format!("line 1: expected the header `{CSV_HEADER}`, found `{header}`")),
         None => return Err("empty table".into()),
-    }
+    };
     let mut rows = Vec::new();
     for (index, line) in lines {
         if line.trim().is_empty() {
@@ -75,7 +82,7 @@ pub fn rows_from_csv(text: &str) -> Result<Vec<SweepRow>, String> {
         }
         let fields: Vec<&str> = line.split(',').collect();
         let at = |what: &str| format!("line {}: bad {what} in `{line}`", index + 1);
-        if fields.len() != 9 {
+        if fields.len() != field_count {
             return Err(at("field count"));
         }
         let number =
@@ -90,6 +97,10 @@ pub fn rows_from_csv(text: &str) -> Result<Vec<SweepRow>, String> {
             apparent_diameter: number(5, "diameter")? as f32,
             error: ImageError { ssim: number(6, "ssim")?, rmse: number(7, "rmse")? },
             atlas_bytes: integer(8, "atlas_bytes")?,
+            cloud_ms: match fields.get(9) {
+                None | Some(&"") => None,
+                Some(_) => Some(number(9, "cloud_ms")?),
+            },
         });
     }
     Ok(rows)
@@ -110,17 +121,26 @@ mod tests {
             apparent_diameter: 32.0,
             error: ImageError { ssim: 0.908_2, rmse: 0.021_2 },
             atlas_bytes: 8_738_000,
+            cloud_ms: Some(1.25),
         }];
         assert_eq!(rows_from_csv(&rows_to_csv(&rows)).unwrap(), rows);
+        let untimed = vec![SweepRow { cloud_ms: None, ..rows[0].clone() }];
+        assert_eq!(rows_from_csv(&rows_to_csv(&untimed)).unwrap(), untimed);
+        let old = format!("{UNTIMED_CSV_HEADER}\nbean,8,64,mixed,compact,32,0.9082,0.0212,8738000\n");
+        assert_eq!(rows_from_csv(&old).unwrap(), untimed);
     }
 
     #[test]
     fn bad_tables_name_the_line() {
         assert!(rows_from_csv("").is_err());
         assert!(rows_from_csv("grain,n\n").unwrap_err().contains("line 1"));
-        let bad_mode = format!("{CSV_HEADER}\nball,8,64,curved,paper,32,0.9,0.1,1\n");
+        let bad_mode = format!("{CSV_HEADER}\nball,8,64,curved,paper,32,0.9,0.1,1,\n");
         assert!(rows_from_csv(&bad_mode).unwrap_err().contains("line 2: bad mode"));
-        let bad_ssim = format!("{CSV_HEADER}\nball,8,64,mixed,paper,32,NaN,0.1,1\n");
+        let bad_ssim = format!("{CSV_HEADER}\nball,8,64,mixed,paper,32,NaN,0.1,1,\n");
         assert!(rows_from_csv(&bad_ssim).unwrap_err().contains("bad ssim"));
+        let bad_time = format!("{CSV_HEADER}\nball,8,64,mixed,paper,32,0.9,0.1,1,fast\n");
+        assert!(rows_from_csv(&bad_time).unwrap_err().contains("bad cloud_ms"));
+        let short = format!("{CSV_HEADER}\nball,8,64,mixed,paper,32,0.9,0.1,1\n");
+        assert!(rows_from_csv(&short).unwrap_err().contains("bad field count"));
     }
 }

@@ -4,7 +4,8 @@
 //! Two kinds of test. The properties and the paper's claims, asserted without margins:
 //! the compact layout renders the same images as the paper's from 100 of 128 views;
 //! mixed sampling beats planar and spherical sampling on the bean; the hex nut, which
-//! breaks the quasi-spherical hypothesis, scores below the ball. And regression pins
+//! breaks the quasi-spherical hypothesis, scores below the ball; timing the cloud pass (either
+//! clock) leaves the impostor pixel for pixel as it was. And regression pins
 //! (`*_regression_pin`): no property bounds an SSIM, so their thresholds are the values
 //! measured on lavapipe (quoted in each pin's doc comment) less 0.005–0.01, which leaves
 //! room for another adapter's rasterization and filtering but fails on a real loss of
@@ -12,6 +13,8 @@
 //! commit, saying why. The full sweep is `cargo xtask impostor-accuracy`.
 
 use grain_impostor::accuracy::{AccuracySweep, SweepClock, SweepRow, SweepSettings, SweepTiming};
+use grain_impostor::atlas_gpu::AtlasTextures;
+use grain_impostor::bake::{BakeSettings, Baker, Progress};
 use grain_mesh::{Ball, CoffeeBean, GrainMesh, HexNut};
 use integration_tests::gpu;
 use octahedral_map::{SamplingMode, ViewLayout};
@@ -120,4 +123,40 @@ fn the_hex_nut_breaks_the_quasi_spherical_hypothesis() {
 fn nut_ssim_regression_pin() {
     let rows = measure("nut", HexNut::default().mesh().unwrap(), &[SamplingMode::Mixed], &[ViewLayout::Listing1]);
     assert!(ssim(&rows, SamplingMode::Mixed) >= 0.80);
+}
+
+/// Timing leaves the images alone and reads both clocks: with the timestamps (where the
+/// adapter has them; on lavapipe they do not bracket the work, so only a finite,
+/// non-negative span is asserted) and the wall clock, the impostor is the untimed one,
+/// pixel for pixel; no timed pass and timestamps on a device without them are errors.
+#[test]
+fn timing_the_cloud_pass_leaves_the_impostor_unchanged() {
+    let gpu = gpu();
+    let mesh = Ball::default().mesh().unwrap();
+    let sweep = AccuracySweep::new(&gpu.device).unwrap();
+    let scene = AccuracySweep::scene(&mesh, 4, 32.0).unwrap();
+    let bake = BakeSettings { progress: Progress::Hidden, ..BakeSettings::new(4, 32) };
+    let atlas = Baker::new(&gpu.device).unwrap().bake(&gpu.device, &gpu.queue, &mesh, &bake).unwrap();
+    let textures = AtlasTextures::upload(&gpu.device, &gpu.queue, &atlas).unwrap();
+    let render =
+        |timing| sweep.impostor_timed(&gpu.device, &gpu.queue, &atlas, &textures, &scene, SamplingMode::Mixed, timing);
+    let (untimed, none) = render(None).unwrap();
+    assert_eq!(none, None);
+    let mut clocks = vec![SweepClock::WallClock];
+    if gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+        clocks.push(SweepClock::Timestamps);
+    } else {
+        let error = render(Some(SweepTiming { passes: 1, clock: SweepClock::Timestamps })).unwrap_err();
+        assert!(error.to_string().contains("TIMESTAMP_QUERY"), "{error}");
+    }
+    println!("clocks compared: {}", clocks.len());
+    for clock in clocks {
+        let (image, ms) = render(Some(SweepTiming { passes: 2, clock })).unwrap();
+        let ms = ms.unwrap();
+        println!("{}: {ms:.4} ms", clock.name());
+        assert!(ms.is_finite() && ms >= 0.0, "{}: {ms}", clock.name());
+        assert!(image == untimed, "{}: the timed render differs", clock.name());
+    }
+    let error = render(Some(SweepTiming { passes: 0, clock: SweepClock::WallClock })).unwrap_err();
+    assert!(error.to_string().contains("timing.passes"), "{error}");
 }

@@ -5,8 +5,8 @@
 use crate::cli::{self, Command, Positional, repeated, switch, value};
 use crate::{
     abuffer_chart, bench_gpu, cargo_tasks, culling_chart, ddm_compression, ddm_input, ddm_render, ddm_resolution,
-    ddm_trace, fig9, gpu_report, impostor_accuracy, impostor_cloud, occlusion_check, octahedral_error, select,
-    showcase, stackings, svo, svo_stability,
+    ddm_trace, fig9, gpu_report, impostor_accuracy, impostor_cloud, interpenetration, occlusion_check,
+    octahedral_error, select, showcase, stackings, svo, svo_stability,
 };
 
 /// `--quick`: the command's quick settings.
@@ -205,6 +205,13 @@ pub const COMMANDS: &[Command] = &[
         exclusive: &[],
         positional: Positional::None,
         run: occlusion_check::run,
+    },
+    Command {
+        name: "interpenetration",
+        flags: &[QUICK],
+        exclusive: &[],
+        positional: Positional::OutDir("target/interpenetration"),
+        run: interpenetration::run,
     },
     Command {
         name: "culling-chart",

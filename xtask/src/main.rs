@@ -28,6 +28,7 @@ mod fig9;
 mod gpu_report;
 mod impostor_accuracy;
 mod impostor_cloud;
+mod interpenetration;
 mod occlusion_check;
 mod octahedral_error;
 mod report_check;

@@ -123,6 +123,18 @@ pub const STAGES: &[Stage] = &[
         subject: ImageSubject::FirstWords(1),
     },
     Stage {
+        folder: "interpenetration",
+        paper: "stackings",
+        title: "Interpenetrating grains (a hypothesis relaxed)",
+        about: "The pile of the bean and the nut packed tighter step by step, from outer balls disjoint (no two grains \
+                touch) to the tightest spacing the culling allows, every grain an impostor against the meshes 4 × 4 \
+                supersampled (their depth test resolves each intersection); at the tightest, the mesh, the impostors \
+                and the ꟻLIP map.",
+        command: "interpenetration",
+        flags: [Q, Q, &[]],
+        subject: ImageSubject::FirstWords(1),
+    },
+    Stage {
         folder: "stackings",
         paper: "stackings",
         title: "The multiscale renderer over a bean pile (Fig. 9)",

@@ -93,12 +93,25 @@ impl Options {
 /// A pile of `count` grains whose inner balls are disjoint (spacing over the outer diameter
 /// at least `r/R` over the jitter's margin).
 pub(crate) fn pile(count: usize, inner: f32, outer: f32) -> Result<Stacking, String> {
+    pile_spaced(count, inner, outer, pile_spacing(inner, outer))
+}
+
+/// The pile's lattice spacing: 0.85, or tighter only as far as the inner balls allow.
+fn pile_spacing(inner: f32, outer: f32) -> f32 {
+    (1.02 * inner / outer / (1.0 - 2.0 * PILE_JITTER)).max(0.85)
+}
+
+/// The pile's position jitter (`grain_scenes::StackingSpec::jitter`).
+pub(crate) const PILE_JITTER: f32 = 0.05;
+
+/// [`pile`] with its lattice spacing given (`grain_scenes::StackingSpec::spacing`).
+pub(crate) fn pile_spaced(count: usize, inner: f32, outer: f32, spacing: f32) -> Result<Stacking, String> {
     let mut spec = StackingSpec::new(count, GrainRadii::new(inner, outer).map_err(|e| e.to_string())?);
     spec.seed = 9;
     spec.region = Region::Pile { slope: 0.6 };
     spec.scale_jitter = 0.1;
-    spec.jitter = 0.05;
-    spec.spacing = (1.02 * inner / outer / (1.0 - 2.0 * spec.jitter)).max(0.85);
+    spec.jitter = PILE_JITTER;
+    spec.spacing = spacing;
     Stacking::generate(&spec).map_err(|e| e.to_string())
 }
 
@@ -133,8 +146,19 @@ pub(crate) fn pile_instances(
     mesh: &grain_mesh::GrainMesh,
 ) -> Result<(Stacking, Vec<GrainInstance>), String> {
     let bounds = mesh.bounds();
+    let inner = bounds.occluder_radius().max(1e-6 * bounds.outer_radius);
+    pile_instances_spaced(count, mesh, pile_spacing(inner, bounds.outer_radius))
+}
+
+/// [`pile_instances`] with the lattice spacing given.
+pub(crate) fn pile_instances_spaced(
+    count: usize,
+    mesh: &grain_mesh::GrainMesh,
+    spacing: f32,
+) -> Result<(Stacking, Vec<GrainInstance>), String> {
+    let bounds = mesh.bounds();
     let (inner, outer) = (bounds.occluder_radius(), bounds.outer_radius);
-    let stacking = pile(count, inner.max(1e-6 * outer), outer)?;
+    let stacking = pile_spaced(count, inner.max(1e-6 * outer), outer, spacing)?;
     let grains = instances(&stacking, 0..stacking.len(), 1.0);
     Ok((stacking, grains))
 }

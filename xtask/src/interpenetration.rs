@@ -1,7 +1,7 @@
 //! `cargo xtask interpenetration [OUT_DIR] [--quick]`: the impostor tier as grains
 //! interpenetrate (`docs/failure-modes.md` §1.5). Michel & Boubekeur's piles keep grains
 //! apart; a user's pile need not. For the bean, the rock and the nut (the bean and the nut
-//! with `--quick`), the same pile of `stackings` is generated with its lattice packed
+//! with `--quick`), the pile of `stackings` (2000 grains; 1000 with `--quick`) is generated with its lattice packed
 //! tighter, step by step, from the spacing at which the outer balls are disjoint
 //! ([`disjoint_spacing`]: no two grains can touch) down to the tightest that keeps the
 //! inner balls disjoint ([`tightest_spacing`]: the occlusion culling's hypothesis). At each
@@ -24,8 +24,10 @@ use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
 use crate::cli::Args;
 use crate::stackings::{PILE_JITTER, bake_atlas, pile_instances_spaced};
 
-/// Grains in each pile.
+/// Grains in each pile (with `--quick`: [`QUICK_GRAINS`]).
 const GRAINS: usize = 2000;
+/// Grains in each pile with `--quick` (the supersampled meshes dominate the time).
+const QUICK_GRAINS: usize = 1000;
 /// Spacings measured from [`disjoint_spacing`] to [`tightest_spacing`], both included.
 const STEPS: usize = 4;
 /// Projected diameters (pixels) at which the pile is compared: the impostor tier's sizes.
@@ -70,6 +72,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
     println!("interpenetration on {}", gpu.describe());
     let names: &[&str] = if quick { &["bean", "nut"] } else { &["bean", "rock", "nut"] };
+    let count = if quick { QUICK_GRAINS } else { GRAINS };
     let grains = crate::impostor_accuracy::grains(false, &[])?;
     let started = Instant::now();
     let mut rows = Vec::new();
@@ -80,7 +83,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         let atlas = bake_atlas(&gpu, mesh)?;
         let ladder = spacing_ladder(ratio, PILE_JITTER, STEPS);
         for (k, &spacing) in ladder.iter().enumerate() {
-            let (stacking, instances) = pile_instances_spaced(GRAINS, mesh, spacing)?;
+            let (stacking, instances) = pile_instances_spaced(count, mesh, spacing)?;
             let region = stacking.bounds();
             let [wide, ..] = Shot::fig15(region.min, region.max);
             let view = MeasureView { target: wide.target, direction: wide.eye - wide.target, size: SIZE, frames: 1 };
@@ -116,7 +119,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     println!("wrote {}", path.display());
     let path = out.join("interpenetration.png");
-    chart(&path, &rows, names, &gpu.describe())?;
+    chart(&path, &rows, names, count, &gpu.describe())?;
     println!("wrote {} in {:.0} s", path.display(), started.elapsed().as_secs_f64());
     Ok(())
 }
@@ -144,7 +147,7 @@ const COLOURS: [RGBColor; 3] = [RGBColor(140, 86, 75), RGBColor(127, 127, 127), 
 
 /// ꟻLIP against the spacing, one line per grain and diameter (dashed-looking thin lines for
 /// the smaller diameter).
-fn chart(path: &Path, rows: &[Row], names: &[&str], adapter: &str) -> Result<(), String> {
+fn chart(path: &Path, rows: &[Row], names: &[&str], count: usize, adapter: &str) -> Result<(), String> {
     let (x_lo, x_hi) = rows.iter().fold((f32::MAX, 0.0_f32), |(lo, hi), r| (lo.min(r.spacing), hi.max(r.spacing)));
     let y_hi = rows.iter().map(|r| r.flip).fold(0.0, f64::max);
     if rows.is_empty() || y_hi <= 0.0 {
@@ -154,7 +157,7 @@ fn chart(path: &Path, rows: &[Row], names: &[&str], adapter: &str) -> Result<(),
         let e = drawing_error;
         let root = root
             .titled(
-                &format!("Impostors of interpenetrating grains against the meshes (4x4 supersampled), {GRAINS} grains"),
+                &format!("Impostors of interpenetrating grains against the meshes (4x4 supersampled), {count} grains"),
                 ("sans-serif", 22),
             )
             .map_err(e)?;

@@ -19,6 +19,12 @@ pub enum SelectError {
         /// What is wrong with it.
         reason: String,
     },
+    /// Samples that give no prediction bound ([`prediction_bound`](crate::prediction_bound)):
+    /// too few, not finite, or a confidence out of range.
+    InvalidSamples {
+        /// What is wrong.
+        reason: String,
+    },
     /// A table's CSV text does not parse.
     Parse {
         /// The file (or the name given for the text).
@@ -73,6 +79,7 @@ impl fmt::Display for SelectError {
         match self {
             Self::InvalidBudget { reason } => write!(f, "invalid budget: {reason}"),
             Self::InvalidTable { table, field, reason } => write!(f, "table {table}: {field}: {reason}"),
+            Self::InvalidSamples { reason } => write!(f, "no prediction bound: {reason}"),
             Self::Parse { file, line, reason } => write!(f, "{file}:{line}: {reason}"),
             Self::Io { path, reason } => write!(f, "cannot read {path}: {reason}"),
             Self::UnknownObject { table, object, known } => {

@@ -59,6 +59,7 @@
 //! - [`Table::select`] → [`Choice`]; [`pareto_front`].
 //! - [`Table::check_held_out`] → [`HeldOutCheck`]: a choice measured where the table was
 //!   not (another camera, another realization).
+//! - [`prediction_bound`]: the margin a row needs for a camera it was not measured from.
 //! - [`SelectError`]: every failure, naming the field, file, line or object.
 
 mod budget;
@@ -66,6 +67,7 @@ mod error;
 mod fingerprint;
 mod held_out;
 mod pareto;
+mod prediction;
 mod select;
 mod table;
 
@@ -74,5 +76,6 @@ pub use error::SelectError;
 pub use fingerprint::fingerprint;
 pub use held_out::HeldOutCheck;
 pub use pareto::pareto_front;
+pub use prediction::prediction_bound;
 pub use select::Choice;
 pub use table::{Measurement, Stamp, Table};

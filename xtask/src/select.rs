@@ -100,7 +100,7 @@ pub const SELECTORS: [Selector; 4] = [
         sources: &ddm_experiments::selection::TABLE_SOURCES,
         condition_unit: (ddm_experiments::selection::CONDITION_UNIT, "px/voxel"),
         cost_unit: ddm_experiments::selection::COST_UNIT,
-        row_note: "worst of 4 cameras",
+        row_note: "95 % prediction bound of 4 cameras",
         default_budgets: [(Metric::Flip, 0.35), (Metric::Flip, 0.1), (Metric::Flip, 0.03)],
         measure: ddm_table,
         held_out: ddm_held_out,

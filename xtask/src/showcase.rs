@@ -220,7 +220,7 @@ pub const STAGES: &[Stage] = &[
         paper: "ddm",
         title: "Model no more than a scene needs: the cheapest DDM method within a budget",
         about: "For three ꟻLIP budgets, per mesostructure, the method the selector picks from the committed table \
-                (crates/ddm-experiments/tables/ddm_selection.csv: worst error of four cameras, CPU cost), checked on a \
+                (crates/ddm-experiments/tables/ddm_selection.csv: 95 % prediction bound of four cameras' errors, CPU cost), checked on a \
                 held-out camera: the choice's image, its ꟻLIP map and measured error, and every candidate on the \
                 table's Pareto front.",
         command: "select",

@@ -12,7 +12,8 @@
 //! accuracy. A change that moves a measured value should move its pin in the same
 //! commit, saying why. The full sweep is `cargo xtask impostor-accuracy`.
 
-use grain_impostor::accuracy::{AccuracySweep, SweepClock, SweepRow, SweepSettings, SweepTiming};
+use gpu_harness::TimingSource;
+use grain_impostor::accuracy::{AccuracySweep, SweepRow, SweepSettings, SweepTiming};
 use grain_impostor::atlas_gpu::AtlasTextures;
 use grain_impostor::bake::{BakeSettings, Baker, Progress};
 use grain_mesh::{Ball, CoffeeBean, GrainMesh, HexNut};
@@ -29,7 +30,7 @@ fn measure(name: &str, mesh: GrainMesh, modes: &[SamplingMode], layouts: &[ViewL
         layouts: layouts.to_vec(),
         view_count: 16,
         apparent_diameters: vec![32.0],
-        timing: Some(SweepTiming { passes: 1, clock: SweepClock::WallClock }),
+        timing: Some(SweepTiming { passes: 1, clock: TimingSource::WallClock }),
     };
     let rows = sweep.run(&gpu.device, &gpu.queue, &[(name.to_owned(), mesh)], &settings, |_| {}).unwrap();
     for r in &rows {
@@ -142,11 +143,11 @@ fn timing_the_cloud_pass_leaves_the_impostor_unchanged() {
         |timing| sweep.impostor_timed(&gpu.device, &gpu.queue, &atlas, &textures, &scene, SamplingMode::Mixed, timing);
     let (untimed, none) = render(None).unwrap();
     assert_eq!(none, None);
-    let mut clocks = vec![SweepClock::WallClock];
+    let mut clocks = vec![TimingSource::WallClock];
     if gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
-        clocks.push(SweepClock::Timestamps);
+        clocks.push(TimingSource::Timestamps);
     } else {
-        let error = render(Some(SweepTiming { passes: 1, clock: SweepClock::Timestamps })).unwrap_err();
+        let error = render(Some(SweepTiming { passes: 1, clock: TimingSource::Timestamps })).unwrap_err();
         assert!(error.to_string().contains("TIMESTAMP_QUERY"), "{error}");
     }
     println!("clocks compared: {}", clocks.len());
@@ -157,6 +158,6 @@ fn timing_the_cloud_pass_leaves_the_impostor_unchanged() {
         assert!(ms.is_finite() && ms >= 0.0, "{}: {ms}", clock.name());
         assert!(image == untimed, "{}: the timed render differs", clock.name());
     }
-    let error = render(Some(SweepTiming { passes: 0, clock: SweepClock::WallClock })).unwrap_err();
+    let error = render(Some(SweepTiming { passes: 0, clock: TimingSource::WallClock })).unwrap_err();
     assert!(error.to_string().contains("timing.passes"), "{error}");
 }

@@ -7,8 +7,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use gpu_harness::TimingSource;
 use grain_impostor::accuracy::{
-    AccuracySweep, SweepClock, SweepRow, SweepSettings, SweepTiming, rows_to_csv, sampling_mode_name, view_layout_name,
+    AccuracySweep, SweepRow, SweepSettings, SweepTiming, rows_to_csv, sampling_mode_name, view_layout_name,
 };
 use grain_impostor::atlas_gpu::AtlasTextures;
 use grain_impostor::bake::{BakeSettings, Baker, Progress};
@@ -333,7 +334,8 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
     println!("impostor accuracy on {}", gpu.describe());
     // Timestamps only where they bracket the work (not on a software adapter).
-    let clock = if gpu.has_timestamps() && !gpu.is_software() { SweepClock::Timestamps } else { SweepClock::WallClock };
+    let clock =
+        if gpu.has_timestamps() && !gpu.is_software() { TimingSource::Timestamps } else { TimingSource::WallClock };
     let settings = SweepSettings { timing: Some(SweepTiming { passes: TIMED_PASSES, clock }), ..settings };
     let sweep = AccuracySweep::new(&gpu.device).map_err(|e| e.to_string())?;
     let start = Instant::now();

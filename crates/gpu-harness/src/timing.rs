@@ -23,6 +23,16 @@ pub struct GpuTiming {
     pub source: TimingSource,
 }
 
+impl TimingSource {
+    /// The source's name in tables and charts: "GPU timestamps" or "wall clock".
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Timestamps => "GPU timestamps",
+            Self::WallClock => "wall clock",
+        }
+    }
+}
+
 impl fmt::Display for GpuTiming {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let source = match self.source {

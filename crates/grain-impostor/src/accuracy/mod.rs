@@ -20,5 +20,5 @@ pub use sweep::{AccuracySweep, REFERENCE_SUPERSAMPLING, SweepError, SweepRow, Sw
 pub use table::{
     rows_from_csv, rows_to_csv, sampling_mode_from_name, sampling_mode_name, view_layout_from_name, view_layout_name,
 };
-pub use timing::{SweepClock, SweepTiming};
+pub use timing::SweepTiming;
 pub use view_set::{ComparisonScene, fibonacci_directions};

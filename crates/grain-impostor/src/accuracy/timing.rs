@@ -4,40 +4,24 @@
 //! it costs on the GPU as well as against its memory.
 //!
 //! On an adapter with trustworthy timestamps the time is the span from the first pass's start
-//! to the last pass's end ([`SweepClock::Timestamps`]); on a software adapter, whose
+//! to the last pass's end ([`TimingSource::Timestamps`]); on a software adapter, whose
 //! timestamps do not bracket the work, it is the wall time from submission to completion
-//! ([`SweepClock::WallClock`]: it includes the driver's submission overhead). The caller picks
+//! ([`TimingSource::WallClock`]: it includes the driver's submission overhead). The caller picks
 //! the clock (`gpu_harness::Gpu::has_timestamps` and `is_software` say which applies); the
 //! figure kept is the fastest of [`SweepTiming::passes`] passes.
 
+use gpu_harness::TimingSource;
+
 use crate::gpu_util::{GpuError, read_buffer, wait};
-
-/// How a sweep's impostor renders are timed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SweepClock {
-    /// GPU timestamp queries at the start and end of each of the cloud's passes.
-    Timestamps,
-    /// Wall time from submission to the queue's completion.
-    WallClock,
-}
-
-impl SweepClock {
-    /// The clock's name in tables and charts.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Timestamps => "GPU timestamps",
-            Self::WallClock => "wall clock",
-        }
-    }
-}
 
 /// Whether and how each impostor render of the sweep is timed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SweepTiming {
     /// Timed passes per configuration (the fastest is kept); at least 1.
     pub passes: u32,
-    /// The clock.
-    pub clock: SweepClock,
+    /// The clock: timestamps at the start and end of each of the cloud's passes, or the wall
+    /// time from submission to the queue's completion.
+    pub clock: TimingSource,
 }
 
 /// The number of timestamps one cloud pass writes (start and end of its four passes).
@@ -101,15 +85,15 @@ pub(crate) fn fastest_ms(
         return Err(super::SweepError::Invalid("timing.passes is 0: at least one pass must be timed".into()));
     }
     let timer = match timing.clock {
-        SweepClock::Timestamps if device.features().contains(wgpu::Features::TIMESTAMP_QUERY) => {
+        TimingSource::Timestamps if device.features().contains(wgpu::Features::TIMESTAMP_QUERY) => {
             Some(CloudTimer::new(device))
         }
-        SweepClock::Timestamps => {
+        TimingSource::Timestamps => {
             return Err(super::SweepError::Invalid(
                 "timing.clock is Timestamps but the device has no TIMESTAMP_QUERY".into(),
             ));
         }
-        SweepClock::WallClock => None,
+        TimingSource::WallClock => None,
     };
     let mut fastest = f64::INFINITY;
     for _ in 0..timing.passes {

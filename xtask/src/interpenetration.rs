@@ -8,7 +8,8 @@
 //! spacing the pile is drawn with every grain an impostor (`n` 8, `p` 64) and compared
 //! with the same pile as meshes 4 × 4 supersampled, whose depth test resolves every
 //! intersection exactly (`grain_renderer::point_threshold::measure`: mean ꟻLIP and the
-//! standard SSIM over the pile's covered rectangle). Writes `interpenetration.csv`, the
+//! standard SSIM over the pile's covered rectangle; the holes the impostors open and the
+//! pixels they add, `point_threshold::CoverageDifference`). Writes `interpenetration.csv`, the
 //! chart `interpenetration.png` and, at the tightest spacing, each grain's
 //! `{grain}_tight_{mesh,impostors,flip}.png`.
 
@@ -36,10 +37,10 @@ const DIAMETERS: [f32; 2] = [8.0, 16.0];
 const SIZE: (u32, u32) = (320, 180);
 
 /// The smallest lattice spacing (in units of `2·R·s_max`, `grain_scenes::StackingSpec::spacing`)
-/// at which the outer balls of a pile jittered by `jitter` are disjoint (`spacing·(1 − 2·jitter) ≥ 1`,
-/// with 0.1 % to spare): no two grains can interpenetrate.
+/// at which the outer balls of a pile jittered by `jitter` are disjoint: no two grains can
+/// interpenetrate.
 pub fn disjoint_spacing(jitter: f32) -> f32 {
-    1.001 / (1.0 - 2.0 * jitter)
+    grain_scenes::StackingSpec::disjoint_spacing(jitter)
 }
 
 /// The tightest spacing that keeps the inner balls (radius `r`, outer `R`) disjoint,
@@ -62,6 +63,7 @@ struct Row {
     diameter: f32,
     flip: f64,
     ssim_loss: f64,
+    coverage: point_threshold::CoverageDifference,
 }
 
 /// Runs the sweep.
@@ -91,10 +93,13 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
                 .map_err(|e| format!("{name} at spacing {spacing:.3}: {e}"))?;
             for row in &measured.rows {
                 println!(
-                    "  {name:>4} spacing {spacing:.3} (r/R {ratio:.2}) {:>4} px: impostors ꟻLIP {:.4}, 1 − SSIM {:.4}  [{:.0} s]",
+                    "  {name:>4} spacing {spacing:.3} (r/R {ratio:.2}) {:>4} px: impostors ꟻLIP {:.4}, 1 − SSIM {:.4}, holes {} and added {} pixels of {} covered  [{:.0} s]",
                     row.diameter,
                     row.impostors.flip,
                     row.impostors.ssim_loss,
+                    row.impostors.coverage.uncovered,
+                    row.impostors.coverage.spurious,
+                    row.impostors.coverage.mesh_covered,
                     started.elapsed().as_secs_f64()
                 );
                 rows.push(Row {
@@ -103,6 +108,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
                     diameter: row.diameter,
                     flip: row.impostors.flip,
                     ssim_loss: row.impostors.ssim_loss,
+                    coverage: row.impostors.coverage,
                 });
             }
             if k + 1 == ladder.len() {
@@ -111,9 +117,16 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
             }
         }
     }
-    let mut csv = String::from("grain,spacing,diameter_px,impostor_flip,impostor_ssim_loss\n");
+    let mut csv = String::from(
+        "grain,spacing,diameter_px,impostor_flip,impostor_ssim_loss,mesh_covered_px,impostor_holes_px,impostor_added_px\n",
+    );
     for r in &rows {
-        let _ = writeln!(csv, "{},{:.4},{},{:.6},{:.6}", r.grain, r.spacing, r.diameter, r.flip, r.ssim_loss);
+        let c = r.coverage;
+        let _ = writeln!(
+            csv,
+            "{},{:.4},{},{:.6},{:.6},{},{},{}",
+            r.grain, r.spacing, r.diameter, r.flip, r.ssim_loss, c.mesh_covered, c.uncovered, c.spurious
+        );
     }
     let path = out.join("interpenetration.csv");
     std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;

@@ -9,13 +9,15 @@
 //! The images are cropped to the mesh render's covered rectangle (grown by 4 pixels, at least
 //! 16 × 16) so that the background does not dilute the score, and each tier is compared with
 //! the mesh by the field's metrics (`image-metrics`: mean ꟻLIP and the standard Gaussian
-//! SSIM). Each tier's time is the fastest of `frames` frames ([`crate::bench::time_frame`]:
+//! SSIM), and its coverage with the meshes' over the whole image ([`CoverageDifference`]: the
+//! holes it opens, the pixels it adds). Each tier's time is the fastest of `frames` frames ([`crate::bench::time_frame`]:
 //! GPU timestamps on a GPU, wall clock on a software adapter). Culling is off (a point pixel
 //! averages the grains kept).
 
 use glam::Vec3;
 use gpu_harness::{Gpu, TimingSource};
 use grain_impostor::atlas::ImpostorAtlas;
+use grain_impostor::mesh_gbuffer::GbufferImage;
 use grain_impostor::scene::GrainInstance;
 use grain_splitter::OccluderMapKind;
 use image::RgbaImage;
@@ -35,10 +37,42 @@ pub struct TierRender {
     pub flip: f64,
     /// One minus the mean (standard, Gaussian) SSIM of the cropped image against the mesh's.
     pub ssim_loss: f64,
+    /// The tier's coverage against the meshes' over the whole image.
+    pub coverage: CoverageDifference,
     /// The fastest frame, milliseconds.
     pub ms: f64,
     /// The cropped image.
     pub image: RgbaImage,
+}
+
+/// Where a tier's coverage differs from the meshes' (their 4 × 4 supersampled coverage):
+/// the holes a tier opens and the pixels it adds, counted over the whole image. Silhouette
+/// pixels, which the meshes cover in part, are in neither count.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CoverageDifference {
+    /// Pixels whose every sample a mesh covers.
+    pub mesh_covered: usize,
+    /// Of those, the pixels the tier leaves empty (holes).
+    pub uncovered: usize,
+    /// Pixels no mesh sample covers that the tier covers.
+    pub spurious: usize,
+}
+
+impl CoverageDifference {
+    /// The counts for a tier's coverage `tier` (per pixel: covered or not) against the meshes'
+    /// coverage fractions `mesh` (0 to 1 per pixel, the same pixels).
+    pub fn of(mesh: impl IntoIterator<Item = f32>, tier: impl IntoIterator<Item = bool>) -> Self {
+        let mut counts = Self::default();
+        for (fraction, covered) in mesh.into_iter().zip(tier) {
+            if fraction >= 1.0 {
+                counts.mesh_covered += 1;
+                counts.uncovered += usize::from(!covered);
+            } else if fraction <= 0.0 {
+                counts.spurious += usize::from(covered);
+            }
+        }
+        counts
+    }
 }
 
 /// One diameter of the measurement.
@@ -141,7 +175,7 @@ pub fn measure(
             size,
             (1e-3 * distance, 4.0 * distance),
         )?;
-        let mut render = |renderer: &StackingRenderer, scene| -> Result<(RgbaImage, f64), RenderError> {
+        let mut render = |renderer: &StackingRenderer, scene| -> Result<(RgbaImage, f64, GbufferImage), RenderError> {
             let mut fastest = f64::INFINITY;
             for _ in 0..view.frames {
                 let times =
@@ -149,11 +183,18 @@ pub fn measure(
                 (fastest, timing) = (fastest.min(times.total()), times.source);
             }
             let image = grain_impostor::shading::read_image(device, queue, renderer.image()).map_err(|e| error(&e))?;
-            Ok((image, fastest))
+            let gbuffer = renderer.gbuffer().read(device, queue).map_err(|e| error(&e))?;
+            Ok((image, fastest, gbuffer))
         };
-        let (impostor_image, impostor_ms) = render(&impostors, &impostor_scene)?;
-        let (point_image, point_ms) = render(&points, &point_scene)?;
+        let (impostor_image, impostor_ms, impostor_gbuffer) = render(&impostors, &impostor_scene)?;
+        let (point_image, point_ms, point_gbuffer) = render(&points, &point_scene)?;
         let (reference, coverage) = truth.render(device, queue, &camera, &lighting)?;
+        let coverage_of = |tier: &GbufferImage| {
+            CoverageDifference::of(
+                coverage.normal_coverage.iter().map(|n| n.w),
+                tier.normal_coverage.iter().map(|n| n.w > 0.0),
+            )
+        };
         let covered = |i: usize| coverage.normal_coverage[i].w > 0.0;
         let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
         for y in 0..size.1 {
@@ -175,15 +216,30 @@ pub fn measure(
         let ((x0, x1), (y0, y1)) = (grow(x0, x1, size.0), grow(y0, y1, size.1));
         let crop = |image: &RgbaImage| image::imageops::crop_imm(image, x0, y0, x1 - x0 + 1, y1 - y0 + 1).to_image();
         let reference = crop(&reference);
-        let tier = |image: &RgbaImage, ms: f64| -> Result<TierRender, RenderError> {
+        let tier = |image: &RgbaImage, ms: f64, coverage: CoverageDifference| -> Result<TierRender, RenderError> {
             let image = crop(image);
             let flip = image_metrics::flip(&reference, &image).map_err(|e| error(&e))?.mean;
             let ssim_loss = 1.0 - image_metrics::ssim(&reference, &image).map_err(|e| error(&e))?.mean;
-            Ok(TierRender { flip, ssim_loss, ms, image })
+            Ok(TierRender { flip, ssim_loss, coverage, ms, image })
         };
-        let points = tier(&point_image, point_ms)?;
-        let impostors = tier(&impostor_image, impostor_ms)?;
+        let points = tier(&point_image, point_ms, coverage_of(&point_gbuffer))?;
+        let impostors = tier(&impostor_image, impostor_ms, coverage_of(&impostor_gbuffer))?;
         rows.push(PointRow { diameter, points, impostors, reference });
     }
     Ok(PointMeasurement { rows, timing })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::CoverageDifference;
+
+    #[test]
+    fn coverage_counts_holes_and_additions_but_not_silhouettes() {
+        // Wholly covered: kept, hole; empty: added, kept empty; silhouette (0.5): in neither count.
+        let mesh = [1.0, 1.0, 0.0, 0.0, 0.5, 0.5];
+        let tier = [true, false, true, false, true, false];
+        let counts = CoverageDifference::of(mesh, tier);
+        assert_eq!(counts, CoverageDifference { mesh_covered: 2, uncovered: 1, spurious: 1 });
+        assert_eq!(CoverageDifference::of([], []), CoverageDifference::default());
+    }
 }

@@ -191,9 +191,15 @@ mod tests {
 
     #[test]
     fn table_rows_are_the_worst_up_to_their_diameter() {
-        use crate::point_threshold::{PointRow, TierRender};
+        use crate::point_threshold::{CoverageDifference, PointRow, TierRender};
         let image = image::RgbaImage::new(16, 16);
-        let tier = |flip, ms| TierRender { flip, ssim_loss: 2.0 * flip, ms, image: image.clone() };
+        let tier = |flip, ms| TierRender {
+            flip,
+            ssim_loss: 2.0 * flip,
+            coverage: CoverageDifference::default(),
+            ms,
+            image: image.clone(),
+        };
         let measured = PointMeasurement {
             rows: [(1.0, 0.05, 0.12), (2.0, 0.07, 0.09), (3.0, 0.06, 0.08)]
                 .into_iter()

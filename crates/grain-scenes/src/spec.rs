@@ -193,6 +193,22 @@ impl StackingSpec {
         1.0 + f64::from(self.scale_jitter)
     }
 
+    /// The smallest `spacing` at which the outer balls of a stacking with position jitter
+    /// `jitter` are disjoint by construction, with the 0.1 % to spare of [`StackingSpec::new`]:
+    /// `1.001 / (1 − 2·jitter)`. Tighter spacings let grains interpenetrate.
+    ///
+    /// ```
+    /// use grain_scenes::{GrainRadii, StackingSpec};
+    /// let mut spec = StackingSpec::new(8, GrainRadii::new(0.5, 1.0)?);
+    /// spec.jitter = 0.1;
+    /// spec.spacing = StackingSpec::disjoint_spacing(spec.jitter);
+    /// assert!(spec.outer_balls_disjoint());
+    /// # Ok::<(), grain_scenes::SceneError>(())
+    /// ```
+    pub fn disjoint_spacing(jitter: f32) -> f32 {
+        1.001 / (1.0 - 2.0 * jitter)
+    }
+
     /// Whether the outer balls are disjoint by construction (`spacing·(1 − 2·jitter) ≥ 1`,
     /// before the rounding margin).
     pub fn outer_balls_disjoint(&self) -> bool {

@@ -57,7 +57,7 @@ use glam::Vec3;
 use gpu_harness::Gpu;
 use plotters::prelude::*;
 
-use crate::chart::{draw_legend, drawing_error, render_png};
+use crate::chart::{draw_legend, drawing_error, legend_stroke, render_png};
 use crate::cli::{Args, grid_size, positive};
 use crate::ddm_input::{self, Tile, TileSource};
 
@@ -107,10 +107,15 @@ struct Tables {
     chart_points: Vec<(&'static str, &'static str, f64, f64)>,
     /// How the GPU pass is timed (`timestamps` or `wall clock`).
     timing_name: &'static str,
+    /// The chart's time: the GPU pass per ray (`Some(rays per view)`, on an adapter whose
+    /// timestamps bracket the work) or the CPU tracer's (`None`: a software adapter).
+    gpu_rays: Option<f64>,
+    /// Methods without a GPU pass, left off a GPU-time chart.
+    uncharted: Vec<&'static str>,
 }
 
 impl Tables {
-    fn new(timing_name: &'static str) -> Self {
+    fn new(timing_name: &'static str, gpu_rays: Option<f64>) -> Self {
         Self {
             methods: String::from(
                 "mesostructure,method,mean_steps,max_steps,exhausted,truth_hits,both_hit,holes,false_hits,gross_over_0.5_voxel,mean_error_voxel,max_error_voxel,within_1e-3_of_both_pct,within_1e-3_of_truth_pct,cpu_rays_per_s,gpu_ms,gpu_timing,gpu_differs_from_cpu\n",
@@ -130,6 +135,8 @@ impl Tables {
             steps: Vec::new(),
             chart_points: Vec::new(),
             timing_name,
+            gpu_rays,
+            uncharted: Vec::new(),
         }
     }
 
@@ -233,12 +240,16 @@ impl Tables {
             )
             .map_err(|e| e.to_string())?;
         }
-        self.chart_points.push((
-            row.mesostructure,
-            row.method.name(),
-            1e6 / row.cpu_rays_per_second,
-            s.mean_error.max(1e-7),
-        ));
+        let micros_per_ray = match (self.gpu_rays, row.gpu) {
+            (None, _) => Some(1e6 / row.cpu_rays_per_second),
+            (Some(rays), Some(gpu)) => Some(gpu.seconds * 1e6 / rays),
+            (Some(_), None) => None,
+        };
+        match micros_per_ray {
+            Some(time) => self.chart_points.push((row.mesostructure, row.method.name(), time, s.mean_error.max(1e-7))),
+            None if !self.uncharted.contains(&row.method.name()) => self.uncharted.push(row.method.name()),
+            None => {}
+        }
         Ok(())
     }
 }
@@ -267,11 +278,17 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
         println!("(GPU times are from a software rasterizer's compute: lavapipe on the CPU, not a GPU)");
     }
     let tracer = GpuTracer::new(&gpu, GPU_DISPATCHES).map_err(|e| e.to_string())?;
-    let mut tables = Tables::new(tracer.timing_name());
+    // The chart's time is the GPU's where its timestamps bracket the work, else the CPU's.
+    let gpu_rays = (gpu.has_timestamps() && !gpu.is_software()).then_some(f64::from(width) * f64::from(height));
+    let mut tables = Tables::new(tracer.timing_name(), gpu_rays);
+    let time_axis = match gpu_rays {
+        Some(_) => format!("GPU µs per ray (timestamps, passes of {} rays) on {}", width * height, gpu.describe()),
+        None => format!("CPU µs per ray, one thread (the adapter is software: {})", gpu.describe()),
+    };
     for tile in tiles {
         trace_structure(tile, &settings, &tracer, &out, &mut tables)?;
     }
-    write_tables(&out, &settings, &tables)
+    write_tables(&out, &settings, &tables, &time_axis)
 }
 
 /// Every table's rows of one structure, its images, and its printed method table.
@@ -377,7 +394,7 @@ fn print_methods(rows: &[MethodRow]) {
 }
 
 /// Writes the CSV files and charts, and prints the patch, budget and Table 3 rows.
-fn write_tables(out: &Path, settings: &TraceTablesSettings, tables: &Tables) -> Result<(), String> {
+fn write_tables(out: &Path, settings: &TraceTablesSettings, tables: &Tables, time_axis: &str) -> Result<(), String> {
     let write = |name: &str, text: &str| {
         let path = out.join(name);
         std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
@@ -397,8 +414,13 @@ fn write_tables(out: &Path, settings: &TraceTablesSettings, tables: &Tables) -> 
         "\nTable 3 (tracing with vs without compression, blocks of {}):\n{}",
         settings.compression_block, tables.compression
     );
-    error_chart(&out.join("ddm_trace_error_vs_time.png"), &tables.chart_points)?;
-    println!("wrote {}", out.join("ddm_trace_error_vs_time.png").display());
+    error_chart(&out.join("ddm_trace_error_vs_time.png"), &tables.chart_points, time_axis)?;
+    let uncharted = if tables.uncharted.is_empty() {
+        String::new()
+    } else {
+        format!(" (without a GPU pass, not charted: {})", tables.uncharted.join(", "))
+    };
+    println!("wrote {}: {time_axis}{uncharted}", out.join("ddm_trace_error_vs_time.png").display());
     Ok(())
 }
 
@@ -429,15 +451,16 @@ pub const METHOD_COLORS: [(&str, RGBColor); 14] = [
     ("DDM 4x1 + adaptive exit", RGBColor(90, 20, 20)),
 ];
 
-/// Mean hit error against CPU time per ray, one colour per method, one marker per
-/// mesostructure.
-fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), String> {
+/// Mean hit error against time per ray (`time_axis` says whose), one colour per method, one
+/// marker per mesostructure, and each mesostructure's Pareto front (`model_select::pareto_front`)
+/// drawn with its methods labelled.
+fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)], time_axis: &str) -> Result<(), String> {
     let (x_min, x_max) = points.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| (lo.min(p.2), hi.max(p.2)));
     let (y_min, y_max) = points.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| (lo.min(p.3), hi.max(p.3)));
-    render_png(path, (900, 620), |root| {
+    render_png(path, (1200, 700), |root| {
         let mut chart = ChartBuilder::on(root)
             .caption(
-                "Hit error vs CPU time per ray (maze: disc, bricks: square, beads: triangle, ball: cross, chain mail: ring)",
+                "Hit error vs time per ray, Pareto fronts (maze: disc, bricks: square, beads: triangle, ball: cross, chain mail: ring)",
                 ("sans-serif", 20),
             )
             .margin(16)
@@ -451,7 +474,7 @@ fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), Str
             .y_labels(12)
             .x_label_formatter(&|x| format!("{x:.2}"))
             .y_label_formatter(&|y| if *y >= 0.01 { format!("{y:.2}") } else { format!("{y:.0e}") })
-            .x_desc("CPU time per ray (µs, one thread)")
+            .x_desc(time_axis)
             .y_desc("mean hit error (voxels) where both hit")
             .label_style(("sans-serif", 16))
             .draw()
@@ -476,6 +499,28 @@ fn error_chart(path: &Path, points: &[(&str, &str, f64, f64)]) -> Result<(), Str
                 .map_err(drawing_error)?
                 .label(method)
                 .legend(move |(x, y)| Circle::new((x + 8, y), 5, color.filled()));
+        }
+        let mut structures: Vec<&str> = Vec::new();
+        for p in points {
+            if !structures.contains(&p.0) {
+                structures.push(p.0);
+            }
+        }
+        for (k, structure) in structures.iter().enumerate() {
+            let mine: Vec<_> = points.iter().filter(|p| p.0 == *structure).collect();
+            let at: Vec<(f64, f64)> = mine.iter().map(|p| (p.2, p.3)).collect();
+            let front = model_select::pareto_front(&at);
+            let line = chart
+                .draw_series(LineSeries::new(front.iter().map(|&i| at[i]), BLACK.mix(0.5).stroke_width(1)))
+                .map_err(drawing_error)?;
+            if k == 0 {
+                line.label("Pareto front, per structure").legend(legend_stroke(BLACK, 1, 20));
+            }
+            chart
+                .draw_series(front.iter().map(|&i| {
+                    EmptyElement::at(at[i]) + Text::new(mine[i].1.to_owned(), (6, -12), ("sans-serif", 11).into_font())
+                }))
+                .map_err(drawing_error)?;
         }
         draw_legend(&mut chart, 16, SeriesLabelPosition::UpperRight)
     })

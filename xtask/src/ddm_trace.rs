@@ -279,7 +279,8 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     }
     let tracer = GpuTracer::new(&gpu, GPU_DISPATCHES).map_err(|e| e.to_string())?;
     // The chart's time is the GPU's where its timestamps bracket the work, else the CPU's.
-    let gpu_rays = (gpu.has_timestamps() && !gpu.is_software()).then_some(f64::from(width) * f64::from(height));
+    let gpu_rays =
+        (gpu.timing_source() == gpu_harness::TimingSource::Timestamps).then_some(f64::from(width) * f64::from(height));
     let mut tables = Tables::new(tracer.timing_name(), gpu_rays);
     let time_axis = match gpu_rays {
         Some(_) => format!("GPU µs per ray (timestamps, passes of {} rays) on {}", width * height, gpu.describe()),

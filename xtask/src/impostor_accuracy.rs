@@ -7,7 +7,6 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use gpu_harness::TimingSource;
 use grain_impostor::accuracy::{
     AccuracySweep, SweepRow, SweepSettings, SweepTiming, rows_to_csv, sampling_mode_name, view_layout_name,
 };
@@ -334,8 +333,7 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
     println!("impostor accuracy on {}", gpu.describe());
     // Timestamps only where they bracket the work (not on a software adapter).
-    let clock =
-        if gpu.has_timestamps() && !gpu.is_software() { TimingSource::Timestamps } else { TimingSource::WallClock };
+    let clock = gpu.timing_source();
     let settings = SweepSettings { timing: Some(SweepTiming { passes: TIMED_PASSES, clock }), ..settings };
     let sweep = AccuracySweep::new(&gpu.device).map_err(|e| e.to_string())?;
     let start = Instant::now();

@@ -51,7 +51,7 @@ pub fn time_frames(
         submit(&plain)?;
     }
     gpu.wait()?;
-    if gpu.has_timestamps() && !gpu.is_software() {
+    if gpu.timing_source() == TimingSource::Timestamps {
         let count = QUERIES_PER_FRAME
             .checked_mul(frames)
             .ok_or(DdmRenderError::InvalidSettings("timed frames overflow the timestamp queries"))?;

@@ -39,7 +39,7 @@ pub fn time_frame(
     lighting: &ShadingUniforms,
     settings: TierSettings,
 ) -> Result<StageTimes, RenderError> {
-    let hardware = gpu.has_timestamps() && !gpu.is_software();
+    let hardware = gpu.timing_source() == TimingSource::Timestamps;
     let mut ms = [0.0; Stage::ALL.len()];
     if hardware {
         let count = 2 * Stage::ALL.len() as u32;

@@ -59,8 +59,7 @@ pub fn time_frames(
     if frames.timed == 0 {
         return Err(SplitError::InvalidSetting { field: "frames", reason: "at least one frame must be timed".into() });
     }
-    let source =
-        if gpu.has_timestamps() && !gpu.is_software() { TimingSource::Timestamps } else { TimingSource::WallClock };
+    let source = gpu.timing_source();
     let queries = (source == TimingSource::Timestamps).then(|| {
         let set = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("splitter timestamps"),

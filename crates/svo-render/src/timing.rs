@@ -81,7 +81,7 @@ fn time_passes(
         submit(None)?;
     }
     gpu.wait().map_err(gpu_failed("waiting for the warm-up frames"))?;
-    if gpu.has_timestamps() && !gpu.is_software() {
+    if gpu.timing_source() == TimingSource::Timestamps {
         let count = 2 * frames;
         let (set, resolve) = gpu
             .scoped(|| {

@@ -154,16 +154,6 @@ impl Gpu {
         self.device.features().contains(wgpu::Features::TIMESTAMP_QUERY)
     }
 
-    /// How GPU work is timed on this adapter: timestamps where it has them and is hardware,
-    /// the wall clock otherwise (a software adapter's timestamps do not bracket the work).
-    pub fn timing_source(&self) -> crate::TimingSource {
-        if self.has_timestamps() && !self.is_software() {
-            crate::TimingSource::Timestamps
-        } else {
-            crate::TimingSource::WallClock
-        }
-    }
-
     /// Runs `work` inside a validation and out-of-memory error scope, turning wgpu's
     /// errors into [`HarnessError::Wgpu`] instead of its default panic (see
     /// [`error_scoped`]).

@@ -23,6 +23,14 @@ pub struct GpuTiming {
     pub source: TimingSource,
 }
 
+impl Gpu {
+    /// How GPU work is timed on this adapter: timestamps where it has them and is hardware,
+    /// the wall clock otherwise (a software adapter's timestamps do not bracket the work).
+    pub fn timing_source(&self) -> TimingSource {
+        if self.has_timestamps() && !self.is_software() { TimingSource::Timestamps } else { TimingSource::WallClock }
+    }
+}
+
 impl TimingSource {
     /// The source's name in tables and charts: "GPU timestamps" or "wall clock".
     pub fn name(self) -> &'static str {

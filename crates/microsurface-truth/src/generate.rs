@@ -79,7 +79,15 @@ fn inverse_dft(size: usize, limit: i64, coefficients: &[(f64, f64)]) -> Vec<f64>
             (angle.cos(), angle.sin())
         })
         .collect();
-    let rotate = |frequency: i64, position: usize| twiddle[((frequency * position as i64).rem_euclid(n)) as usize];
+    // The twiddles exp(iτ f p / N) for p = 0, 1, …: the index f·p mod N, stepped.
+    let rotations = |frequency: i64| {
+        let stride = frequency.rem_euclid(n) as usize;
+        (0..size).scan(0_usize, move |index, _| {
+            let at = *index;
+            *index = if *index + stride >= size { *index + stride - size } else { *index + stride };
+            Some(at)
+        })
+    };
     // rows[a][y] = Σ_b C_ab exp(iτ b y / N)
     let mut rows = vec![(0.0, 0.0); side * size];
     for (ai, row) in rows.chunks_exact_mut(size).enumerate() {
@@ -89,8 +97,8 @@ fn inverse_dft(size: usize, limit: i64, coefficients: &[(f64, f64)]) -> Vec<f64>
                 continue;
             }
             let b = bi as i64 - limit;
-            for (y, value) in row.iter_mut().enumerate() {
-                let (c, s) = rotate(b, y);
+            for (value, k) in row.iter_mut().zip(rotations(b)) {
+                let (c, s) = twiddle[k];
                 value.0 += re * c - im * s;
                 value.1 += re * s + im * c;
             }
@@ -104,8 +112,8 @@ fn inverse_dft(size: usize, limit: i64, coefficients: &[(f64, f64)]) -> Vec<f64>
                 continue;
             }
             let a = ai as i64 - limit;
-            for (x, h) in line.iter_mut().enumerate() {
-                let (c, s) = rotate(a, x);
+            for (h, k) in line.iter_mut().zip(rotations(a)) {
+                let (c, s) = twiddle[k];
                 *h += re * c - im * s;
             }
         }

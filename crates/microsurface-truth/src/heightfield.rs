@@ -3,6 +3,8 @@
 use std::fmt;
 use std::path::Path;
 
+use crate::max_pyramid::{MaxPyramid, wrap};
+
 /// A periodic `size × size` grid of heights in cell units. Vertex `(i, j)` is at
 /// `(i, j, height(i, j))`; cell `(i, j)` is split along its diagonal from `(i, j)` to
 /// `(i + 1, j + 1)` into two triangles.
@@ -10,7 +12,7 @@ use std::path::Path;
 pub struct HeightField {
     size: usize,
     heights: Vec<f64>,
-    cell_max: Vec<f64>,
+    pyramid: MaxPyramid,
     max_height: f64,
     min_height: f64,
 }
@@ -52,20 +54,16 @@ impl HeightField {
         if heights.iter().any(|h| !h.is_finite()) {
             return Err(HeightFieldError::NotFinite);
         }
-        let mut field = Self { size, heights, cell_max: Vec::new(), max_height: 0.0, min_height: 0.0 };
-        field.cell_max = (0..size * size)
+        let height = |i: usize, j: usize| heights[(j % size) * size + i % size];
+        let cell_max = (0..size * size)
             .map(|k| {
-                let (i, j) = ((k % size) as i64, (k / size) as i64);
-                field
-                    .height(i, j)
-                    .max(field.height(i + 1, j))
-                    .max(field.height(i, j + 1))
-                    .max(field.height(i + 1, j + 1))
+                let (i, j) = (k % size, k / size);
+                height(i, j).max(height(i + 1, j)).max(height(i, j + 1)).max(height(i + 1, j + 1))
             })
             .collect();
-        field.max_height = field.heights.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        field.min_height = field.heights.iter().copied().fold(f64::INFINITY, f64::min);
-        Ok(field)
+        let max_height = heights.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let min_height = heights.iter().copied().fold(f64::INFINITY, f64::min);
+        Ok(Self { size, pyramid: MaxPyramid::new(size, cell_max), heights, max_height, min_height })
     }
 
     /// A height field from a square grayscale PNG (or any format `image` reads with its
@@ -89,14 +87,17 @@ impl HeightField {
 
     /// The height at vertex `(i, j)`, indices taken modulo the period.
     pub fn height(&self, i: i64, j: i64) -> f64 {
-        let n = self.size as i64;
-        self.heights[(j.rem_euclid(n) * n + i.rem_euclid(n)) as usize]
+        self.heights[wrap(j, self.size) * self.size + wrap(i, self.size)]
     }
 
     /// The highest of the four corner heights of cell `(i, j)`.
     pub fn cell_max(&self, i: i64, j: i64) -> f64 {
-        let n = self.size as i64;
-        self.cell_max[(j.rem_euclid(n) * n + i.rem_euclid(n)) as usize]
+        self.pyramid.block_max(0, i, j)
+    }
+
+    /// The highest corners of its cells, per block of `2^L × 2^L` cells.
+    pub(crate) fn pyramid(&self) -> &MaxPyramid {
+        &self.pyramid
     }
 
     /// All vertex heights, row-major.

@@ -36,6 +36,7 @@ mod correction_fit;
 mod experiment;
 mod generate;
 mod heightfield;
+mod max_pyramid;
 mod raycast;
 pub mod selection;
 mod statistics;

@@ -57,7 +57,7 @@ use crate::comparison::{
     AngleComparison, EVERY_DEGREE, Sweep, compare_models, light_at_60_deg, slope_deviation, stored_attribute,
 };
 use crate::statistics::SurfaceStatistics;
-use crate::surfaces::{FITTING_SEED_OFFSETS, Surface, standard_surfaces};
+use crate::surfaces::{FITTING_SEED_OFFSETS, Surface, realizations, standard_surfaces};
 use crate::visibility_fit::fit_visibility_correction;
 
 /// [`Measurement::condition`]'s unit.
@@ -341,18 +341,20 @@ impl PlaneView {
     }
 }
 
-/// Linear interpolation of `value(row)` between the sweep's rows (at every degree) at
-/// `angle_deg`; `None` outside the sweep or where a row has no value.
+/// Linear interpolation of `value(row)` between the sweep's rows (at consecutive whole
+/// degrees from the first row's) at `angle_deg`; `None` outside the sweep or where a row
+/// has no value.
 pub fn interpolate(
     rows: &[AngleComparison],
     angle_deg: f64,
     value: impl Fn(&AngleComparison) -> Option<f64>,
 ) -> Option<f64> {
     let last = rows.len().checked_sub(1)?;
-    if !(0.0..=last as f64).contains(&angle_deg) {
+    let offset = angle_deg - rows[0].view_angle_deg;
+    if !(0.0..=last as f64).contains(&offset) {
         return None;
     }
-    let i = (angle_deg.floor() as usize).min(last.saturating_sub(1));
+    let i = (offset.floor() as usize).min(last.saturating_sub(1));
     let (a, b) = (&rows[i], &rows[(i + 1).min(last)]);
     let t = if b.view_angle_deg > a.view_angle_deg {
         (angle_deg - a.view_angle_deg) / (b.view_angle_deg - a.view_angle_deg)
@@ -360,6 +362,21 @@ pub fn interpolate(
         0.0
     };
     Some(value(a)? * (1.0 - t) + value(b)? * t)
+}
+
+/// The whole degrees of [`EVERY_DEGREE`] that bracket every pixel's view angle of `views`
+/// (the rows [`interpolate`] reads for their images), or an error when some pixel looks
+/// beyond the sweep.
+pub fn sweep_degrees(views: &[&PlaneView]) -> Result<&'static [f64], SelectionError> {
+    let (low, high) = views
+        .iter()
+        .flat_map(|v| v.view_angles_deg())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), a| (low.min(a), high.max(a)));
+    let last = EVERY_DEGREE.len() - 1;
+    if !(low >= 0.0 && high <= last as f64) {
+        return Err(setting("view angles", format!("{low:.2}° … {high:.2}°: the sweep holds 0° … {last}°")));
+    }
+    Ok(&EVERY_DEGREE[low.floor() as usize..=(high.ceil() as usize).min(last)])
 }
 
 /// What the table and its check measure.
@@ -450,24 +467,21 @@ pub struct MeasuredSurface {
     pub rows: Vec<AngleComparison>,
 }
 
-/// Fits and sweeps every surface of `surfaces` (rays seeded by `seed`).
+/// Fits and sweeps every surface of `surfaces` at `angles_deg` (rays seeded by `seed`,
+/// the same rays at every angle, so that a row does not depend on which others are swept).
 pub fn measure_surfaces(
     surfaces: &[Surface],
     settings: &SelectionSettings,
     seed: u64,
+    angles_deg: &'static [f64],
 ) -> Result<Vec<MeasuredSurface>, SelectionError> {
     settings.validate()?;
     surfaces
         .iter()
         .map(|surface| {
             let material = Material::fit(surface, settings.fit_rays)?;
-            let sweep = Sweep {
-                angles_deg: &EVERY_DEGREE,
-                view_azimuth: 0.0,
-                light: Some(light_direction()),
-                rays: settings.rays,
-                seed,
-            };
+            let sweep =
+                Sweep { angles_deg, view_azimuth: 0.0, light: Some(light_direction()), rays: settings.rays, seed };
             let rows = compare_models(&surface.field, &sweep, &material.visibility.view(), &material.visibility)
                 .ok_or_else(|| SelectionError::Surface {
                     surface: surface.name.clone(),
@@ -553,9 +567,12 @@ pub fn table_rows(settings: &SelectionSettings) -> Result<Vec<Measurement>, Sele
     let surfaces = standard_surfaces(settings.size, 0).map_err(|e| setting("size", e.to_string()))?;
     // The truth traced twice, with independent rays: its Monte-Carlo noise moves 8-bit
     // colours across rounding boundaries, which ꟻLIP sees (see the module documentation).
-    let truths: Vec<Vec<MeasuredSurface>> =
-        TRUTH_SEEDS.iter().map(|&seed| measure_surfaces(&surfaces, settings, seed)).collect::<Result<_, _>>()?;
     let views = band_views(settings)?;
+    let degrees = sweep_degrees(&views.iter().collect::<Vec<_>>())?;
+    let truths: Vec<Vec<MeasuredSurface>> = TRUTH_SEEDS
+        .iter()
+        .map(|&seed| measure_surfaces(&surfaces, settings, seed, degrees))
+        .collect::<Result<_, _>>()?;
     let mut rows = Vec::new();
     for s in 0..surfaces.len() {
         // Per band camera and truth, one measurement per model.
@@ -616,11 +633,14 @@ pub fn held_out_rows(settings: &SelectionSettings) -> Result<Vec<ViewMeasurement
     let surfaces =
         standard_surfaces(settings.size, settings.held_out_seed_offset).map_err(|e| setting("size", e.to_string()))?;
     // Textures are materials: their held-out view shows the same map.
-    let textures = standard_surfaces(settings.size, 0).map_err(|e| setting("size", e.to_string()))?;
+    let textures = realizations(settings.size, 0).map_err(|e| setting("size", e.to_string()))?;
     let surfaces: Vec<Surface> =
         surfaces.into_iter().zip(textures).map(|(s, t)| if s.gaussian { s } else { t }).collect();
     let view = PlaneView::new(settings.width, settings.height, settings.held_out)?;
-    measure_surfaces(&surfaces, settings, 29)?.iter().map(|s| measure_view(s, &view, settings.passes)).collect()
+    measure_surfaces(&surfaces, settings, 29, sweep_degrees(&[&view])?)?
+        .iter()
+        .map(|s| measure_view(s, &view, settings.passes))
+        .collect()
 }
 
 #[cfg(test)]
@@ -697,13 +717,28 @@ mod tests {
         assert_eq!(at(2.0), Some(-0.1));
         assert_eq!(at(2.01), None);
         assert_eq!(at(-0.01), None);
+        // A sweep that starts at 30°.
+        let rows = [row(30.0, 0.1), row(31.0, 0.3)];
+        assert!((interpolate(&rows, 30.5, |r| Some(r.truth)).unwrap() - 0.2).abs() < 1e-12);
+        assert_eq!(interpolate(&rows, 29.9, |r| Some(r.truth)), None);
+    }
+
+    #[test]
+    fn the_swept_degrees_bracket_every_pixels_angle() {
+        let settings = SelectionSettings::standard();
+        let view = PlaneView::new(64, 36, settings.held_out).unwrap();
+        let degrees = sweep_degrees(&[&view]).unwrap();
+        let (first, last) = (degrees[0], degrees[degrees.len() - 1]);
+        assert!(first > 0.0 && last == 70.0, "{first}° … {last}°");
+        assert!(view.view_angles_deg().all(|a| (first..=last).contains(&a)));
+        assert!(view.view_angles_deg().any(|a| a < first + 1.0));
     }
 
     #[test]
     fn the_timed_evaluation_is_the_swept_model_and_every_model_is_measured() {
         let settings = small();
         let surfaces = standard_surfaces(settings.size, 0).unwrap();
-        let measured = measure_surfaces(&surfaces[..1], &settings, 17).unwrap();
+        let measured = measure_surfaces(&surfaces[..1], &settings, 17, &EVERY_DEGREE).unwrap();
         let surface = &measured[0];
         let light = light_direction().as_vec3();
         // At the sweep's own angles (view azimuth 0) the per-pixel evaluation gives the

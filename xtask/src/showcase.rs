@@ -141,7 +141,7 @@ pub const STAGES: &[Stage] = &[
         about: "A backward dolly from a close view to the whole pile, every tier in one frame, each frame against the \
                 all-mesh reference; per-stage times.",
         command: "stackings",
-        flags: [&["--quick", "--accuracy", "--frames", "3"], &["--quick", "--accuracy"], &["--accuracy"]],
+        flags: [&["--quick", "--accuracy", "--grains", "2000"], &["--quick", "--accuracy"], &["--accuracy"]],
         subject: ImageSubject::LastWord,
     },
     Stage {

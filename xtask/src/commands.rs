@@ -155,6 +155,8 @@ pub const COMMANDS: &[Command] = &[
             ddm_input::FIT_SLAB,
             ddm_input::HEIGHT_MAP,
             ddm_input::HEIGHT,
+            ddm_input::PERIODIC,
+            ddm_input::CLAMP,
         ],
         exclusive: ddm_input::EXCLUSIVE,
         positional: Positional::OutDir("target/ddm-trace"),
@@ -470,10 +472,8 @@ mod tests {
         for name in ["ddm-trace", "ddm-compression", "ddm-render"] {
             let usage = command(name).unwrap().usage();
             let tile_flags = " [--obj PATH | --height-map PNG] [--scale S | --fit-slab] [--height H]";
-            // The tracers' accuracy harness of ddm-trace repeats the tile; the others may not.
-            let tiling = if name == "ddm-trace" { "" } else { " [--periodic | --clamp]" };
-            assert!(usage.ends_with(&format!("{tile_flags}{tiling}")), "{usage}");
-            if name != "ddm-trace" {
+            assert!(usage.ends_with(&format!("{tile_flags} [--periodic | --clamp]")), "{usage}");
+            {
                 let periodic = |text: &str| {
                     let args = parse(name, text).unwrap();
                     ddm_input::periodic_from_args(&args, TileSource::from_args(&args).unwrap().as_ref())

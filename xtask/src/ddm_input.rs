@@ -5,8 +5,8 @@
 //!
 //! **Units.** The tile is the command's grid of `X × Y × Z` voxels (`--size`, or the
 //! command's default grid), the slab `[0, X] × [0, Y] × [0, Z]`, repeated with period `X`
-//! in x and `Y` in y (`--periodic`, the default), or alone (`--clamp`, for `ddm-render`,
-//! `ddm-compression` and `bench-gpu ddm`: nothing lies outside the slab, the maps count the
+//! in x and `Y` in y (`--periodic`, the default), or alone (`--clamp`, for `ddm-trace`,
+//! `ddm-render`, `ddm-compression` and `bench-gpu ddm`: nothing lies outside the slab, the maps count the
 //! tile's own triangles only, the patches see no neighbour, and the tracers (CPU and
 //! WGSL) treat a ray that leaves the slab through a side as a miss; relief mapping, whose
 //! height map wraps, is not run on such a tile). With `--clamp` the vertices must lie in

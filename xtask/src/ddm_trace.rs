@@ -1,11 +1,13 @@
 //! `cargo xtask ddm-trace [OUT_DIR] [--quick] [--size WxHxD] [--resolution WxH] [--timing-rounds N]
-//! [--obj PATH | --height-map PNG] [--scale S | --fit-slab] [--height H]`: Mehra & Kumar's
+//! [--obj PATH | --height-map PNG] [--scale S | --fit-slab] [--height H] [--periodic | --clamp]`: Mehra & Kumar's
 //! Tables 1–3, measured by `ddm_experiments::trace_tables` (24×24×8 voxel tiles and 192×144
 //! rays by default, 12×12×6 and 96×72 with `--quick`, any grid with `--size`, any view with
 //! `--resolution`); this command writes the rows, images and charts.
 //! With `--obj` or `--height-map`, on the user's tile instead of the five procedural ones
 //! ([`crate::ddm_input`] says what the coordinates mean and what is checked; relief
-//! mapping runs on height maps only).
+//! mapping runs on height maps only). With `--clamp` the tile stands alone for the maps,
+//! the patches, both tracers and the truth (the mesh's first hit without its copies), and
+//! relief mapping, whose height map wraps, is left out.
 //!
 //! For each mesostructure (maze, bricks: height fields; beads, ball, chain mail: not) one
 //! perspective view is traced per pixel with every `ddm_experiments::TraceMethod` (plain
@@ -91,7 +93,9 @@ impl Options {
         if let Some(rounds) = args.parse_value("timing-rounds", positive::<usize>)? {
             settings.ratio_rounds = rounds;
         }
-        Ok(Self { out: args.out_dir(), settings, tile: TileSource::from_args(args)? })
+        let tile = TileSource::from_args(args)?;
+        settings.map_settings.periodic_xy = ddm_input::periodic_from_args(args, tile.as_ref())?;
+        Ok(Self { out: args.out_dir(), settings, tile })
     }
 }
 
@@ -263,7 +267,7 @@ fn gpu_columns(row: &MethodRow) -> (String, String) {
 pub fn run(args: &Args<'_>) -> Result<(), String> {
     let Options { out, settings, tile } = Options::from_args(args)?;
     let (dims, width, height) = (settings.dims, settings.width, settings.height);
-    let tiles = ddm_input::tiles(tile.as_ref(), dims, true)?;
+    let tiles = ddm_input::tiles(tile.as_ref(), dims, settings.map_settings.periodic_xy)?;
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
     println!(

@@ -39,6 +39,16 @@ impl Camera {
         let eye = target + Vec3::new(-0.9 * size.x, -1.3 * size.y, 1.1 * size.x.max(size.y));
         Self { eye, target }
     }
+
+    /// [`Camera::of_tile`] for a tile that stands alone: it looks at the tile's centre
+    /// `(L_x / 2, L_y / 2, 0.3 L_z)` from the same offset, so that the tile fills the
+    /// middle of the image with empty space around it.
+    pub fn of_single_tile(dims: UVec3) -> Self {
+        let size = dims.as_vec3();
+        let target = Vec3::new(0.5 * size.x, 0.5 * size.y, 0.3 * size.z);
+        let eye = target + Vec3::new(-0.9 * size.x, -1.3 * size.y, 1.1 * size.x.max(size.y));
+        Self { eye, target }
+    }
 }
 
 impl View {

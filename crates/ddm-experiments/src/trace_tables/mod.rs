@@ -41,7 +41,7 @@ use crate::reference::{ReferenceAccuracy, ReferenceSurface, reference_accuracy};
 use crate::stats::{HitDifferences, TraceStats, hit_differences, mean_steps, trace_stats};
 use crate::steps::{StepsRow, StepsSettings, steps_vs_angle};
 use crate::timing::{CpuRun, RATIO_ROUNDS, interleaved_time_ratio, timed};
-use crate::view::View;
+use crate::view::{Camera, View};
 
 /// Linear steps of the relief mapping baseline.
 pub const RELIEF_LINEAR: u32 = 32;
@@ -351,12 +351,12 @@ impl PatchSets {
 fn build_patches(
     scene: &str,
     what: &str,
-    dims: UVec3,
+    (dims, periodic_xy): (UVec3, bool),
     triangles: &[Triangle],
     surface: &[bool],
     surface_kind: PatchSurface,
 ) -> Result<VoxelPatches, ExperimentError> {
-    let settings = PatchSettings { surface: surface_kind, ..PatchSettings::default() };
+    let settings = PatchSettings { surface: surface_kind, periodic_xy, ..PatchSettings::default() };
     VoxelPatches::build(dims, triangles, surface, settings)
         .map_err(|error| ExperimentError::scene(scene, format!("the {what} patch construction failed: {error}")))
 }
@@ -471,7 +471,8 @@ pub struct TraceScene {
     pub name: &'static str,
     /// The settings it was built with (every later step uses them).
     pub settings: TraceTablesSettings,
-    /// The view of the settings ([`View::perspective`]).
+    /// The view of the settings ([`View::perspective`]; for a tile that stands alone,
+    /// [`Camera::of_single_tile`]'s).
     pub view: View,
     /// Voxels of the tile.
     pub dims: UVec3,
@@ -479,7 +480,7 @@ pub struct TraceScene {
     pub triangles: Vec<Triangle>,
     /// Whether the structure is a height field (relief mapping applies).
     pub height_field: bool,
-    /// The periodic mesh (ground truth, relief height map).
+    /// The mesh, repeated as the maps are (ground truth, relief height map).
     pub mesh: MeshRaycaster,
     /// The exact first hits of the view's rays.
     pub truth: GroundTruth,
@@ -513,8 +514,16 @@ impl TraceScene {
     ) -> Result<Self, ExperimentError> {
         settings.validate()?;
         let dims = settings.dims;
-        let view = View::perspective(dims, settings.width, settings.height)?;
-        let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));
+        // The truth repeats the tile as the maps do, or sees it alone (then in the middle
+        // of the view).
+        let periodic = settings.map_settings.periodic_xy;
+        let view = if periodic {
+            View::perspective(dims, settings.width, settings.height)?
+        } else {
+            View::looking(Camera::of_single_tile(dims), settings.width, settings.height)?
+        };
+        let period = if periodic { Vec2::new(dims.x as f32, dims.y as f32) } else { Vec2::ZERO };
+        let mesh = MeshRaycaster::new(&triangles, period);
         let truth = ground_truth(&mesh, &view.rays);
         let start = Instant::now();
         let maps = TRACE_MAPS
@@ -525,7 +534,9 @@ impl TraceScene {
         let surface = &maps[0].maps.surface;
         let start = Instant::now();
         let budget = settings.adaptive_budget;
-        let build = |kind: PatchKind| build_patches(name, kind.name(), dims, &triangles, surface, kind.surface(budget));
+        let build = |kind: PatchKind| {
+            build_patches(name, kind.name(), (dims, periodic), &triangles, surface, kind.surface(budget))
+        };
         let c0 = build(PatchKind::C0)?;
         let fitted = build(PatchKind::Fitted)?;
         let c0_fitted_seconds = start.elapsed().as_secs_f64();
@@ -604,7 +615,8 @@ impl TraceScene {
         let mut rows = Vec::with_capacity(settings.budgets.len());
         for &budget in &settings.budgets {
             let surface_kind = PatchSurface::Adaptive { max_error: budget };
-            let set = build_patches(self.name, "adaptive", self.dims, &self.triangles, surface, surface_kind)?;
+            let tiling = (self.dims, settings.map_settings.periodic_xy);
+            let set = build_patches(self.name, "adaptive", tiling, &self.triangles, surface, surface_kind)?;
             let start = Instant::now();
             let outcomes: Vec<TraceOutcome> =
                 view.rays.iter().map(|&(o, d)| trace(ddm, Some(&set), o, d, quadric)).collect();
@@ -629,7 +641,7 @@ impl TraceScene {
 
     /// Traces the view with `method` on the CPU (and on `gpu`, when given): its Tables 1/2
     /// row and, for a map-based method, its Table 3 row. `None` for relief mapping on a
-    /// structure that is no height field.
+    /// structure that is no height field or a tile that stands alone.
     pub fn run_method(
         &self,
         method: TraceMethod,
@@ -637,7 +649,8 @@ impl TraceScene {
     ) -> Result<Option<MethodResult>, ExperimentError> {
         match method.case(&self.settings) {
             Some(case) => self.run_case(method, case, gpu).map(Some),
-            None if self.height_field => self.run_relief(gpu).map(Some),
+            // Relief mapping's height map wraps: not for a tile that stands alone.
+            None if self.height_field && self.settings.map_settings.periodic_xy => self.run_relief(gpu).map(Some),
             None => Ok(None),
         }
     }
@@ -645,7 +658,7 @@ impl TraceScene {
     /// Traces `view` with `method` on the CPU, once for the outcomes and then `passes`
     /// timed passes (one thread, the fastest kept): the method on another view than the
     /// tables' (its truth from [`ground_truth`] on [`TraceScene::mesh`]). `None` for relief
-    /// mapping on a structure that is no height field.
+    /// mapping on a structure that is no height field or a tile that stands alone.
     pub fn trace_view(
         &self,
         method: TraceMethod,
@@ -654,7 +667,9 @@ impl TraceScene {
     ) -> Result<Option<CpuRun>, ExperimentError> {
         match method.case(&self.settings) {
             Some(case) => self.case_run(case, view, passes).map(Some),
-            None if self.height_field => Ok(Some(self.relief_run(&self.relief_height_map()?, view, passes))),
+            None if self.height_field && self.settings.map_settings.periodic_xy => {
+                Ok(Some(self.relief_run(&self.relief_height_map()?, view, passes)))
+            }
             None => Ok(None),
         }
     }

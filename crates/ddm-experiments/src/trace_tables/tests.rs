@@ -93,6 +93,42 @@ fn a_floor_is_traced_exactly_by_the_exact_methods_and_compression_loses_nothing(
     }
 }
 
+/// A floor that stands alone (`periodic_xy: false`): the truth sees no copy of it, and
+/// the methods that represent a plane exactly follow it pixel for pixel, missing where the
+/// ray passes beside the tile — no wrapped geometry in the maps, the patches or the tracer.
+#[test]
+fn a_tile_that_stands_alone_is_traced_without_its_copies() {
+    let periodic = tiny();
+    let mut alone = TraceTablesSettings { width: 24, height: 16, ..tiny() };
+    alone.map_settings.periodic_xy = false;
+    let scene = floor_scene(&alone);
+    assert_eq!(scene.view, View::looking(Camera::of_single_tile(alone.dims), 24, 16).unwrap());
+    let size = alone.dims.as_dvec3();
+    let hits: Vec<DVec3> = scene.truth.points.iter().flatten().copied().collect();
+    assert!(hits.iter().all(|p| (0.0..=size.x).contains(&p.x) && (0.0..=size.y).contains(&p.y)));
+    let misses = scene.truth.points.len() - hits.len();
+    assert!(!hits.is_empty() && misses > 0, "{} hits, {misses} misses", hits.len());
+    // The same view of the repeating floor hits every pixel: those misses are its copies.
+    let repeated = TraceTablesSettings { width: 24, height: 16, ..periodic };
+    let wide = TraceScene::from_triangles("floor", mesostructure::plane(alone.dims, 1.25), true, &repeated).unwrap();
+    let wide_truth = ground_truth(&wide.mesh, &scene.view.rays);
+    assert_eq!(wide_truth.points.iter().flatten().count(), scene.truth.points.len());
+    let mut compared = 0;
+    for method in TraceMethod::ALL {
+        let Some(result) = scene.run_method(method, None).unwrap() else {
+            assert_eq!(method, TraceMethod::Relief, "relief mapping's height map wraps: left out");
+            continue;
+        };
+        if method.case(&alone).is_some_and(|case| case.patches.is_some()) {
+            let s = result.row.stats;
+            assert_eq!((s.truth_hits, s.holes, s.false_hits), (hits.len(), 0, 0), "{}", method.name());
+            assert!(s.max_error <= 1e-4, "{}: {}", method.name(), s.max_error);
+            compared += 1;
+        }
+    }
+    assert!(compared >= 5, "{compared} patch methods compared");
+}
+
 #[test]
 fn relief_runs_on_height_fields_only() {
     let settings = tiny();

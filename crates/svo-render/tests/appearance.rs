@@ -11,7 +11,7 @@ use glam::{DVec3, Vec3};
 use svo_brick::{BrickSize, PackedTree, VoxelLayout};
 use svo_render::truth::{TruthSettings, render_source_truth};
 use svo_render::{Frame, cpu, scenes};
-use svo_tracer::{Camera, Filtering, Light, Material, Model, TraceSettings};
+use svo_tracer::{Camera, Filtering, Light, Model, TraceSettings};
 
 const BACKGROUND: Vec3 = Vec3::ZERO;
 /// 128 finest voxels across the domain: the bumps' period is 8 finest voxels.
@@ -165,7 +165,7 @@ fn flat_peak(trace: &TraceSettings, elevation: f32) -> f32 {
 ///   than ours does, by more than the truth's sampling error.
 #[test]
 fn fig12_a_receding_specular_patch_turns_diffuse() {
-    let material = Material { diffuse: 0.2, specular: 1.0, brdf_slope: 0.1 };
+    let material = svo_render::stability::cases::SPECULAR;
     let elevation = 45f32.to_radians();
     let light = Vec3::new(0.0, elevation.sin(), elevation.cos());
     let trace = TraceSettings {

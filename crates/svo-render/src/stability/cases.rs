@@ -12,7 +12,7 @@ use glam::Vec3;
 use microsurface_truth::{HeightField, Spectrum, generate_cellular, generate_gaussian, generate_ridged};
 use svo_brick::{ATTRIBUTE_CHANNELS, BrickSize, Domain, SurfaceSource};
 use svo_scenes::{Attribute, AxisBox, HeightMapSurface, Plate, Sphere};
-use svo_tracer::{Camera, Light};
+use svo_tracer::{Camera, Light, Material};
 
 use super::{StabilitySettings, Sweep};
 use crate::error::RenderError;
@@ -48,6 +48,8 @@ pub struct View {
     pub light: Light,
     /// The point the camera looks at (where [`Self::pixel_voxels`] is measured).
     pub target: Vec3,
+    /// The material (the same for every model of the view).
+    pub material: Material,
 }
 
 impl View {
@@ -151,9 +153,27 @@ pub fn thin_plates(settings: &StabilitySettings) -> Result<Vec<Case>, RenderErro
                 parameter: t,
                 source: Arc::new(plate),
                 views: vec![
-                    View { variant: "face-on", camera: face_on, light: lit, target: centre },
-                    View { variant: "edge-on", camera: edge_on, light: lit, target: centre },
-                    View { variant: "face-on-far", camera: face_far, light: lit, target: centre },
+                    View {
+                        variant: "face-on",
+                        camera: face_on,
+                        light: lit,
+                        target: centre,
+                        material: Material::default(),
+                    },
+                    View {
+                        variant: "edge-on",
+                        camera: edge_on,
+                        light: lit,
+                        target: centre,
+                        material: Material::default(),
+                    },
+                    View {
+                        variant: "face-on-far",
+                        camera: face_far,
+                        light: lit,
+                        target: centre,
+                        material: Material::default(),
+                    },
                 ],
             })
         })
@@ -189,6 +209,7 @@ pub fn curvature(settings: &StabilitySettings) -> Result<Vec<Case>, RenderError>
             camera: camera(settings, sphere_eye, centre, Vec3::Y, 0)?,
             light: lit(Vec3::new(-0.5, 0.7, -1.0)),
             target: centre,
+            material: Material::default(),
         };
         cases.push(Case { sweep: Sweep::Curvature, parameter: r, source: Arc::new(sphere), views: vec![sphere_view] });
 
@@ -206,18 +227,25 @@ pub fn curvature(settings: &StabilitySettings) -> Result<Vec<Case>, RenderError>
                 camera: camera(settings, centre + corner * distance, centre, Vec3::Y, 1)?,
                 light: lit(Vec3::new(0.3, 1.0, -0.6)),
                 target: centre,
+                material: Material::default(),
             },
             View {
                 variant: "box-edge",
                 camera: camera(settings, centre + edge * distance, centre, Vec3::Y, 2)?,
                 light: lit(Vec3::new(0.2, 0.6, -1.0)),
                 target: centre,
+                material: Material::default(),
             },
         ];
         cases.push(Case { sweep: Sweep::Curvature, parameter: r, source: Arc::new(cube), views });
     }
     Ok(cases)
 }
+
+/// The specular material of the H3 sweep's mirror views, Fig. 12's: a weak Lambert term
+/// (`k_d` 0.2) under a microfacet lobe (`k_s` 1) of base slopes `σnp` 0.1, so that the
+/// highlight's spread is the lobe `σn² + σnp²` of §5.5, whose `σn²` assumes Gaussian slopes.
+pub const SPECULAR: Material = Material { diffuse: 0.2, specular: 1.0, brdf_slope: 0.1 };
 
 /// The micro-surfaces of the H3 sweep: a Gaussian random field (the hypothesis) and two
 /// non-Gaussian ones of `microsurface-truth` (sharp-crested ridges, skewed; cellular
@@ -243,6 +271,16 @@ impl MicroSurface {
             MicroSurface::Gaussian => "gaussian",
             MicroSurface::Cellular => "cellular",
             MicroSurface::Ridged => "ridged",
+        }
+    }
+
+    /// The name of its mirror view (the [`SPECULAR`] material, the light at the view's
+    /// mirror direction) in the CSV's `variant` column.
+    pub const fn specular_name(self) -> &'static str {
+        match self {
+            MicroSurface::Gaussian => "gaussian-specular",
+            MicroSurface::Cellular => "cellular-specular",
+            MicroSurface::Ridged => "ridged-specular",
         }
     }
 
@@ -299,24 +337,27 @@ pub fn height_map(
 /// [`StabilitySettings::rms_height`], the [`height_map`] seen from 50° off its normal where
 /// a pixel is [`StabilitySettings::height_pixel_voxels`] finest voxels at the centre (more
 /// towards the top of the image: the cone reads the coarse levels whose Gaussian
-/// descriptors H3 is about), lit from the side, 45° off the normal.
+/// descriptors H3 is about), twice: diffuse, lit from the side 45° off the normal (the
+/// visible colour of eq. 17, whose masking assumes Gaussian heights), and [`SPECULAR`],
+/// lit from the mirror direction (Fig. 12's highlight, whose lobe `σn² + σnp²` assumes
+/// Gaussian slopes).
 pub fn non_gaussian(settings: &StabilitySettings) -> Result<Vec<Case>, RenderError> {
     let voxel = finest_voxel(settings.levels);
     let (target, theta) = (Vec3::ZERO, 50f32.to_radians());
     let distance = footprint_distance(settings, settings.height_pixel_voxels, voxel);
     let eye = target + Vec3::new(-theta.sin(), 0.0, theta.cos()) * distance;
-    let lit = light(target, Vec3::new(0.0, 45f32.to_radians().sin(), 45f32.to_radians().cos()));
+    let side = light(target, Vec3::new(0.0, 45f32.to_radians().sin(), 45f32.to_radians().cos()));
+    let mirror = light(target, Vec3::new(theta.sin(), 0.0, theta.cos()));
     let mut cases = Vec::new();
     for surface in MicroSurface::ALL {
         for &sigma in &settings.rms_height {
             let map = height_map(surface, settings, sigma * voxel)?;
-            let view = View {
-                variant: surface.name(),
-                camera: camera(settings, eye, target, Vec3::Z, 0)?,
-                light: lit,
-                target,
-            };
-            cases.push(Case { sweep: Sweep::NonGaussian, parameter: sigma, source: Arc::new(map), views: vec![view] });
+            let camera = camera(settings, eye, target, Vec3::Z, 0)?;
+            let views = vec![
+                View { variant: surface.name(), camera, light: side, target, material: Material::default() },
+                View { variant: surface.specular_name(), camera, light: mirror, target, material: SPECULAR },
+            ];
+            cases.push(Case { sweep: Sweep::NonGaussian, parameter: sigma, source: Arc::new(map), views });
         }
     }
     Ok(cases)
@@ -347,7 +388,7 @@ pub fn grazing(settings: &StabilitySettings) -> Result<Vec<Case>, RenderError> {
             let up = if angle.abs() < 1.0 { Vec3::Y } else { Vec3::Z };
             let eye = target + direction * 0.9;
             let camera = wide_camera(settings, eye, target, up, i as u32, GRAZING_FOV_Y)?;
-            let view = View { variant: "bumpy-plane", camera, light: lit, target };
+            let view = View { variant: "bumpy-plane", camera, light: lit, target, material: Material::default() };
             Ok(Case { sweep: Sweep::Grazing, parameter: angle, source: Arc::clone(&bumps), views: vec![view] })
         })
         .collect()

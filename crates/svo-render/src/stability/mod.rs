@@ -15,7 +15,9 @@
 //!   of a Gaussian random field against `microsurface-truth`'s cellular and ridged
 //!   surfaces of the same RMS height, the height growing relative to the voxel; coloured by
 //!   height, so that eq. 17's visible colour depends on the masking of Smith's model
-//!   (eqs. 4–6), which assumes Gaussian heights and slopes.
+//!   (eqs. 4–6), which assumes Gaussian heights and slopes; and each surface again with
+//!   Fig. 12's specular material lit from the mirror direction, whose highlight the lobe
+//!   `σn² + σnp²` of §5.5 spreads as if the slopes were Gaussian.
 //! - [`Sweep::Grazing`]: a plane with Gaussian bumps seen from 0° to ~85° off its normal, where
 //!   Smith's `Λ(v)` (eq. 6) and the elements' footprint both stretch.
 //!
@@ -107,7 +109,8 @@ impl Sweep {
         match self {
             Sweep::ThinPlate => 3,
             Sweep::Curvature => 3,
-            Sweep::NonGaussian => cases::MicroSurface::ALL.len(),
+            // A diffuse and a specular (mirror) view of each surface.
+            Sweep::NonGaussian => 2 * cases::MicroSurface::ALL.len(),
             Sweep::Grazing => 1,
         }
     }
@@ -394,7 +397,12 @@ fn measure_view<const W: usize>(
     settings: &StabilitySettings,
 ) -> Result<Vec<StabilityRow>, RenderError> {
     let voxel = finest_voxel(settings.levels);
-    let trace = TraceSettings { light: view.light, background: BACKGROUND, ..TraceSettings::default() };
+    let trace = TraceSettings {
+        light: view.light,
+        material: view.material,
+        background: BACKGROUND,
+        ..TraceSettings::default()
+    };
     let truth_settings = TruthSettings::for_voxel(voxel, settings.truth_rays_per_axis);
     let start = Instant::now();
     let truth = render_source_truth(case.source.as_ref(), DOMAIN, &view.camera, &trace, &truth_settings)?;

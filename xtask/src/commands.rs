@@ -210,7 +210,7 @@ pub const COMMANDS: &[Command] = &[
     },
     Command {
         name: "interpenetration",
-        flags: &[QUICK],
+        flags: &[value("grains", "COUNT"), QUICK],
         exclusive: &[],
         positional: Positional::OutDir("target/interpenetration"),
         run: interpenetration::run,

@@ -1,7 +1,7 @@
-//! `cargo xtask interpenetration [OUT_DIR] [--quick]`: the impostor tier as grains
+//! `cargo xtask interpenetration [OUT_DIR] [--grains COUNT] [--quick]`: the impostor tier as grains
 //! interpenetrate (`docs/failure-modes.md` §1.5). Michel & Boubekeur's piles keep grains
 //! apart; a user's pile need not. For the bean, the rock and the nut (the bean and the nut
-//! with `--quick`), the pile of `stackings` (2000 grains; 1000 with `--quick`) is generated with its lattice packed
+//! with `--quick`), the pile of `stackings` (2000 grains; 1000 with `--quick`; `--grains COUNT` any other) is generated with its lattice packed
 //! tighter, step by step, from the spacing at which the outer balls are disjoint
 //! ([`disjoint_spacing`]: no two grains can touch) down to the tightest that keeps the
 //! inner balls disjoint ([`tightest_spacing`]: the occlusion culling's hypothesis). At each
@@ -74,7 +74,8 @@ pub fn run(args: &Args<'_>) -> Result<(), String> {
     let gpu = gpu_harness::Gpu::new().map_err(|e| e.to_string())?;
     println!("interpenetration on {}", gpu.describe());
     let names: &[&str] = if quick { &["bean", "nut"] } else { &["bean", "rock", "nut"] };
-    let count = if quick { QUICK_GRAINS } else { GRAINS };
+    let count =
+        args.parse_value("grains", crate::cli::positive::<usize>)?.unwrap_or(if quick { QUICK_GRAINS } else { GRAINS });
     let grains = crate::impostor_accuracy::grains(false, &[])?;
     let started = Instant::now();
     let mut rows = Vec::new();

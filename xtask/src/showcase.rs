@@ -131,7 +131,7 @@ pub const STAGES: &[Stage] = &[
                 supersampled (their depth test resolves each intersection); at the tightest, the mesh, the impostors \
                 and the ꟻLIP map.",
         command: "interpenetration",
-        flags: [Q, Q, &[]],
+        flags: [&["--quick", "--grains", "500"], Q, &[]],
         subject: ImageSubject::FirstWords(1),
     },
     Stage {

@@ -35,7 +35,11 @@ impl Camera {
     /// 1.1 max(L_x, L_y))` beside it.
     pub fn of_tile(dims: UVec3) -> Self {
         let size = dims.as_vec3();
-        let target = Vec3::new(size.x, size.y, 0.3 * size.z);
+        Self::beside(Vec3::new(size.x, size.y, 0.3 * size.z), size)
+    }
+
+    /// Looking at `target` from `(-0.9 L_x, -1.3 L_y, 1.1 max(L_x, L_y))` beside it.
+    fn beside(target: Vec3, size: Vec3) -> Self {
         let eye = target + Vec3::new(-0.9 * size.x, -1.3 * size.y, 1.1 * size.x.max(size.y));
         Self { eye, target }
     }
@@ -45,9 +49,7 @@ impl Camera {
     /// middle of the image with empty space around it.
     pub fn of_single_tile(dims: UVec3) -> Self {
         let size = dims.as_vec3();
-        let target = Vec3::new(0.5 * size.x, 0.5 * size.y, 0.3 * size.z);
-        let eye = target + Vec3::new(-0.9 * size.x, -1.3 * size.y, 1.1 * size.x.max(size.y));
-        Self { eye, target }
+        Self::beside(Vec3::new(0.5 * size.x, 0.5 * size.y, 0.3 * size.z), size)
     }
 }
 

@@ -20,28 +20,39 @@
 //! [`TraceScene::steps_rows`] (steps against the view angle) and
 //! [`TraceScene::run_method`] (Tables 1/2 and, on compressed maps, Table 3).
 //!
+//! The settings ([`TraceTablesSettings`]), the methods ([`TraceMethod`], [`PatchKind`]) and
+//! the rows of the CSV files live in private submodules, re-exported here.
+//!
 //! Known limits of the inputs, visible in the numbers: the spheres and tori are coarse
 //! meshes, whose facets a smooth quadric cannot match to 1e-3 voxel.
 
 use std::time::Instant;
 
-use ddm_compress::{DistanceMapSettings, DistanceMaps, Triangle};
+use ddm_compress::{DistanceMaps, Triangle};
 use ddm_tracer::GpuScene;
 use ddm_tracer::{
-    CompressedMaps, HeightMap, MeshRaycaster, Method, PatchSettings, PatchSurface, Stepping, TraceOutcome,
-    TraceSettings, VoxelPatches, relief_trace, trace,
+    CompressedMaps, HeightMap, MeshRaycaster, PatchSettings, PatchSurface, Stepping, TraceOutcome, TraceSettings,
+    VoxelPatches, relief_trace, trace,
 };
 use glam::{DVec3, UVec3, Vec2, Vec3};
 use mesostructure::Mesostructure;
 
 use crate::ExperimentError;
-use crate::gpu::{GpuRun, GpuTracer};
+use crate::gpu::GpuTracer;
 use crate::maps::{NamedMaps, TRACE_MAPS, compute_named, find};
 use crate::reference::{ReferenceAccuracy, ReferenceSurface, reference_accuracy};
-use crate::stats::{HitDifferences, TraceStats, hit_differences, mean_steps, trace_stats};
-use crate::steps::{StepsRow, StepsSettings, steps_vs_angle};
-use crate::timing::{CpuRun, RATIO_ROUNDS, interleaved_time_ratio, timed};
+use crate::stats::{hit_differences, mean_steps, trace_stats};
+use crate::steps::{StepsRow, steps_vs_angle};
+use crate::timing::{CpuRun, interleaved_time_ratio, timed};
 use crate::view::{Camera, View};
+
+mod methods;
+mod rows;
+mod settings;
+
+pub use methods::{MethodCase, PatchKind, TraceMethod};
+pub use rows::{BudgetRow, CompressionRow, MethodResult, MethodRow, PatchRow, SteppingComparison};
+pub use settings::TraceTablesSettings;
 
 /// Linear steps of the relief mapping baseline.
 pub const RELIEF_LINEAR: u32 = 32;
@@ -51,249 +62,6 @@ pub const RELIEF_BINARY: u32 = 8;
 pub const RELIEF_TEXELS_PER_VOXEL: u32 = 2;
 /// Error budgets (voxels) of the adaptive patches' sweep: memory and accuracy against it.
 pub const BUDGETS: [f32; 6] = [0.3, 0.1, 0.03, 0.01, 3e-3, 1e-3];
-
-/// Settings of the tables.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TraceTablesSettings {
-    /// Voxels of the tile.
-    pub dims: UVec3,
-    /// Pixels per row of the view.
-    pub width: u32,
-    /// Rows of the view.
-    pub height: u32,
-    /// How the maps are computed.
-    pub map_settings: DistanceMapSettings,
-    /// Map reads before a ray gives up.
-    pub max_steps: u32,
-    /// Block side of Table 3's compressed maps.
-    pub compression_block: u32,
-    /// Error budget (voxels) of the `adaptive` patches: the accuracy goal.
-    pub adaptive_budget: f32,
-    /// Error budgets (voxels) of [`TraceScene::budget_rows`].
-    pub budgets: Vec<f32>,
-    /// Timed CPU passes per method; its time is the fastest.
-    pub timed_passes: usize,
-    /// Rounds of the interleaved raw / compressed time ratio (its median).
-    pub ratio_rounds: usize,
-    /// The steps-against-angle sweep.
-    pub steps: StepsSettings,
-}
-
-impl TraceTablesSettings {
-    /// The tables as `cargo xtask ddm-trace` measures them: 24 × 24 × 8 voxel tiles,
-    /// 192 × 144 rays, tolerance 0.25 voxel, 512 steps, blocks of 4, budget 1e-3 voxel,
-    /// fastest of 5 passes, median of [`RATIO_ROUNDS`] rounds.
-    pub fn full() -> Self {
-        Self {
-            dims: UVec3::new(24, 24, 8),
-            width: 192,
-            height: 144,
-            map_settings: DistanceMapSettings { tolerance: 0.25, periodic_xy: true },
-            max_steps: 512,
-            compression_block: 4,
-            adaptive_budget: 1e-3,
-            budgets: BUDGETS.to_vec(),
-            timed_passes: 5,
-            ratio_rounds: RATIO_ROUNDS,
-            steps: StepsSettings::default(),
-        }
-    }
-
-    /// [`TraceTablesSettings::full`] on 12 × 12 × 6 voxel tiles and 96 × 72 rays.
-    pub fn quick() -> Self {
-        Self { dims: UVec3::new(12, 12, 6), width: 96, height: 72, ..Self::full() }
-    }
-
-    /// Checks the fields that no later step meets as a scene error.
-    pub fn validate(&self) -> Result<(), ExperimentError> {
-        let positive = |x: f32| x.is_finite() && x > 0.0;
-        if self.dims.cmpeq(UVec3::ZERO).any() {
-            return Err(ExperimentError::settings("dims", format!("every size must be positive, not {}", self.dims)));
-        }
-        if self.width == 0 || self.height == 0 {
-            return Err(ExperimentError::settings(
-                "width/height",
-                format!("empty view {}x{}", self.width, self.height),
-            ));
-        }
-        if self.max_steps == 0 {
-            return Err(ExperimentError::settings("max_steps", "must be positive"));
-        }
-        if !(1..=64).contains(&self.compression_block) {
-            return Err(ExperimentError::settings(
-                "compression_block",
-                format!("must be 1 to 64, not {}", self.compression_block),
-            ));
-        }
-        if !positive(self.adaptive_budget) {
-            return Err(ExperimentError::settings(
-                "adaptive_budget",
-                format!("{} is not positive", self.adaptive_budget),
-            ));
-        }
-        if let Some(budget) = self.budgets.iter().find(|&&b| !positive(b)) {
-            return Err(ExperimentError::settings("budgets", format!("{budget} is not positive")));
-        }
-        if self.timed_passes == 0 || self.ratio_rounds == 0 {
-            return Err(ExperimentError::settings("timed_passes/ratio_rounds", "must be positive"));
-        }
-        self.steps.validate()
-    }
-
-    fn sphere(&self) -> TraceSettings {
-        TraceSettings { method: Method::SphereTracing, max_steps: self.max_steps, stepping: Stepping::Distance }
-    }
-
-    fn quadric(&self) -> TraceSettings {
-        TraceSettings { method: Method::Quadric, max_steps: self.max_steps, stepping: Stepping::Distance }
-    }
-}
-
-/// A patch construction of the tables.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PatchKind {
-    /// The paper's C⁰ patches (§3.1 steps b–c).
-    C0,
-    /// Each voxel's fitted quadric (step a).
-    Fitted,
-    /// The mesh's own triangles per voxel (exact).
-    Triangles,
-    /// The fitted quadric or the triangles under the error budget.
-    Adaptive,
-    /// The watertight C⁰ patches from decisions shared by neighbours (beyond the paper).
-    Watertight,
-}
-
-impl PatchKind {
-    /// The five, in table order.
-    pub const ALL: [PatchKind; 5] = [Self::C0, Self::Fitted, Self::Triangles, Self::Adaptive, Self::Watertight];
-
-    /// The construction of `ddm_tracer` it is (`adaptive_budget`: the adaptive patches'
-    /// error budget, voxels).
-    pub fn surface(self, adaptive_budget: f32) -> PatchSurface {
-        match self {
-            Self::C0 => PatchSurface::C0,
-            Self::Fitted => PatchSurface::FittedQuadric,
-            Self::Triangles => PatchSurface::Triangles,
-            Self::Adaptive => PatchSurface::Adaptive { max_error: adaptive_budget },
-            Self::Watertight => PatchSurface::Watertight,
-        }
-    }
-
-    /// The name in `ddm_trace_patches.csv`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::C0 => "C0",
-            Self::Fitted => "fitted",
-            Self::Triangles => "triangles",
-            Self::Adaptive => "adaptive",
-            Self::Watertight => "watertight",
-        }
-    }
-}
-
-/// A method of Tables 1–3.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TraceMethod {
-    /// Sphere tracing with the plain distance map.
-    Dm,
-    /// Sphere tracing with the DDM 2×1.
-    Ddm2x1,
-    /// Sphere tracing with the DDM 4×1.
-    Ddm4x1,
-    /// Sphere tracing with the DDM 8×1.
-    Ddm8x1,
-    /// Sphere tracing with the DDM 4×2.
-    Ddm4x2,
-    /// DDM 4×1 + the C⁰ quadric patches (Algorithm 3.1).
-    Ddm4x1Quadric,
-    /// DDM 4×1 + each voxel's fitted quadric.
-    Ddm4x1Fitted,
-    /// DDM 4×1 + the mesh's triangles (exact).
-    Ddm4x1Triangles,
-    /// DDM 4×1 + the adaptive patches.
-    Ddm4x1Adaptive,
-    /// DDM 4×1 + the watertight C⁰ patches.
-    Ddm4x1Watertight,
-    /// The plain distance map with voxel-exit stepping.
-    DmExit,
-    /// The DDM 4×1 with voxel-exit stepping.
-    Ddm4x1Exit,
-    /// DDM 4×1 + the adaptive patches with voxel-exit stepping.
-    Ddm4x1AdaptiveExit,
-    /// Relief mapping (height fields only).
-    Relief,
-}
-
-/// How a map-based method traces: its map, patches and settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MethodCase {
-    /// The map's name in [`TRACE_MAPS`].
-    pub map: &'static str,
-    /// The patches, for [`Method::Quadric`].
-    pub patches: Option<PatchKind>,
-    /// Method and stepping (`max_steps` from the settings).
-    pub settings: TraceSettings,
-}
-
-impl TraceMethod {
-    /// All methods, in table order.
-    pub const ALL: [TraceMethod; 14] = [
-        Self::Dm,
-        Self::Ddm2x1,
-        Self::Ddm4x1,
-        Self::Ddm8x1,
-        Self::Ddm4x2,
-        Self::Ddm4x1Quadric,
-        Self::Ddm4x1Fitted,
-        Self::Ddm4x1Triangles,
-        Self::Ddm4x1Adaptive,
-        Self::Ddm4x1Watertight,
-        Self::DmExit,
-        Self::Ddm4x1Exit,
-        Self::Ddm4x1AdaptiveExit,
-        Self::Relief,
-    ];
-
-    /// The name in the tables.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Dm => "DM",
-            Self::Ddm2x1 => "DDM 2x1",
-            Self::Ddm4x1 => "DDM 4x1",
-            Self::Ddm8x1 => "DDM 8x1",
-            Self::Ddm4x2 => "DDM 4x2",
-            Self::Ddm4x1Quadric => "DDM 4x1 + quadric",
-            Self::Ddm4x1Fitted => "DDM 4x1 + fitted Q",
-            Self::Ddm4x1Triangles => "DDM 4x1 + triangles",
-            Self::Ddm4x1Adaptive => "DDM 4x1 + adaptive",
-            Self::Ddm4x1Watertight => "DDM 4x1 + watertight",
-            Self::DmExit => "DM exit",
-            Self::Ddm4x1Exit => "DDM 4x1 exit",
-            Self::Ddm4x1AdaptiveExit => "DDM 4x1 + adaptive exit",
-            Self::Relief => "relief 32+8",
-        }
-    }
-
-    /// The map, patches and settings of a map-based method (`None` for relief mapping).
-    pub fn case(self, settings: &TraceTablesSettings) -> Option<MethodCase> {
-        let (sphere, quadric) = (settings.sphere(), settings.quadric());
-        let exit = |s: TraceSettings| TraceSettings { stepping: Stepping::VoxelExit, ..s };
-        let case = |map, patches, settings| Some(MethodCase { map, patches, settings });
-        match self {
-            Self::Dm | Self::Ddm2x1 | Self::Ddm4x1 | Self::Ddm8x1 | Self::Ddm4x2 => case(self.name(), None, sphere),
-            Self::Ddm4x1Quadric => case("DDM 4x1", Some(PatchKind::C0), quadric),
-            Self::Ddm4x1Fitted => case("DDM 4x1", Some(PatchKind::Fitted), quadric),
-            Self::Ddm4x1Triangles => case("DDM 4x1", Some(PatchKind::Triangles), quadric),
-            Self::Ddm4x1Adaptive => case("DDM 4x1", Some(PatchKind::Adaptive), quadric),
-            Self::Ddm4x1Watertight => case("DDM 4x1", Some(PatchKind::Watertight), quadric),
-            Self::DmExit => case("DM", None, exit(sphere)),
-            Self::Ddm4x1Exit => case("DDM 4x1", None, exit(sphere)),
-            Self::Ddm4x1AdaptiveExit => case("DDM 4x1", Some(PatchKind::Adaptive), exit(quadric)),
-            Self::Relief => None,
-        }
-    }
-}
 
 /// The exact mesh's first hit of each ray of a view.
 #[derive(Clone, Debug, PartialEq)]
@@ -359,108 +127,6 @@ fn build_patches(
     let settings = PatchSettings { surface: surface_kind, periodic_xy, ..PatchSettings::default() };
     VoxelPatches::build(dims, triangles, surface, settings)
         .map_err(|error| ExperimentError::scene(scene, format!("the {what} patch construction failed: {error}")))
-}
-
-/// One row of `ddm_trace_patches.csv`: the memory of one patch construction.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct PatchRow {
-    /// The mesostructure.
-    pub mesostructure: &'static str,
-    /// The construction.
-    pub patches: PatchKind,
-    /// Voxels kept as quadrics.
-    pub quadric_voxels: u32,
-    /// Voxels kept as triangles.
-    pub triangle_voxels: u32,
-    /// Surface voxels without a patch.
-    pub voxels_without_patch: u32,
-    /// Patches.
-    pub patch_count: usize,
-    /// Bytes the tracer reads.
-    pub bytes: usize,
-}
-
-/// One row of `ddm_adaptive_budget.csv`: the adaptive patches at one error budget, traced
-/// with the DDM 4×1.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BudgetRow {
-    /// The mesostructure.
-    pub mesostructure: &'static str,
-    /// The error budget, voxels.
-    pub budget: f32,
-    /// Voxels kept as quadrics.
-    pub quadric_voxels: u32,
-    /// Voxels kept as triangles.
-    pub triangle_voxels: u32,
-    /// Bytes the tracer reads.
-    pub bytes: usize,
-    /// The outcomes against the truth.
-    pub stats: TraceStats,
-    /// CPU rays per second of one pass.
-    pub cpu_rays_per_second: f64,
-}
-
-/// One row of `ddm_trace_methods.csv` (Tables 1/2).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MethodRow {
-    /// The mesostructure.
-    pub mesostructure: &'static str,
-    /// The method.
-    pub method: TraceMethod,
-    /// The outcomes against the truth.
-    pub stats: TraceStats,
-    /// The outcomes against the tile's own surface ([`crate::reference`](mod@crate::reference)), when the scene
-    /// has one.
-    pub reference: Option<ReferenceAccuracy>,
-    /// CPU rays per second (one thread, fastest pass).
-    pub cpu_rays_per_second: f64,
-    /// The GPU pass on the raw maps, when a GPU was given.
-    pub gpu: Option<GpuRun>,
-}
-
-/// The compressed maps traced with another stepping, against the raw maps.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SteppingComparison {
-    /// Mean steps on the compressed maps.
-    pub mean_steps: f64,
-    /// Differences from the raw maps' outcomes.
-    pub differences: HitDifferences,
-    /// CPU time ratio compressed / raw (interleaved median).
-    pub cpu_time_ratio: f64,
-}
-
-/// One row of `ddm_trace_compression.csv` (Table 3): a method on raw and compressed maps.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CompressionRow {
-    /// The mesostructure.
-    pub mesostructure: &'static str,
-    /// The method.
-    pub method: TraceMethod,
-    /// Block side of the compression.
-    pub block: u32,
-    /// Compression efficiency of the method's maps.
-    pub efficiency: f64,
-    /// Mean steps on the raw maps.
-    pub raw_mean_steps: f64,
-    /// The compressed maps traced with the method's own stepping.
-    pub compressed: SteppingComparison,
-    /// GPU time ratio compressed / raw, when a GPU was given.
-    pub gpu_time_ratio: Option<f64>,
-    /// For methods that step by the stored distance, the compressed maps traced with
-    /// block cells (`Stepping::BlockCells`, beyond the paper).
-    pub block_cells: Option<SteppingComparison>,
-}
-
-/// What one method gives: its Tables 1/2 row, its Table 3 row (map-based methods) and the
-/// hit normal of each pixel (for the images).
-#[derive(Clone, Debug, PartialEq)]
-pub struct MethodResult {
-    /// Tables 1/2.
-    pub row: MethodRow,
-    /// Table 3 (`None` for relief mapping).
-    pub compression: Option<CompressionRow>,
-    /// The hit normal of each pixel, `None` for a miss.
-    pub normals: Vec<Option<Vec3>>,
 }
 
 /// One structure of the tables: its settings and view, its mesh, the truth of the view,
@@ -649,8 +315,7 @@ impl TraceScene {
     ) -> Result<Option<MethodResult>, ExperimentError> {
         match method.case(&self.settings) {
             Some(case) => self.run_case(method, case, gpu).map(Some),
-            // Relief mapping's height map wraps: not for a tile that stands alone.
-            None if self.height_field && self.settings.map_settings.periodic_xy => self.run_relief(gpu).map(Some),
+            None if self.relief_applies() => self.run_relief(gpu).map(Some),
             None => Ok(None),
         }
     }
@@ -667,9 +332,7 @@ impl TraceScene {
     ) -> Result<Option<CpuRun>, ExperimentError> {
         match method.case(&self.settings) {
             Some(case) => self.case_run(case, view, passes).map(Some),
-            None if self.height_field && self.settings.map_settings.periodic_xy => {
-                Ok(Some(self.relief_run(&self.relief_height_map()?, view, passes)))
-            }
+            None if self.relief_applies() => Ok(Some(self.relief_run(&self.relief_height_map()?, view, passes))),
             None => Ok(None),
         }
     }
@@ -679,6 +342,12 @@ impl TraceScene {
         let raw = self.map(case.map)?;
         let patches = case.patches.map(|kind| self.patches.get(kind));
         Ok(timed(&view.rays, passes, |o, d| trace(raw, patches, o, d, case.settings)))
+    }
+
+    /// Whether relief mapping runs: on a height field that repeats (its height map wraps,
+    /// so not on a tile that stands alone).
+    fn relief_applies(&self) -> bool {
+        self.height_field && self.settings.map_settings.periodic_xy
     }
 
     /// The relief mapping baseline's height map of the mesh.

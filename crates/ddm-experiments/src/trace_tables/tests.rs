@@ -1,6 +1,9 @@
 //! Unit tests of the trace tables on small tiles.
 
 use super::*;
+use crate::stats::HitDifferences;
+use crate::steps::StepsSettings;
+use ddm_tracer::Method;
 
 /// Tiny settings: an 8 × 8 × 4 tile, a 6 × 4 view, one timed pass, 3 ratio rounds.
 fn tiny() -> TraceTablesSettings {

@@ -94,13 +94,27 @@ pub enum GpuConstValue {
     Vec3F32([f32; 3]),
 }
 
-/// A named constant shared with WGSL. Build it with [`gpu_const!`].
+/// A named constant shared with WGSL. Build it with [`gpu_const!`], or with
+/// [`gpu_override!`] for a pipeline-overridable one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GpuConst {
     /// Constant name, identical in Rust and WGSL.
     pub name: &'static str,
-    /// Its value, read from the Rust constant itself.
+    /// Its value, read from the Rust constant itself; the default of an overridable one.
     pub value: GpuConstValue,
+    /// Whether WGSL declares it `override` (a pipeline-overridable constant that a pipeline
+    /// sets at creation, `wgpu::PipelineCompilationOptions::constants`, keyed by
+    /// [`name`](Self::name); the driver then compiles each setting as its own kernel)
+    /// rather than `const`.
+    pub overridable: bool,
+}
+
+impl GpuConst {
+    /// The pipeline constant that sets this overridable constant to `value`:
+    /// `(name, value)`, as `wgpu::PipelineCompilationOptions::constants` takes it.
+    pub fn set(&self, value: f64) -> (&'static str, f64) {
+        (self.name, value)
+    }
 }
 
 /// Describes a Rust `const` for WGSL generation: `gpu_const!(NAME: u32)`, or
@@ -129,31 +143,54 @@ pub struct GpuConst {
 #[macro_export]
 macro_rules! gpu_const {
     ($wgsl:literal : u32 = $value:expr) => {
-        $crate::GpuConst { name: $wgsl, value: $crate::GpuConstValue::U32($value) }
+        $crate::GpuConst { name: $wgsl, value: $crate::GpuConstValue::U32($value), overridable: false }
     };
     ($wgsl:literal : i32 = $value:expr) => {
-        $crate::GpuConst { name: $wgsl, value: $crate::GpuConstValue::I32($value) }
+        $crate::GpuConst { name: $wgsl, value: $crate::GpuConstValue::I32($value), overridable: false }
     };
     ($wgsl:literal : f32 = $value:expr) => {
-        $crate::GpuConst { name: $wgsl, value: $crate::GpuConstValue::F32($value) }
+        $crate::GpuConst { name: $wgsl, value: $crate::GpuConstValue::F32($value), overridable: false }
     };
     ($name:ident : $ty:ident as $wgsl:literal) => {
         $crate::GpuConst { name: $wgsl, ..$crate::gpu_const!($name: $ty) }
     };
     ($name:ident : u32) => {
-        $crate::GpuConst { name: stringify!($name), value: $crate::GpuConstValue::U32($name) }
+        $crate::GpuConst { name: stringify!($name), value: $crate::GpuConstValue::U32($name), overridable: false }
     };
     ($name:ident : i32) => {
-        $crate::GpuConst { name: stringify!($name), value: $crate::GpuConstValue::I32($name) }
+        $crate::GpuConst { name: stringify!($name), value: $crate::GpuConstValue::I32($name), overridable: false }
     };
     ($name:ident : f32) => {
-        $crate::GpuConst { name: stringify!($name), value: $crate::GpuConstValue::F32($name) }
+        $crate::GpuConst { name: stringify!($name), value: $crate::GpuConstValue::F32($name), overridable: false }
     };
     ($name:ident : Vec3) => {
         $crate::GpuConst {
             name: stringify!($name),
             value: $crate::GpuConstValue::Vec3F32([$name.x, $name.y, $name.z]),
+            overridable: false,
         }
+    };
+}
+
+/// Describes a pipeline-overridable WGSL constant (`override NAME: T = default;`), with the
+/// forms of [`gpu_const!`]: the default is a Rust constant or a value, and the WGSL name is
+/// the one a pipeline sets ([`GpuConst::set`]). The type must be `u32`, `i32` or `f32`
+/// (WGSL overrides are scalars).
+///
+/// A kernel branching on an overridable constant is specialised when its pipeline is
+/// created: each setting compiles to its own code, without the branch.
+///
+/// ```
+/// const DEFAULT_MODE: u32 = 1;
+/// const MODE: gpu_layout::GpuConst = gpu_layout::gpu_override!(DEFAULT_MODE: u32 as "MY_MODE");
+/// assert!(MODE.overridable);
+/// assert_eq!((MODE.name, MODE.value), ("MY_MODE", gpu_layout::GpuConstValue::U32(1)));
+/// assert_eq!(MODE.set(2.0), ("MY_MODE", 2.0));
+/// ```
+#[macro_export]
+macro_rules! gpu_override {
+    ($($constant:tt)*) => {
+        $crate::GpuConst { overridable: true, ..$crate::gpu_const!($($constant)*) }
     };
 }
 

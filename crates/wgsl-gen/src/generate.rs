@@ -14,6 +14,12 @@ pub enum GenerateError {
     },
     /// Two items share one WGSL name.
     DuplicateName(&'static str),
+    /// An overridable constant is not a scalar (WGSL overrides are `bool`, `i32`, `u32`,
+    /// `f32` or `f16`).
+    NonScalarOverride {
+        /// The constant's name.
+        name: &'static str,
+    },
 }
 
 impl fmt::Display for GenerateError {
@@ -23,6 +29,9 @@ impl fmt::Display for GenerateError {
                 write!(f, "constant {name} is not finite; WGSL has no literal for it")
             }
             GenerateError::DuplicateName(name) => write!(f, "{name} is declared twice"),
+            GenerateError::NonScalarOverride { name } => {
+                write!(f, "overridable constant {name} is not a scalar; WGSL overrides are scalars")
+            }
         }
     }
 }
@@ -88,7 +97,11 @@ pub fn generate_declarations(
             GpuConstValue::Vec3F32(v) => format!(" // {v:?}"),
             _ => String::new(),
         };
-        let _ = writeln!(out, "\nconst {}: {ty} = {literal};{comment}", constant.name);
+        if constant.overridable && matches!(constant.value, GpuConstValue::Vec3F32(_)) {
+            return Err(GenerateError::NonScalarOverride { name: constant.name });
+        }
+        let keyword = if constant.overridable { "override" } else { "const" };
+        let _ = writeln!(out, "\n{keyword} {}: {ty} = {literal};{comment}", constant.name);
     }
     for decl in structs {
         let _ = writeln!(out, "\n// Rust size {} bytes.", decl.rust_size);
@@ -130,6 +143,24 @@ mod tests {
             };
             assert_eq!(parsed.to_bits(), v.to_bits(), "C{i}");
         }
+    }
+
+    #[test]
+    fn overridable_constants_are_declared_override_and_set_by_a_pipeline() {
+        const MODE: u32 = 3;
+        const SCALE: f32 = 0.5;
+        let constants = [gpu_layout::gpu_override!(MODE: u32), gpu_layout::gpu_override!(SCALE: f32 as "M_SCALE")];
+        let source = generate_declarations("m", &[], &constants).unwrap();
+        assert!(source.contains("\noverride MODE: u32 = 3u;"), "{source}");
+        assert!(source.contains("\noverride M_SCALE: f32 = 0x1.000000p-1f;"), "{source}");
+        // naga sees both as pipeline-overridable constants with their defaults.
+        let module = naga::front::wgsl::parse_str(&source).unwrap();
+        let names: Vec<_> = module.overrides.iter().filter_map(|(_, o)| o.name.clone()).collect();
+        assert_eq!(names, ["MODE", "M_SCALE"]);
+        assert!(module.constants.is_empty());
+        const AXIS: glam::Vec3 = glam::Vec3::X;
+        let vector = gpu_layout::gpu_override!(AXIS: Vec3);
+        assert_eq!(generate_declarations("m", &[], &[vector]), Err(GenerateError::NonScalarOverride { name: "AXIS" }));
     }
 
     #[test]

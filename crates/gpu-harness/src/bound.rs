@@ -110,6 +110,22 @@ impl Gpu {
         inputs: &[I],
         storage: &UploadedStorage,
     ) -> Result<(Vec<O>, GpuTiming), HarnessError> {
+        self.compute_map_specialized(wgsl, entry_point, &[], uniforms, inputs, storage)
+    }
+
+    /// [`compute_map_with_uploaded_storage`](Self::compute_map_with_uploaded_storage) with
+    /// the kernel's pipeline-overridable constants (WGSL `override`s) set to `constants`,
+    /// `(name, value)` as `wgpu::PipelineCompilationOptions::constants` takes them: each
+    /// setting is compiled once, then reused.
+    pub fn compute_map_specialized<I: Pod, O: Pod>(
+        &self,
+        wgsl: &str,
+        entry_point: &str,
+        constants: &[(&str, f64)],
+        uniforms: &[u8],
+        inputs: &[I],
+        storage: &UploadedStorage,
+    ) -> Result<(Vec<O>, GpuTiming), HarnessError> {
         let (input_size, output_size) = (size_of::<I>(), size_of::<O>());
         if input_size == 0 || output_size == 0 {
             return Err(HarnessError::InvalidRequest("compute_map needs non-zero-sized element types".into()));
@@ -130,7 +146,7 @@ impl Gpu {
                 limit: limits.max_storage_buffer_binding_size,
             });
         }
-        let kernel = self.kernel(wgsl, entry_point, storage.len())?;
+        let kernel = self.kernel(wgsl, entry_point, constants, storage.len())?;
         let chunk_len = usize::try_from(chunk_len).unwrap_or(usize::MAX);
         self.map_chunks(&kernel, uniforms, inputs, chunk_len, &storage.buffers)
     }

@@ -35,15 +35,24 @@ impl Gpu {
     /// [`compute_map_with_storage`](Self::compute_map_with_storage)). Compiled on the first
     /// call for that source, entry point and buffer count, then taken from the cache; a
     /// kernel that fails to compile is not cached (the next call reports the error again).
-    pub(crate) fn kernel(&self, wgsl: &str, entry_point: &str, scene_buffers: usize) -> Result<Kernel, HarnessError> {
-        let key = (wgsl.to_owned(), entry_point.to_owned(), scene_buffers);
+    /// `constants` set the source's pipeline-overridable constants (WGSL `override`s); each
+    /// setting is its own kernel.
+    pub(crate) fn kernel(
+        &self,
+        wgsl: &str,
+        entry_point: &str,
+        constants: &[(&str, f64)],
+        scene_buffers: usize,
+    ) -> Result<Kernel, HarnessError> {
+        let settings = constants.iter().map(|&(name, value)| (name.to_owned(), value.to_bits())).collect();
+        let key = (wgsl.to_owned(), entry_point.to_owned(), scene_buffers, settings);
         // Held while compiling: a second thread asking for the same kernel waits for it
         // instead of compiling it again (compilation is serialized by the error scopes anyway).
         let mut kernels = self.kernels.kernels.lock().unwrap_or_else(PoisonError::into_inner);
         if let Some(kernel) = kernels.get(&key) {
             return Ok(kernel.clone());
         }
-        let kernel = self.compile_kernel(wgsl, entry_point, scene_buffers)?;
+        let kernel = self.compile_kernel(wgsl, entry_point, constants, scene_buffers)?;
         self.kernels.compilations.fetch_add(1, Ordering::Relaxed);
         kernels.insert(key, kernel.clone());
         Ok(kernel)
@@ -61,7 +70,13 @@ impl Gpu {
         self.kernels.warm_ups.load(Ordering::Relaxed)
     }
 
-    fn compile_kernel(&self, wgsl: &str, entry_point: &str, scene_buffers: usize) -> Result<Kernel, HarnessError> {
+    fn compile_kernel(
+        &self,
+        wgsl: &str,
+        entry_point: &str,
+        constants: &[(&str, f64)],
+        scene_buffers: usize,
+    ) -> Result<Kernel, HarnessError> {
         self.scoped(|| {
             let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(entry_point),
@@ -93,7 +108,7 @@ impl Gpu {
                 layout: Some(&pipeline_layout),
                 module: &module,
                 entry_point: Some(entry_point),
-                compilation_options: Default::default(),
+                compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
                 cache: None,
             });
             Kernel::new(pipeline, layout)
@@ -175,7 +190,7 @@ impl Gpu {
                 limit: limits.max_storage_buffer_binding_size,
             });
         }
-        let kernel = self.kernel(wgsl, entry_point, 0)?;
+        let kernel = self.kernel(wgsl, entry_point, &[], 0)?;
         let chunk_len = usize::try_from(chunk_len).unwrap_or(usize::MAX);
         self.map_chunks(&kernel, uniforms, inputs, chunk_len, &[])
     }
@@ -332,6 +347,17 @@ fn with_scene(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgro
     }
     output[index] = input[index] + scene[0];
 }
+
+override OFFSET: u32 = 0u;
+
+@compute @workgroup_size(64)
+fn with_offset(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let index = id.x + id.y * groups.x * 64u;
+    if index >= arrayLength(&input) {
+        return;
+    }
+    output[index] = input[index] + scene[0] + OFFSET;
+}
 ";
 
     #[test]
@@ -365,6 +391,13 @@ fn with_scene(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgro
         let other = format!("{KERNEL} ");
         let _: Vec<u32> = gpu.compute_map(&other, "main", uniforms, &inputs).unwrap();
         assert_eq!((gpu.kernel_compilations(), gpu.kernel_warm_ups()), (4, 4));
+        // Each setting of the overridable constants is its own kernel, compiled once.
+        for offset in [1.0, 2.0, 1.0] {
+            let _: (Vec<u32>, _) = gpu
+                .compute_map_specialized(KERNEL, "with_offset", &[("OFFSET", offset)], &[], &inputs, &uploaded)
+                .unwrap();
+        }
+        assert_eq!(gpu.kernel_compilations(), 6);
     }
 
     #[test]

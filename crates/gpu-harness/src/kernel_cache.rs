@@ -21,9 +21,10 @@ impl Kernel {
     }
 }
 
-/// What decides a kernel's pipeline: the WGSL source, the entry point and the number of
-/// scene buffers bound at `3..` (the bind group layout).
-pub(crate) type KernelKey = (String, String, usize);
+/// What decides a kernel's pipeline: the WGSL source, the entry point, the number of
+/// scene buffers bound at `3..` (the bind group layout) and the pipeline-overridable
+/// constants with their values' bits.
+pub(crate) type KernelKey = (String, String, usize, Vec<(String, u64)>);
 
 /// The kernels a [`Gpu`] has compiled, kept for its lifetime: pipelines are never
 /// evicted (a process compiles a bounded set of kernels; each entry is a pipeline and its

@@ -1,8 +1,10 @@
 // Differential-test kernel for shaders/ddm_compress.wgsl (gpu-harness convention:
 // uniforms at binding 0, input at 1, output at 2, workgroups of 64 in a 2-D grid).
-// Input element 0 holds (query_offset, 0, 0, 0); elements 1.. hold the lookup grid's words
-// followed by the atlas's (four per element, atlas from word map.grid_atlas_base.w); the
-// queries (voxel x, y, z, unused) start at element query_offset. Outputs for non-query
+// Input element 0 holds (query_offset, shift, f16, 0): shift 0 to index with divisions,
+// log2(block) + 1 to index with shifts (ddm_*_index_shifted); f16 1 for an atlas of binary16
+// pairs (pack_f16_pairs_at_most), 0 for f32 words. Elements 1.. hold the lookup grid's
+// words followed by the atlas's (four per element, atlas from word map.grid_atlas_base.w);
+// the queries (voxel x, y, z, unused) start at element query_offset. Outputs for non-query
 // elements are zero; a query outputs (distance, 1 if in a surface block, 1 if inside the
 // map, 0).
 
@@ -30,10 +32,22 @@ fn access(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups)
         results[index] = vec4<f32>(0.0);
         return;
     }
-    let entry = ddm_word(ddm_grid_index(voxel, map));
+    let shift = words_and_queries[0].y;
+    var grid_index = ddm_grid_index(voxel, map);
+    if shift != 0u {
+        grid_index = ddm_grid_index_shifted(voxel, map, shift - 1u);
+    }
+    let entry = ddm_word(grid_index);
     if ddm_entry_is_surface(entry) {
-        let word = ddm_word(map.grid_atlas_base.w + ddm_atlas_index(entry, voxel, map.dims_block.w));
-        results[index] = vec4<f32>(bitcast<f32>(word), 1.0, 1.0, 0.0);
+        var atlas_index = ddm_atlas_index(entry, voxel, map.dims_block.w);
+        if shift != 0u {
+            atlas_index = ddm_atlas_index_shifted(entry, voxel, shift - 1u);
+        }
+        var distance = bitcast<f32>(ddm_word(map.grid_atlas_base.w + atlas_index));
+        if words_and_queries[0].z != 0u {
+            distance = ddm_f16_pair_value(ddm_word(map.grid_atlas_base.w + atlas_index / 2u), atlas_index);
+        }
+        results[index] = vec4<f32>(distance, 1.0, 1.0, 0.0);
     } else {
         results[index] = vec4<f32>(ddm_entry_distance(entry), 0.0, 1.0, 0.0);
     }

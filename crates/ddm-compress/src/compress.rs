@@ -215,6 +215,12 @@ impl CompressedMap {
         self.block
     }
 
+    /// `log2` of the block side when it is a power of two (the shift of
+    /// [`grid_index_shifted`] and [`atlas_index_shifted`]), `None` otherwise.
+    pub fn block_shift(&self) -> Option<u32> {
+        (self.block_shift != NOT_POWER_OF_TWO).then_some(self.block_shift)
+    }
+
     /// The lookup grid's entries.
     pub fn grid(&self) -> &[u32] {
         &self.grid
@@ -246,8 +252,7 @@ impl CompressedMap {
             return None;
         }
         let index = if self.block_shift != NOT_POWER_OF_TWO {
-            let (g, b) = (self.grid_dims, voxel >> self.block_shift);
-            b.x + g.x * (b.y + g.y * b.z)
+            grid_index_shifted(voxel, self.grid_dims, self.block_shift)
         } else {
             grid_index(voxel, self.dims, self.block)
         };
@@ -259,8 +264,7 @@ impl CompressedMap {
     fn atlas_value(&self, entry: u32, voxel: UVec3) -> Option<f32> {
         let shift = self.block_shift;
         let index = if shift != NOT_POWER_OF_TWO {
-            let local = voxel & UVec3::splat(self.block - 1);
-            ((((entry & !SURFACE_FLAG) << shift | local.z) << shift | local.y) << shift) | local.x
+            atlas_index_shifted(entry, voxel, shift)
         } else {
             atlas_index(entry, voxel, self.block)
         };
@@ -312,6 +316,23 @@ pub fn atlas_index(entry: u32, voxel: UVec3, block: u32) -> u32 {
     (entry & !SURFACE_FLAG) * block * block * block + local.x + block * (local.y + block * local.z)
 }
 
+/// [`grid_index`] for blocks of side `1 << shift`, whose lookup grid is `grid`
+/// (`grid_dims(dims, 1 << shift)`): shifts instead of divisions, the same index. WGSL twin:
+/// `ddm_grid_index_shifted`.
+#[inline]
+pub fn grid_index_shifted(voxel: UVec3, grid: UVec3, shift: u32) -> u32 {
+    let b = voxel >> shift;
+    b.x + grid.x * (b.y + grid.y * b.z)
+}
+
+/// [`atlas_index`] for blocks of side `1 << shift`: shifts and masks instead of
+/// divisions and products, the same index. WGSL twin: `ddm_atlas_index_shifted`.
+#[inline]
+pub fn atlas_index_shifted(entry: u32, voxel: UVec3, shift: u32) -> u32 {
+    let local = voxel & UVec3::splat((1 << shift) - 1);
+    ((((entry & !SURFACE_FLAG) << shift | local.z) << shift | local.y) << shift) | local.x
+}
+
 gpu_struct! {
     /// What a shader needs to read a [`CompressedMap`]: its size, block and grid size.
     pub struct CompressedMapUniforms {
@@ -336,6 +357,29 @@ mod tests {
     use alloc::string::ToString;
 
     use super::*;
+
+    #[test]
+    fn shifted_indices_equal_the_divisions() {
+        let mut compared = 0;
+        for shift in 0..4 {
+            let block = 1 << shift;
+            let dims = UVec3::new(9, 6, 5);
+            let grid = grid_dims(dims, block);
+            for entry in [SURFACE_FLAG, SURFACE_FLAG | 1, SURFACE_FLAG | 37] {
+                for z in 0..dims.z {
+                    for y in 0..dims.y {
+                        for x in 0..dims.x {
+                            let voxel = UVec3::new(x, y, z);
+                            assert_eq!(grid_index_shifted(voxel, grid, shift), grid_index(voxel, dims, block));
+                            assert_eq!(atlas_index_shifted(entry, voxel, shift), atlas_index(entry, voxel, block));
+                            compared += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert_eq!(compared, 4 * 3 * 9 * 6 * 5);
+    }
 
     #[test]
     fn a_cell_is_its_voxel_in_a_surface_block_and_the_clipped_block_elsewhere() {

@@ -58,13 +58,18 @@
 //!   distance by alternating projections in the private `plain` module).
 //! - [`compress`]: the lookup grid and atlas (Algorithm A.1) and access (Algorithm A.2);
 //!   [`CompressError`] says why a map cannot be compressed.
+//! - [`f16_storage`]: distances as binary16 rounded down (still conservative), half the
+//!   bytes, two per word as a GPU reads them.
 //! - [`serialize`]: a versioned binary form that rejects corrupt data.
 //!
 //! # Using the WGSL twin
 //!
 //! With the `wgsl` feature, [`WGSL`] is the compressed map's access in WGSL (Algorithm
 //! A.2): `ddm_grid_index`, `ddm_entry_is_surface`, `ddm_entry_distance`,
-//! `ddm_atlas_index` and `ddm_voxel_in_map` over the generated [`CompressedMapUniforms`].
+//! `ddm_atlas_index` and `ddm_voxel_in_map` over the generated [`CompressedMapUniforms`];
+//! `ddm_grid_index_shifted` and `ddm_atlas_index_shifted` for power-of-two blocks
+//! ([`CompressedMap::block_shift`]), and `ddm_f16_pair_value` for an atlas packed by
+//! [`pack_f16_pairs_at_most`].
 //! A shader binds a map's [`CompressedMap::grid`] and [`CompressedMap::atlas`] as storage
 //! buffers and its [`CompressedMapUniforms::new`] as uniforms:
 //!
@@ -113,6 +118,7 @@ pub mod compress;
 pub mod cones;
 mod convex_cone;
 pub mod ddm;
+pub mod f16_storage;
 pub mod geometry;
 mod plain;
 mod search;
@@ -130,6 +136,7 @@ pub use cones::{Cone, ConeError, ConeRelation, DirectionCones, DirectionRange, E
 pub use ddm::{
     DistanceMapError, DistanceMapSettings, DistanceMaps, MAX_VALUES, MAX_VOXELS, MapKind, compute_distance_maps,
 };
+pub use f16_storage::{f16_bits_at_most, f16_bits_to_f32, pack_f16_pairs_at_most};
 pub use geometry::{Aabb, Triangle, box_triangle_distance};
 pub use serialize::DecodeError;
 #[cfg(feature = "wgsl")]

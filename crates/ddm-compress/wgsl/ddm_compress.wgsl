@@ -18,6 +18,18 @@ fn ddm_atlas_index(entry: u32, voxel: vec3<u32>, block: u32) -> u32 {
     return (entry & ~DDM_SURFACE_FLAG) * block * block * block + local.x + block * (local.y + block * local.z);
 }
 
+// Rust: ddm_compress::compress::grid_index_shifted (blocks of side 1 << shift).
+fn ddm_grid_index_shifted(voxel: vec3<u32>, map: CompressedMapUniforms, shift: u32) -> u32 {
+    let b = voxel >> vec3<u32>(shift);
+    return b.x + map.grid_atlas_base.x * (b.y + map.grid_atlas_base.y * b.z);
+}
+
+// Rust: ddm_compress::compress::atlas_index_shifted (blocks of side 1 << shift).
+fn ddm_atlas_index_shifted(entry: u32, voxel: vec3<u32>, shift: u32) -> u32 {
+    let local = voxel & vec3<u32>((1u << shift) - 1u);
+    return (((((entry & ~DDM_SURFACE_FLAG) << shift) | local.z) << shift | local.y) << shift) | local.x;
+}
+
 // Rust: the flag test of CompressedMap::access.
 fn ddm_entry_is_surface(entry: u32) -> bool {
     return (entry & DDM_SURFACE_FLAG) != 0u;
@@ -26,6 +38,22 @@ fn ddm_entry_is_surface(entry: u32) -> bool {
 // Rust: the distance of a non-surface entry in CompressedMap::access (the f32's bits).
 fn ddm_entry_distance(entry: u32) -> f32 {
     return bitcast<f32>(entry);
+}
+
+// Rust: ddm_compress::f16_storage::f16_bits_to_f32 of value `index` of the words that
+// pack_f16_pairs_at_most packed (`word` is word index / 2): value 2k in the low half.
+// Decoded with integer operations (unpack2x16float needs a capability some backends
+// lack); exact for every value f16_bits_at_most stores, which are never subnormal.
+fn ddm_f16_pair_value(word: u32, index: u32) -> f32 {
+    let bits = select(word & 0xffffu, word >> 16u, (index & 1u) != 0u);
+    let sign = (bits & 0x8000u) << 16u;
+    let exponent = (bits >> 10u) & 0x1fu;
+    if exponent == 0u {
+        return bitcast<f32>(sign);
+    }
+    // Rebias 15 → 127; the all-ones exponent (infinity) stays all ones.
+    let rebiased = select(exponent + 112u, 255u, exponent == 31u);
+    return bitcast<f32>(sign | (rebiased << 23u) | ((bits & 0x3ffu) << 13u));
 }
 
 // Rust: the bounds test of CompressedMap::access.

@@ -11,7 +11,9 @@
 //!   that the compute pass reads with `textureLoad`, so both see the same bits), its hit
 //!   equals the CPU tracer's, and its shadow flag equals `in_shadow` on the CPU (CPU = GPU
 //!   for `render_in_shadow`). Two frames with different cameras go through one renderer
-//!   and one target, and both are checked.
+//!   and one target, and both are checked, for two settings of the tracer's pipeline
+//!   constants: blocks of 1 with the paper's stepping, and 4³ blocks with a binary16 atlas
+//!   and block-cell stepping (against the CPU over the same rounded values).
 //! - Colour target: the `Rgba16Float` texture holds the pixel target's colours, rounded to
 //!   half precision, and the coverage in alpha.
 //! - Torus: the G-buffer frames at every covered pixel are orthonormal (after
@@ -26,7 +28,7 @@
 //!   the CPU's `pixel_class` of the same texel with the CPU tracer; pixels that leave the
 //!   shell exist and outline the torus.
 
-use ddm_compress::{DirectionCones, DistanceMapSettings, DistanceMaps, MapKind, compute_distance_maps};
+use ddm_compress::{DirectionCones, DistanceMapSettings, MapKind, compute_distance_maps};
 use ddm_render::{
     COLOR_TARGET_FORMAT, Camera, DEPTH_TARGET_FORMAT, DdmFrame, DdmRenderPipelines, DdmRenderer, GBuffer, GBufferPass,
     GpuSceneBuffers, PixelReadback, RenderSettings, plane_base_mesh, rasterize_gbuffer, read_gbuffer, read_texture,
@@ -92,38 +94,66 @@ fn settings() -> RenderSettings {
     }
 }
 
-/// A structure's maps and patches, and a renderer of it on 3 × 3 plane tiles.
+/// How a [`PlaneScene`] stores its maps on the GPU, and how it steps through them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Storage {
+    /// Blocks of 1 voxel (every distance in the lookup grid), the paper's stepping.
+    Block1,
+    /// Blocks of 4³ with the atlas in binary16 rounded down, block-cell stepping: a second
+    /// setting of the tracer's pipeline constants.
+    Block4F16,
+}
+
+/// A structure's maps (the CPU reference: the values the GPU reads) and patches, the
+/// tracer settings, and a renderer of it on 3 × 3 plane tiles.
 struct PlaneScene {
-    maps: DistanceMaps,
+    maps: CompressedMaps,
     patches: VoxelPatches,
+    settings: TraceSettings,
     renderer: DdmRenderer,
 }
 
 impl PlaneScene {
-    fn new(structure: Mesostructure) -> Self {
+    fn new(structure: Mesostructure, pipelines: &DdmRenderPipelines, storage: Storage) -> Self {
         let gpu = gpu();
         let triangles = structure.triangles(DIMS);
         let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
         let ddm4x1 = MapKind::Directional(DirectionCones::downward(4, 1).unwrap());
         let maps = compute_distance_maps(DIMS, &triangles, ddm4x1, settings).unwrap();
         let patches = VoxelPatches::build(DIMS, &triangles, &maps.surface, PatchSettings::default()).unwrap();
-        let packed = CompressedMaps::compress(&maps, 1).unwrap();
-        let scene = GpuScene::new(&packed, Some(&patches), TRACE_SETTINGS).unwrap();
-        let pipelines = DdmRenderPipelines::new(&gpu.device).unwrap();
+        let (maps, settings, scene) = match storage {
+            Storage::Block1 => {
+                let packed = CompressedMaps::compress(&maps, 1).unwrap();
+                let scene = GpuScene::new(&packed, Some(&patches), TRACE_SETTINGS).unwrap();
+                (packed, TRACE_SETTINGS, scene)
+            }
+            Storage::Block4F16 => {
+                let packed = CompressedMaps::compress(&maps, 4).unwrap();
+                let blocks = TraceSettings { stepping: Stepping::BlockCells, ..TRACE_SETTINGS };
+                let scene = GpuScene::new(&packed, Some(&patches), blocks).and_then(GpuScene::with_f16_atlas).unwrap();
+                (packed.with_f16_atlas(), blocks, scene)
+            }
+        };
         let mesh = plane_base_mesh(DIMS, UVec2::new(3, 3)).unwrap();
         let gbuffer = GBufferPass::new(&gpu.device, pipelines.gbuffer(), &mesh, WIDTH, HEIGHT).unwrap();
         let scene = GpuSceneBuffers::new(&gpu.device, &scene).unwrap();
-        let renderer = DdmRenderer::new(&gpu.device, &pipelines, &gbuffer, &scene).unwrap();
-        Self { maps, patches, renderer }
+        let renderer = DdmRenderer::new(&gpu.device, pipelines, &gbuffer, &scene).unwrap();
+        Self { maps, patches, settings, renderer }
     }
 }
 
 #[test]
 fn plane_tile_pixels_trace_the_plane_tile_rays() {
-    // A non-height-field and a height field with walls and a floor.
-    for structure in [Mesostructure::Ball, Mesostructure::Maze(1)] {
+    // A non-height-field and a height field with walls and a floor, in two settings of
+    // the tracer's pipeline constants; renderers of one setting share its pipelines.
+    let pipelines = DdmRenderPipelines::new(&gpu().device).unwrap();
+    let cases = [Mesostructure::Ball, Mesostructure::Maze(1)]
+        .into_iter()
+        .flat_map(|structure| [(structure, Storage::Block1), (structure, Storage::Block4F16)]);
+    for (structure, storage) in cases {
         let gpu = gpu();
-        let scene = PlaneScene::new(structure);
+        let scene = PlaneScene::new(structure, &pipelines, storage);
+        let structure_name = format!("{} {storage:?}", structure.name());
         let readback = PixelReadback::new(gpu, &scene.renderer).unwrap();
         // Two frames through the same renderer and target: only the camera and parameter
         // uniforms change between them.
@@ -141,7 +171,7 @@ fn plane_tile_pixels_trace_the_plane_tile_rays() {
             let pixels = readback.read(gpu).unwrap();
             let gbuffer = read_gbuffer(gpu, scene.renderer.gbuffer()).unwrap();
             check_frame(
-                &format!("{} ({name} camera, frame {wall:.1} ms)", structure.name()),
+                &format!("{structure_name} ({name} camera, frame {wall:.1} ms)"),
                 &scene,
                 &camera,
                 &gbuffer,
@@ -150,8 +180,9 @@ fn plane_tile_pixels_trace_the_plane_tile_rays() {
             frames.push(pixels);
         }
         let moved = frames[0].iter().zip(&frames[1]).filter(|(a, b)| a.ray_origin != b.ray_origin).count();
-        assert!(moved > 2000, "{}: the second frame repeats the first ({moved} rays differ)", structure.name());
+        assert!(moved > 2000, "{structure_name}: the second frame repeats the first ({moved} rays differ)");
     }
+    assert_eq!(pipelines.specialized_count(), 2, "one set of per-pixel pipelines per setting");
 }
 
 /// Checks one frame's pixels against the CPU: ray construction, hits and shadows.
@@ -188,8 +219,8 @@ fn check_frame(name: &str, scene: &PlaneScene, camera: &Camera, gbuffer: &GBuffe
             // |a × b| = sin of the angle (acos near 1 has no resolution in f32).
             worst_direction = worst_direction.max(gpu_direction.normalize().cross(eye_direction).length());
             // The GPU hit against the CPU tracer on the same ray, and on the eye ray.
-            let cpu = trace(maps, patches, origin, direction, TRACE_SETTINGS);
-            let from_eye = trace(maps, patches, camera.eye, eye_direction, TRACE_SETTINGS);
+            let cpu = trace(maps, patches, origin, direction, scene.settings);
+            let from_eye = trace(maps, patches, camera.eye, eye_direction, scene.settings);
             let gpu_hit = pixel.color.w == PIXEL_HIT;
             hits += usize::from(gpu_hit);
             match (cpu.hit, from_eye.hit, gpu_hit) {
@@ -207,7 +238,7 @@ fn check_frame(name: &str, scene: &PlaneScene, camera: &Camera, gbuffer: &GBuffe
                     let lit_side = frame.normal_to_world(c.normal).dot(light) > 0.0;
                     let tangent_light = frame.to_tangent(light);
                     let expected =
-                        lit_side && in_shadow(maps, patches, c.point, tangent_light, SHADOW_TOLERANCE, TRACE_SETTINGS);
+                        lit_side && in_shadow(maps, patches, c.point, tangent_light, SHADOW_TOLERANCE, scene.settings);
                     let gpu_shadowed = pixel.ray_direction.w == 1.0;
                     shadowed += usize::from(gpu_shadowed);
                     shadow_differ += usize::from(expected != gpu_shadowed);
@@ -244,7 +275,8 @@ fn check_frame(name: &str, scene: &PlaneScene, camera: &Camera, gbuffer: &GBuffe
 fn without_a_base_surface_misses_show_what_lies_behind() {
     let gpu = gpu();
     // The chain mail has no floor: rays between its rings reach the slab's bottom.
-    let scene = PlaneScene::new(Mesostructure::ChainMail);
+    let pipelines = DdmRenderPipelines::new(&gpu.device).unwrap();
+    let scene = PlaneScene::new(Mesostructure::ChainMail, &pipelines, Storage::Block1);
     let camera = plane_camera(WIDTH, HEIGHT);
     let readback = PixelReadback::new(gpu, &scene.renderer).unwrap();
     let mut frames = Vec::new();
@@ -272,7 +304,8 @@ fn without_a_base_surface_misses_show_what_lies_behind() {
 #[test]
 fn color_target_holds_the_pixel_colours_in_half_precision() {
     let gpu = gpu();
-    let scene = PlaneScene::new(Mesostructure::Ball);
+    let pipelines = DdmRenderPipelines::new(&gpu.device).unwrap();
+    let scene = PlaneScene::new(Mesostructure::Ball, &pipelines, Storage::Block1);
     let camera = plane_camera(WIDTH, HEIGHT);
     let frame = DdmFrame::new(&camera, settings());
     let readback = PixelReadback::new(gpu, &scene.renderer).unwrap();

@@ -151,6 +151,20 @@ fn compare(maps: &CompressedMaps, patches: Option<&VoxelPatches>, settings: Trac
     compare_scene(&scene, maps.kind, |o, d| trace(maps, patches, o, d, settings), seed)
 }
 
+/// [`compare`] with the GPU reading an atlas of binary16 pairs ([`GpuScene::with_f16_atlas`])
+/// against the CPU tracer over the same values ([`CompressedMaps::with_f16_atlas`]).
+fn compare_f16(
+    maps: &CompressedMaps,
+    patches: Option<&VoxelPatches>,
+    settings: TraceSettings,
+    seed: u64,
+) -> Mismatches {
+    let scene = GpuScene::new(maps, patches, settings).and_then(GpuScene::with_f16_atlas);
+    let scene = scene.unwrap_or_else(|e| panic!("{e}"));
+    let rounded = maps.with_f16_atlas();
+    compare_scene(&scene, maps.kind, |o, d| trace(&rounded, patches, o, d, settings), seed)
+}
+
 /// [`compare`] for [`GpuScene::uncompressed`]: the GPU reading one grid word per voxel
 /// against the CPU tracer over the uncompressed maps themselves.
 fn compare_uncompressed(
@@ -181,13 +195,16 @@ fn compare_rays(
 ) -> Mismatches {
     let inputs: Vec<TraceRay> = rays.iter().map(|&(o, d)| TraceRay::new(o, d)).collect();
     let uniforms = scene.uniforms(inputs.len() as u32);
+    let storage = gpu().upload_storage(&scene.storage_bytes()).unwrap_or_else(|e| panic!("{e}"));
+    // The pipeline specialised for the scene (method, stepping, tiling, block shift, atlas).
     let (results, _): (Vec<TraceResult>, _) = gpu()
-        .compute_map_with_storage(
+        .compute_map_specialized(
             &kernel_source(),
             "trace_rays",
+            &scene.pipeline_constants.constants(),
             bytemuck::bytes_of(&uniforms),
             &inputs,
-            &scene.storage_bytes(),
+            &storage,
         )
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(results.len(), rays.len());
@@ -350,6 +367,26 @@ fn gpu_tracer_equals_the_cpu_reference() {
         ];
         for (name, maps, patches, trace_settings) in cases {
             let m = compare(&maps, patches, trace_settings, 0x5eed + index as u64);
+            m.report(&format!("{} {name}", which.name()));
+        }
+        // Blocks of 3 index the maps with divisions (TRACE_BLOCK_SHIFT unset); every case
+        // above, with blocks of 1, 2 or 4, with shifts.
+        let blocks_of_3 = CompressedMaps::compress(&ddm, 3).unwrap();
+        assert_eq!(GpuScene::new(&blocks_of_3, None, quadric).unwrap().pipeline_constants.block_shift, None);
+        let m = compare(&blocks_of_3, Some(&patches), quadric, 0x5eed + index as u64);
+        m.report(&format!("{} DDM 4x1 + quadric, blocks of 3 (divisions)", which.name()));
+        // The atlas in binary16, rounded down.
+        let f16_cases = [
+            ("DDM 4x1 + quadric, f16 atlas", CompressedMaps::compress(&ddm, 4).unwrap(), quadric),
+            (
+                "plain DM, block cells, f16 atlas",
+                CompressedMaps::compress(&plain, 2).unwrap(),
+                TraceSettings { stepping: Stepping::BlockCells, ..sphere },
+            ),
+        ];
+        for (name, maps, trace_settings) in f16_cases {
+            let patches = (trace_settings.method == Method::Quadric).then_some(&patches);
+            let m = compare_f16(&maps, patches, trace_settings, 0x5eed + index as u64);
             m.report(&format!("{} {name}", which.name()));
         }
         let uncompressed = [

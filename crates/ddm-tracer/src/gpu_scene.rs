@@ -14,37 +14,35 @@ use ddm_compress::DistanceMaps;
 use crate::maps::{CompressedMaps, ConeSelector};
 use crate::patch::TracePatch;
 use crate::patches::VoxelPatches;
+use crate::pipeline_constants::{AtlasStorage, TracePipelineConstants};
 use crate::relief::HeightMap;
 use crate::trace::{Method, Stepping, TraceSettings};
 
-/// `TraceUniforms::cones_method.z` for [`crate::Method::SphereTracing`].
+/// [`TracePipelineConstants::method`] for [`crate::Method::SphereTracing`].
 pub const METHOD_SPHERE_TRACING: u32 = 0;
-/// `TraceUniforms::cones_method.z` for [`crate::Method::Quadric`].
+/// [`TracePipelineConstants::method`] for [`crate::Method::Quadric`].
 pub const METHOD_QUADRIC: u32 = 1;
-/// `TraceUniforms::cones_method.z` for relief mapping ([`crate::relief_trace`]).
+/// [`TracePipelineConstants::method`] for relief mapping ([`crate::relief_trace`]).
 pub const METHOD_RELIEF: u32 = 2;
-/// `TraceUniforms::stepping.x` for [`crate::Stepping::Distance`].
+/// [`TracePipelineConstants::stepping`] for [`crate::Stepping::Distance`].
 pub const STEPPING_DISTANCE: u32 = 0;
-/// `TraceUniforms::stepping.x` for [`crate::Stepping::VoxelExit`].
+/// [`TracePipelineConstants::stepping`] for [`crate::Stepping::VoxelExit`].
 pub const STEPPING_VOXEL_EXIT: u32 = 1;
-/// `TraceUniforms::stepping.x` for [`crate::Stepping::BlockCells`].
+/// [`TracePipelineConstants::stepping`] for [`crate::Stepping::BlockCells`].
 pub const STEPPING_BLOCK_CELLS: u32 = 2;
 
 gpu_struct! {
-    /// The tracer's uniforms.
+    /// The tracer's uniforms: what may change without a new pipeline. The method, the
+    /// stepping and the tiling are pipeline constants ([`TracePipelineConstants`]).
     pub struct TraceUniforms {
         /// `(L_x, L_y, L_z, max_steps)`.
         pub dims_max_steps: UVec4,
-        /// `(azimuths, elevations, method, ray_count)`; `azimuths = 0` for the plain map.
-        pub cones_method: UVec4,
+        /// `(azimuths, elevations, 0, ray_count)`; `azimuths = 0` for the plain map.
+        pub cones_rays: UVec4,
         /// `(elevation_min, elevation_max, 0, 0)` of the cone band, radians.
         pub elevation_band: Vec4,
         /// Relief mapping: `(linear_steps, binary_steps, texels_per_voxel, 0)`.
         pub relief: UVec4,
-        /// `(stepping, periodic, 0, 0)`: the stepping ([`STEPPING_DISTANCE`],
-        /// [`STEPPING_VOXEL_EXIT`] or [`STEPPING_BLOCK_CELLS`]) and 1 for a tile repeating in x
-        /// and y, 0 for a single tile ([`crate::DistanceSource::periodic_xy`]).
-        pub stepping_tiling: UVec4,
     }
 }
 
@@ -72,7 +70,7 @@ gpu_struct! {
     }
 }
 
-/// The code of `method` in [`TraceUniforms::cones_method`]`.z`.
+/// The code of `method` in [`TracePipelineConstants::method`].
 const fn method_code(method: Method) -> u32 {
     match method {
         Method::SphereTracing => METHOD_SPHERE_TRACING,
@@ -80,7 +78,7 @@ const fn method_code(method: Method) -> u32 {
     }
 }
 
-/// The code of `stepping` in [`TraceUniforms::stepping`]`.x`.
+/// The code of `stepping` in [`TracePipelineConstants::stepping`].
 const fn stepping_code(stepping: Stepping) -> u32 {
     match stepping {
         Stepping::Distance => STEPPING_DISTANCE,
@@ -133,6 +131,9 @@ pub enum GpuSceneError {
     },
     /// Relief mapping was asked of a tile that does not repeat (its height map wraps).
     ReliefNeedsPeriodicTile,
+    /// An `f16` atlas was asked of a scene without an atlas ([`GpuScene::uncompressed`]
+    /// keeps every distance in its lookup grid).
+    NoAtlas,
     /// The patches were built for another grid than the maps'.
     PatchDims {
         /// The maps' grid size.
@@ -180,6 +181,9 @@ impl fmt::Display for GpuSceneError {
             Self::ReliefNeedsPeriodicTile => {
                 write!(f, "GPU scene: relief mapping needs a periodic tile (its height map wraps)")
             }
+            Self::NoAtlas => {
+                write!(f, "GPU scene: an f16 atlas needs compressed maps (uncompressed ones have no atlas)")
+            }
             Self::PatchDims { expected, found } => {
                 write!(f, "GPU scene: the patches' grid {found} differs from the maps' grid {expected}")
             }
@@ -206,17 +210,25 @@ impl fmt::Display for GpuSceneError {
 impl core::error::Error for GpuSceneError {}
 
 /// Everything the compute pass reads, as flat buffers (storage bindings 3–8 of
-/// `shaders/ddm_tracer.wgsl`).
+/// `shaders/ddm_tracer.wgsl`), and the constants its pipeline is specialised for.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GpuScene {
     /// The uniforms (binding 0), `ray_count` filled by [`GpuScene::uniforms`].
     pub uniforms: TraceUniforms,
+    /// The values of the WGSL twin's overridable constants for this scene: a pipeline that
+    /// traces it is created with [`TracePipelineConstants::constants`].
+    pub pipeline_constants: TracePipelineConstants,
     /// One entry per cone.
     pub cone_maps: Vec<TraceConeMap>,
     /// All lookup grids, one after the other.
     pub grid: Vec<u32>,
-    /// All atlases, one after the other.
-    pub atlas: Vec<f32>,
+    /// All atlases, one after the other, as [`pipeline_constants`](Self::pipeline_constants)`.atlas`
+    /// says: `f32` bits, or binary16 pairs. Map `k`'s values start at value (not word)
+    /// `cone_maps[k].grid_atlas_base.w`.
+    pub atlas: Vec<u32>,
+    /// How many values [`atlas`](Self::atlas) holds (0 without compressed maps; the buffer
+    /// then holds one placeholder word).
+    pub atlas_values: usize,
     /// `VoxelPatches::offsets` (one zero entry per voxel plus one when there are none).
     pub patch_offsets: Vec<u32>,
     /// The patches (one zero patch when there are none: WGSL arrays are never empty).
@@ -261,9 +273,14 @@ impl GpuScene {
                 grid_base: UVec4::new(u32::try_from(grid.len()).map_err(|_| overflow("grid"))?, 0, 0, 0),
             });
             grid.extend_from_slice(map.grid());
-            atlas.extend_from_slice(map.atlas());
+            atlas.extend(map.atlas().iter().map(|v| v.to_bits()));
         }
-        Self::with_maps(dims, maps.periodic_xy, selector, cone_maps, grid, atlas, patches, settings)
+        // Shifts where every map shares one power-of-two block side.
+        let block_shift = maps.maps.first().and_then(|m| m.block_shift());
+        let block_shift = block_shift.filter(|&shift| maps.maps.iter().all(|m| m.block_shift() == Some(shift)));
+        let mut scene = Self::with_maps(dims, maps.periodic_xy, selector, cone_maps, grid, atlas, patches, settings)?;
+        scene.pipeline_constants.block_shift = block_shift;
+        Ok(scene)
     }
 
     /// Packs uncompressed `maps` and `patches` for `settings`: per cone a lookup grid of one
@@ -308,7 +325,7 @@ impl GpuScene {
             // + 0.0 turns -0.0 into +0.0, whose sign bit (the surface flag) is clear.
             grid.extend(values.iter().map(|v| (v + 0.0).to_bits()));
         }
-        Self::with_maps(
+        let mut scene = Self::with_maps(
             dims,
             maps.periodic_xy,
             ConeSelector::new(maps.kind),
@@ -317,7 +334,10 @@ impl GpuScene {
             Vec::new(),
             patches,
             settings,
-        )
+        )?;
+        // Blocks of one voxel: the shift 0 indexes the grid by the voxel itself.
+        scene.pipeline_constants.block_shift = Some(0);
+        Ok(scene)
     }
 
     /// The scene of packed maps: the patches, the uniforms, the placeholders of empty buffers.
@@ -328,13 +348,14 @@ impl GpuScene {
         selector: ConeSelector,
         cone_maps: Vec<TraceConeMap>,
         grid: Vec<u32>,
-        mut atlas: Vec<f32>,
+        mut atlas: Vec<u32>,
         patches: Option<&VoxelPatches>,
         settings: TraceSettings,
     ) -> Result<Self, GpuSceneError> {
         let overflow = |buffer| GpuSceneError::BufferOverflow { buffer };
+        let atlas_values = atlas.len();
         if atlas.is_empty() {
-            atlas.push(0.0);
+            atlas.push(0);
         }
         let voxels = dims.x.checked_mul(dims.y).and_then(|n| n.checked_mul(dims.z)).ok_or(overflow("patch offsets"))?;
         if let Some(p) = patches
@@ -352,12 +373,49 @@ impl GpuScene {
         }
         let uniforms = TraceUniforms {
             dims_max_steps: dims.extend(settings.max_steps),
-            cones_method: UVec4::new(selector.azimuths, selector.elevations, method_code(settings.method), 0),
+            cones_rays: UVec4::new(selector.azimuths, selector.elevations, 0, 0),
             elevation_band: Vec4::new(selector.elevation_min, selector.elevation_max, 0.0, 0.0),
             relief: UVec4::ZERO,
-            stepping_tiling: UVec4::new(stepping_code(settings.stepping), u32::from(periodic), 0, 0),
         };
-        Ok(Self { uniforms, cone_maps, grid, atlas, patch_offsets, patches: patch_list, heights: alloc::vec![0.0] })
+        let pipeline_constants = TracePipelineConstants {
+            method: method_code(settings.method),
+            stepping: stepping_code(settings.stepping),
+            periodic,
+            block_shift: None,
+            atlas: AtlasStorage::F32,
+        };
+        Ok(Self {
+            uniforms,
+            pipeline_constants,
+            cone_maps,
+            grid,
+            atlas,
+            atlas_values,
+            patch_offsets,
+            patches: patch_list,
+            heights: alloc::vec![0.0],
+        })
+    }
+
+    /// The scene with its atlas stored as binary16 pairs, each value rounded down
+    /// ([`ddm_compress::pack_f16_pairs_at_most`]): half the atlas's bytes, still
+    /// conservative. The CPU reference of the result traces
+    /// [`CompressedMaps::with_f16_atlas`] (the same values, bit for bit). A scene already
+    /// in `f16` is returned unchanged.
+    ///
+    /// # Errors
+    ///
+    /// [`GpuSceneError::NoAtlas`] for a scene of uncompressed maps, which has no atlas.
+    pub fn with_f16_atlas(mut self) -> Result<Self, GpuSceneError> {
+        if self.atlas_values == 0 {
+            return Err(GpuSceneError::NoAtlas);
+        }
+        if self.pipeline_constants.atlas == AtlasStorage::F32 {
+            let values: Vec<f32> = self.atlas.iter().map(|&w| f32::from_bits(w)).collect();
+            self.atlas = ddm_compress::pack_f16_pairs_at_most(&values);
+            self.pipeline_constants.atlas = AtlasStorage::F16;
+        }
+        Ok(self)
     }
 
     /// The scene switched to relief mapping of `map` with `linear_steps` and `binary_steps`
@@ -371,7 +429,7 @@ impl GpuScene {
     /// non-zero number of texels per voxel with one height per texel;
     /// [`GpuSceneError::BufferOverflow`] when the texel count would overflow `u32`.
     pub fn with_relief(mut self, map: &HeightMap, linear_steps: u32, binary_steps: u32) -> Result<Self, GpuSceneError> {
-        if self.uniforms.stepping_tiling.y == 0 {
+        if !self.pipeline_constants.periodic {
             return Err(GpuSceneError::ReliefNeedsPeriodicTile);
         }
         let dims = self.uniforms.dims_max_steps.truncate();
@@ -390,7 +448,7 @@ impl GpuScene {
         if map.heights.len() != texels {
             return Err(GpuSceneError::ReliefHeights { expected: texels, found: map.heights.len() });
         }
-        self.uniforms.cones_method.z = METHOD_RELIEF;
+        self.pipeline_constants.method = METHOD_RELIEF;
         self.uniforms.relief = UVec4::new(linear_steps, binary_steps, s, 0);
         self.heights = map.heights.clone();
         Ok(self)
@@ -399,7 +457,7 @@ impl GpuScene {
     /// The uniforms for `ray_count` rays.
     pub fn uniforms(&self, ray_count: u32) -> TraceUniforms {
         let mut u = self.uniforms;
-        u.cones_method.w = ray_count;
+        u.cones_rays.w = ray_count;
         u
     }
 
@@ -451,7 +509,9 @@ mod tests {
     fn a_consistent_scene_packs_with_its_cones() {
         let scene = GpuScene::new(&maps(), None, SETTINGS).unwrap();
         assert_eq!(scene.cone_maps.len(), 2);
-        assert_eq!(scene.uniforms.cones_method.truncate(), UVec3::new(2, 1, METHOD_QUADRIC));
+        assert_eq!(scene.uniforms.cones_rays.truncate(), UVec3::new(2, 1, 0));
+        assert_eq!(scene.pipeline_constants.method, METHOD_QUADRIC);
+        assert_eq!(scene.pipeline_constants.block_shift, Some(1), "blocks of 2");
         assert_eq!(scene.patch_offsets.len(), 33);
     }
 
@@ -505,6 +565,7 @@ mod tests {
                 assert_eq!(f32::from_bits(scene.grid[32 * cone + voxel]), *v);
             }
         }
+        assert_eq!(scene.clone().with_f16_atlas(), Err(GpuSceneError::NoAtlas));
         maps.values[1][7] = f32::NAN;
         assert_eq!(
             GpuScene::uncompressed(&maps, None, SETTINGS),
@@ -523,12 +584,39 @@ mod tests {
     }
 
     #[test]
+    fn an_f16_atlas_holds_the_rounded_values_of_the_cpu_reference_in_half_the_words() {
+        let mut compressed = maps();
+        // Distances that binary16 cannot hold exactly.
+        for map in &mut compressed.maps {
+            let values: Vec<f32> = (0..32).map(|i| if i < 16 { 0.1 + 0.01 * i as f32 } else { 0.5 }).collect();
+            let surface: Vec<bool> = (0..32).map(|i| i < 16).collect();
+            *map = ddm_compress::CompressedMap::compress(&values, &surface, DIMS, 2).unwrap();
+        }
+        let scene = GpuScene::new(&compressed, None, SETTINGS).unwrap();
+        let half = scene.clone().with_f16_atlas().unwrap();
+        assert_eq!(half.pipeline_constants.atlas, AtlasStorage::F16);
+        assert_eq!((half.atlas_values, half.atlas.len()), (scene.atlas_values, scene.atlas.len().div_ceil(2)));
+        let reference = compressed.with_f16_atlas();
+        let values = reference.maps.iter().flat_map(|m| m.atlas().iter().copied());
+        let mut lowered = 0;
+        for (k, (value, original)) in values.zip(&scene.atlas).enumerate() {
+            let word = half.atlas[k / 2];
+            let bits = if k % 2 == 0 { word & 0xffff } else { word >> 16 } as u16;
+            assert_eq!(ddm_compress::f16_bits_to_f32(bits), value, "value {k}");
+            assert!(value <= f32::from_bits(*original));
+            lowered += usize::from(value < f32::from_bits(*original));
+        }
+        assert!(lowered > 0);
+        assert_eq!(half.clone().with_f16_atlas(), Ok(half), "already f16");
+    }
+
+    #[test]
     fn each_unusable_relief_map_has_its_error() {
         let scene = GpuScene::new(&maps(), None, SETTINGS).unwrap();
         let floor = mesostructure::plane(DIMS, 0.5);
         let map = HeightMap::from_mesh(&MeshRaycaster::new(&floor, Vec2::new(4.0, 4.0)), DIMS, 2).unwrap();
         let relief = scene.clone().with_relief(&map, 32, 8).unwrap();
-        assert_eq!((relief.uniforms.cones_method.z, relief.heights.len()), (METHOD_RELIEF, 64));
+        assert_eq!((relief.pipeline_constants.method, relief.heights.len()), (METHOD_RELIEF, 64));
         let zero = HeightMap { texels_per_voxel: 0, ..map.clone() };
         assert_eq!(scene.clone().with_relief(&zero, 32, 8), Err(GpuSceneError::ReliefTexelsPerVoxel));
         let coarse = HeightMap { texels_per_voxel: 1, ..map.clone() };

@@ -42,7 +42,11 @@
 //! - [`solid`]: the side of the tile's mesh at each grid corner and the mesh's crossing of
 //!   each grid edge, the shared decisions of the watertight patches.
 //! - [`ground_truth`]: exact ray–triangle intersection of the periodic mesh (BVH).
-//! - [`gpu_scene`]: the scene packed into the buffers of the WGSL twin.
+//! - [`gpu_scene`]: the scene packed into the buffers of the WGSL twin, with an `f32` or
+//!   (rounded down, still conservative) binary16 atlas.
+//! - [`pipeline_constants`]: what a pipeline tracing a scene is specialised for (the
+//!   method, the stepping, the tiling, the block shift, the atlas's storage), as the WGSL
+//!   twin's `override`s.
 //! - [`tangent_space`]: the per-pixel ray of a mesostructure mapped on a base mesh.
 //!
 //! # Using the WGSL twin
@@ -54,7 +58,11 @@
 //! [`tangent_space`]). It declares the scene's storage buffers at `@group(0)`, bindings
 //! 3–8; [`GpuScene`] packs maps, patches and a relief height map into exactly those
 //! buffers ([`GpuScene::storage_bytes`], in binding order) and the uniforms
-//! ([`GpuScene::uniforms`]). It calls `quadric-fit`'s and `ddm-compress`'s twins, which
+//! ([`GpuScene::uniforms`]); a pipeline that traces the scene sets the twin's overridable
+//! constants to [`GpuScene::pipeline_constants`] (`wgpu::PipelineCompilationOptions::constants`
+//! takes [`TracePipelineConstants::constants`]; unset, they default to quadric patches,
+//! distance stepping, a periodic tile, divisions and an `f32` atlas). It calls
+//! `quadric-fit`'s and `ddm-compress`'s twins, which
 //! [`WGSL`]'s `dependencies` lists and `write_source` writes first:
 //!
 //! ```
@@ -99,6 +107,7 @@ pub mod ground_truth;
 pub mod maps;
 pub mod patch;
 pub mod patches;
+pub mod pipeline_constants;
 pub mod relief;
 pub mod solid;
 pub mod tangent_space;
@@ -112,6 +121,7 @@ pub use ground_truth::{MeshCrossing, MeshHit, MeshRaycaster};
 pub use maps::{CompressMapsError, CompressedMaps, ConeDistances, ConeSelector, DistanceSource, RawConeMap};
 pub use patch::TracePatch;
 pub use patches::{MAX_PATCH_VOXELS, PatchError, PatchSettings, PatchSurface, VoxelPatches};
+pub use pipeline_constants::{AtlasStorage, TracePipelineConstants};
 pub use relief::{HeightMap, HeightMapError, relief_trace};
 pub use trace::{Method, NO_LIMIT, Stepping, TraceHit, TraceOutcome, TraceSettings, trace, trace_within};
 #[cfg(feature = "wgsl")]

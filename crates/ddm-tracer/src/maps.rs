@@ -233,6 +233,14 @@ impl CompressedMaps {
         Ok(Self { dims: maps.dims, kind: maps.kind, maps: compressed, periodic_xy: maps.periodic_xy })
     }
 
+    /// These maps with every atlas value rounded down to binary16
+    /// ([`CompressedMap::with_f16_atlas`]): the CPU reference of a
+    /// [`GpuScene::with_f16_atlas`](crate::GpuScene::with_f16_atlas), still conservative.
+    pub fn with_f16_atlas(&self) -> Self {
+        let maps = self.maps.iter().map(CompressedMap::with_f16_atlas).collect();
+        Self { dims: self.dims, kind: self.kind, maps, periodic_xy: self.periodic_xy }
+    }
+
     /// Bytes of the uncompressed maps over bytes of the lookup grids plus atlases.
     pub fn compression_efficiency(&self) -> f64 {
         let stored: usize = self.maps.iter().map(|m| m.grid().len() + m.atlas().len()).sum();

@@ -1,7 +1,8 @@
 //! The crate's WGSL twin (feature `wgsl`): the generated declarations of the structs and
 //! constants below, and the functions of `wgsl/ddm_tracer.wgsl` (the tracer) and
 //! `wgsl/tangent_space.wgsl` (a base mesh's pixel in tangent space), each the twin of the
-//! Rust function named in its comment. Composed after `quadric-fit`'s and
+//! Rust function named in its comment. The scene's fixed settings are `override`s
+//! ([`crate::pipeline_constants`]). Composed after `quadric-fit`'s and
 //! `ddm-compress`'s twins, which it calls.
 
 use gpu_layout::{StructDecl, WgslModule, gpu_const};
@@ -11,6 +12,9 @@ use crate::gpu_scene::{
     TraceConeMap, TraceResult, TraceUniforms,
 };
 use crate::patch::{BOUNDED_PATCH, POLYGON_TOLERANCE, TracePatch};
+use crate::pipeline_constants::{
+    BLOCK_DIVISIONS, TRACE_ATLAS_F16, TRACE_BLOCK_SHIFT, TRACE_METHOD, TRACE_PERIODIC, TRACE_STEPPING,
+};
 use crate::tangent_space::{
     BaseGBufferTexel, BaseRenderParams, BaseRenderPixel, NO_EXIT, PIXEL_HIT, PIXEL_LEFT_SHELL, PIXEL_MISS,
     PIXEL_UNCOVERED,
@@ -54,6 +58,12 @@ pub const WGSL: WgslModule = WgslModule {
         gpu_const!(STEPPING_VOXEL_EXIT: u32 as "TRACE_STEPPING_VOXEL_EXIT"),
         gpu_const!(STEPPING_BLOCK_CELLS: u32 as "TRACE_STEPPING_BLOCK_CELLS"),
         gpu_const!("TRACE_TAU": f32 = core::f32::consts::TAU),
+        gpu_const!(BLOCK_DIVISIONS: u32 as "TRACE_BLOCK_DIVISIONS"),
+        TRACE_METHOD,
+        TRACE_STEPPING,
+        TRACE_PERIODIC,
+        TRACE_BLOCK_SHIFT,
+        TRACE_ATLAS_F16,
         gpu_const!(PIXEL_UNCOVERED: f32 as "RENDER_PIXEL_UNCOVERED"),
         gpu_const!(PIXEL_MISS: f32 as "RENDER_PIXEL_MISS"),
         gpu_const!(PIXEL_HIT: f32 as "RENDER_PIXEL_HIT"),

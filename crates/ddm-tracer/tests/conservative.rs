@@ -143,6 +143,8 @@ fn sphere_tracing_never_steps_past_the_first_true_hit() {
         let s = scene(which);
         let compressed = CompressedMaps::compress(&s.ddm, 4).unwrap();
         let voxel_cells = VoxelCells(&compressed);
+        // The atlas in binary16, rounded down: smaller distances, still bounds.
+        let half = compressed.with_f16_atlas();
         // Two elevation bands: bounded through cut convex cones (`ddm-compress`'s
         // `convex_cone`).
         let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
@@ -168,6 +170,8 @@ fn sphere_tracing_never_steps_past_the_first_true_hit() {
                 trace(&compressed, None, origin, direction, sphere),
                 trace(&compressed, None, origin, direction, blocks),
                 trace(&banded, None, origin, direction, sphere),
+                trace(&half, None, origin, direction, sphere),
+                trace(&half, None, origin, direction, blocks),
             ];
             banded_steps += u64::from(runs[8].steps);
             // On raw maps block cells are the paper's rule, step for step.
@@ -200,7 +204,7 @@ fn sphere_tracing_never_steps_past_the_first_true_hit() {
             true_hits += usize::from(truth.is_some());
         }
         println!(
-            "{}: {true_hits} of {RAYS} rays hit the mesh (each compared in 9 traces), worst overshoot {worst_slack_used:.3} of the rounding slack",
+            "{}: {true_hits} of {RAYS} rays hit the mesh (each compared in 11 traces), worst overshoot {worst_slack_used:.3} of the rounding slack",
             which.name()
         );
         // Rays that miss the mesh are only checked for not exhausting their steps. Every

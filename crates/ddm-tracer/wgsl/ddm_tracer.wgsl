@@ -5,19 +5,22 @@
 // named in its comment; tests/ddm_tracer_gpu.rs proves them equal.
 //
 // The scene lives in read-only storage buffers at bindings 3-8 (ddm_tracer::GpuScene);
-// a kernel declares the uniforms (binding 0) and its own input and output.
+// a kernel declares the uniforms (binding 0) and its own input and output. What stays fixed
+// for a scene is a pipeline-overridable constant (TRACE_METHOD, TRACE_STEPPING,
+// TRACE_PERIODIC, TRACE_BLOCK_SHIFT, TRACE_ATLAS_F16: GpuScene::pipeline_constants), so that
+// each pipeline is compiled without the branches of the other settings.
 
 @group(0) @binding(3) var<storage, read> trace_cone_maps: array<TraceConeMap>;
 @group(0) @binding(4) var<storage, read> trace_grid: array<u32>;
-@group(0) @binding(5) var<storage, read> trace_atlas: array<f32>;
+@group(0) @binding(5) var<storage, read> trace_atlas: array<u32>;
 @group(0) @binding(6) var<storage, read> trace_patch_offsets: array<u32>;
 @group(0) @binding(7) var<storage, read> trace_patches: array<TracePatch>;
 @group(0) @binding(8) var<storage, read> trace_heights: array<f32>;
 
 // Rust: ddm_tracer::maps::ConeSelector::select. Returns -1 outside the band (Rust: None).
 fn trace_select_cone(u: TraceUniforms, direction: vec3<f32>) -> i32 {
-    let azimuths = u.cones_method.x;
-    let elevations = u.cones_method.y;
+    let azimuths = u.cones_rays.x;
+    let elevations = u.cones_rays.y;
     if azimuths == 0u {
         return 0;
     }
@@ -157,21 +160,46 @@ struct TraceCell {
     distance: f32,
 }
 
+// Rust: the atlas value `index` of GpuScene::atlas, stored as TRACE_ATLAS_F16 says
+// (binary16 pairs: CompressedMaps::with_f16_atlas's values; else f32 bits).
+fn trace_atlas_value(index: u32) -> f32 {
+    if TRACE_ATLAS_F16 != 0u {
+        return ddm_f16_pair_value(trace_atlas[index >> 1u], index);
+    }
+    return bitcast<f32>(trace_atlas[index]);
+}
+
 // Rust: CompressedMap::access_cell, through <CompressedMaps as DistanceSource> (the
 // distance is CompressedMap::access's: Algorithm A.2; with the cell: the voxel in a surface
-// block, the block clipped to the map elsewhere; 0 and the voxel outside the map).
+// block, the block clipped to the map elsewhere; 0 and the voxel outside the map). With
+// TRACE_BLOCK_SHIFT, shifts instead of divisions (the Rust's power-of-two path).
 fn trace_map_cell(cone: u32, voxel: vec3<u32>) -> TraceCell {
     let entry_map = trace_cone_maps[cone];
     let map = CompressedMapUniforms(entry_map.dims_block, entry_map.grid_atlas_base);
     if !ddm_voxel_in_map(voxel, map) {
         return TraceCell(voxel, vec3<u32>(1u), 0.0);
     }
-    let entry = trace_grid[entry_map.grid_base.x + ddm_grid_index(voxel, map)];
+    let shifted = TRACE_BLOCK_SHIFT != TRACE_BLOCK_DIVISIONS;
+    // Masked so that the unused branch of the divisions' setting shifts by less than 32
+    // bits (a constant shift of 32 or more is invalid WGSL).
+    let shift = TRACE_BLOCK_SHIFT & 31u;
+    var grid_index = ddm_grid_index(voxel, map);
+    if shifted {
+        grid_index = ddm_grid_index_shifted(voxel, map, shift);
+    }
+    let entry = trace_grid[entry_map.grid_base.x + grid_index];
     if ddm_entry_is_surface(entry) {
-        return TraceCell(voxel, vec3<u32>(1u), trace_atlas[map.grid_atlas_base.w + ddm_atlas_index(entry, voxel, map.dims_block.w)]);
+        var atlas_index = ddm_atlas_index(entry, voxel, map.dims_block.w);
+        if shifted {
+            atlas_index = ddm_atlas_index_shifted(entry, voxel, shift);
+        }
+        return TraceCell(voxel, vec3<u32>(1u), trace_atlas_value(map.grid_atlas_base.w + atlas_index));
     }
     let block = map.dims_block.w;
-    let origin = voxel / block * block;
+    var origin = voxel / block * block;
+    if shifted {
+        origin = (voxel >> vec3<u32>(shift)) << vec3<u32>(shift);
+    }
     return TraceCell(origin, min(vec3<u32>(block), map.dims_block.xyz - origin), ddm_entry_distance(entry));
 }
 
@@ -287,14 +315,14 @@ fn relief_trace_ray(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>) -
 
 // Rust: ddm_tracer::trace::trace (Algorithm 3.1 with 3.2 and 3.3), reading the compressed
 // maps and patches of the storage buffers. The caller guarantees finite input.
-// With TRACE_METHOD_RELIEF it runs relief_trace_ray instead.
+// With TRACE_METHOD == TRACE_METHOD_RELIEF it runs relief_trace_ray instead.
 fn trace_ray(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>) -> TraceResult {
     return trace_ray_within(u, origin, direction, TRACE_NO_LIMIT);
 }
 
 // Rust: ddm_tracer::trace_within (relief scenes run relief mapping, without the limit).
 fn trace_ray_within(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>, max_t: f32) -> TraceResult {
-    if u.cones_method.z == TRACE_METHOD_RELIEF {
+    if TRACE_METHOD == TRACE_METHOD_RELIEF {
         return relief_trace_ray(u, origin, direction);
     }
     let dims = u.dims_max_steps.xyz;
@@ -311,7 +339,7 @@ fn trace_ray_within(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>, m
     }
     let cone = u32(selected);
     let size = vec3<f32>(dims);
-    let periodic = u.stepping_tiling.y != 0u;
+    let periodic = TRACE_PERIODIC != 0u;
     var t_enter = trace_slab_entry(origin, d, size.z);
     var step_cap = min(size.x, size.y);
     if !periodic {
@@ -340,7 +368,7 @@ fn trace_ray_within(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>, m
         if value > 0.0 {
             var inside = 0.0;
             let block = any(cell.size != vec3<u32>(1u));
-            if u.stepping_tiling.x == TRACE_STEPPING_VOXEL_EXIT || (u.stepping_tiling.x == TRACE_STEPPING_BLOCK_CELLS && block) {
+            if TRACE_STEPPING == TRACE_STEPPING_VOXEL_EXIT || (TRACE_STEPPING == TRACE_STEPPING_BLOCK_CELLS && block) {
                 // To the exit wall of the cell (the voxel, or a block without surface).
                 let corner = vec3<f32>(v) - vec3<f32>(wrapped - cell.origin);
                 inside = trace_cell_exit(p - corner, d, vec3<f32>(cell.size));
@@ -350,7 +378,7 @@ fn trace_ray_within(u: TraceUniforms, origin: vec3<f32>, direction: vec3<f32>, m
         }
         let corner = vec3<f32>(v);
         let voxel_index = wrapped.x + dims.x * (wrapped.y + dims.y * wrapped.z);
-        if u.cones_method.z == TRACE_METHOD_SPHERE_TRACING {
+        if TRACE_METHOD == TRACE_METHOD_SPHERE_TRACING {
             let normal = trace_entry_wall_normal(p - corner, d);
             return TraceResult(vec4<f32>(p, t_enter + t), vec4<f32>(normal, 1.0), vec4<u32>(steps, cone, 0u, voxel_index));
         }

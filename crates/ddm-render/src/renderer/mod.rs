@@ -19,10 +19,15 @@
 //!
 //! | object | built | holds |
 //! |---|---|---|
-//! | [`DdmRenderPipelines`] | once per device | the raster and compute pipelines, their bind group layouts |
+//! | [`DdmRenderPipelines`] | once per device | the raster pipelines, the per-pixel shader module, the bind group layouts; the per-pixel pipelines of each [`TracePipelineConstants`] met, created by the first [`DdmRenderer`] that needs them and shared after |
 //! | [`GBufferPass`] | once per base mesh and size | the mesh's vertex and index buffers, the G-buffer textures, the camera uniform |
-//! | [`GpuSceneBuffers`] | once per tracer scene | the [`GpuScene`]'s uniforms and six storage buffers |
-//! | [`DdmRenderer`] | once per (G-buffer, scene) | the render-parameter uniform, the compute bind group |
+//! | [`GpuSceneBuffers`] | once per tracer scene | the [`GpuScene`]'s uniforms and six storage buffers, its pipeline constants |
+//! | [`DdmRenderer`] | once per (G-buffer, scene) | the render-parameter uniform, the compute bind group, its scene's per-pixel pipelines |
+//!
+//! What stays fixed for a scene (the method, the stepping, the tiling, the maps' block
+//! shift, the atlas's storage) is a pipeline-overridable constant of the tracer's WGSL
+//! ([`ddm_tracer::pipeline_constants`]): each scene's pipelines are compiled for its
+//! setting, without the branches of the others.
 //! | [`DdmTarget`] | once per output | the target's bind group: a [`BaseRenderPixel`] buffer or an [`COLOR_TARGET_FORMAT`] texture |
 //!
 //! Every frame, [`DdmRenderer::encode`] writes two small uniforms with
@@ -50,8 +55,11 @@
 //!   [`DdmTarget::encode_clear`] clears it for a frame; a texel whose base surface lies
 //!   behind what the target holds is skipped before its ray is traced.
 
-use ddm_tracer::GpuScene;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, PoisonError};
+
 use ddm_tracer::tangent_space::{BaseRenderParams, BaseRenderPixel};
+use ddm_tracer::{GpuScene, TracePipelineConstants};
 use glam::{Vec3, Vec4};
 use gpu_harness::error_scoped;
 use wgpu::util::DeviceExt;
@@ -84,6 +92,8 @@ const PIXELS_BINDING: u32 = 0;
 const COLOR_BINDING: u32 = 1;
 /// Binding of the depth texture in group 1.
 const DEPTH_BINDING: u32 = 2;
+/// The per-pixel pass's entry points, one per target kind: pixels, colour, colour and depth.
+const PIXEL_ENTRY_POINTS: [&str; 3] = ["render_pixels", "render_color", "render_color_depth"];
 
 fn compute_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None }
@@ -93,9 +103,20 @@ fn buffer_type(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
     wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None }
 }
 
+/// The per-pixel pass's three pipelines (one per target kind) for one setting of the
+/// tracer's pipeline constants.
+#[derive(Debug)]
+struct PixelPipelines {
+    pixels: wgpu::ComputePipeline,
+    color: wgpu::ComputePipeline,
+    color_depth: wgpu::ComputePipeline,
+}
+
 /// The compiled pipelines of both passes and their bind group layouts, created once per
-/// device and shared by every [`GBufferPass`] and [`DdmRenderer`] built from them. Cloning
-/// is cheap and shares the GPU objects.
+/// device and shared by every [`GBufferPass`] and [`DdmRenderer`] built from them: the
+/// raster pipelines at once, the per-pixel ones for each setting of the tracer's pipeline
+/// constants when a [`DdmRenderer`] first needs it. Cloning is cheap and shares the GPU
+/// objects (and the per-pixel pipelines compiled so far).
 #[derive(Clone, Debug)]
 pub struct DdmRenderPipelines {
     gbuffer: GBufferPipeline,
@@ -103,13 +124,15 @@ pub struct DdmRenderPipelines {
     pixels_layout: wgpu::BindGroupLayout,
     color_layout: wgpu::BindGroupLayout,
     color_depth_layout: wgpu::BindGroupLayout,
-    pixels: wgpu::ComputePipeline,
-    color: wgpu::ComputePipeline,
-    color_depth: wgpu::ComputePipeline,
+    module: wgpu::ShaderModule,
+    layouts: [wgpu::PipelineLayout; 3],
+    specialized: Arc<Mutex<HashMap<TracePipelineConstants, Arc<PixelPipelines>>>>,
 }
 
 impl DdmRenderPipelines {
-    /// Validates both composed shaders with naga and builds the pipelines. Errors name the
+    /// Validates both composed shaders with naga and builds the raster pipelines and the
+    /// per-pixel pass's module and layouts (its pipelines come with the first
+    /// [`DdmRenderer`] of each setting). Errors name the
     /// device limit the passes exceed (bind groups, bindings per group, storage buffers,
     /// sampled and storage textures, uniform buffers per stage, workgroup size) or the
     /// shader problem.
@@ -219,26 +242,64 @@ impl DdmRenderPipelines {
                     storage_texture(DEPTH_BINDING, wgpu::StorageTextureAccess::ReadWrite, DEPTH_TARGET_FORMAT),
                 ],
             });
-            let pipeline = |entry: &str, target_layout: &wgpu::BindGroupLayout| {
-                let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            let layout = |entry: &str, target_layout: &wgpu::BindGroupLayout| {
+                device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                     label: Some(entry),
                     bind_group_layouts: &[Some(&scene_layout), Some(target_layout)],
                     immediate_size: 0,
-                });
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: Some(&layout),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: None,
                 })
             };
-            let pixels = pipeline("render_pixels", &pixels_layout);
-            let color = pipeline("render_color", &color_layout);
-            let color_depth = pipeline("render_color_depth", &color_depth_layout);
-            Self { gbuffer, scene_layout, pixels_layout, color_layout, color_depth_layout, pixels, color, color_depth }
+            let layouts = [
+                layout(PIXEL_ENTRY_POINTS[0], &pixels_layout),
+                layout(PIXEL_ENTRY_POINTS[1], &color_layout),
+                layout(PIXEL_ENTRY_POINTS[2], &color_depth_layout),
+            ];
+            Self {
+                gbuffer,
+                scene_layout,
+                pixels_layout,
+                color_layout,
+                color_depth_layout,
+                module,
+                layouts,
+                specialized: Arc::default(),
+            }
         })?)
+    }
+
+    /// The per-pixel pipelines for `constants`: compiled on the first call for them (with
+    /// `constants` as the pipelines' overridable constants), then shared.
+    fn pixel_pipelines(
+        &self,
+        device: &wgpu::Device,
+        constants: TracePipelineConstants,
+    ) -> Result<Arc<PixelPipelines>, DdmRenderError> {
+        // Held while compiling: another renderer of the same setting waits for this one.
+        let mut specialized = self.specialized.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(pipelines) = specialized.get(&constants) {
+            return Ok(Arc::clone(pipelines));
+        }
+        let values = constants.constants();
+        let pipelines = error_scoped(device, || {
+            let [pixels, color, color_depth] = std::array::from_fn(|k| {
+                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(PIXEL_ENTRY_POINTS[k]),
+                    layout: Some(&self.layouts[k]),
+                    module: &self.module,
+                    entry_point: Some(PIXEL_ENTRY_POINTS[k]),
+                    compilation_options: wgpu::PipelineCompilationOptions { constants: &values, ..Default::default() },
+                    cache: None,
+                })
+            });
+            Arc::new(PixelPipelines { pixels, color, color_depth })
+        })?;
+        specialized.insert(constants, Arc::clone(&pipelines));
+        Ok(pipelines)
+    }
+
+    /// How many settings of the tracer's pipeline constants have per-pixel pipelines.
+    pub fn specialized_count(&self) -> usize {
+        self.specialized.lock().unwrap_or_else(PoisonError::into_inner).len()
     }
 
     /// The raster pipeline, for [`GBufferPass::new`].
@@ -254,6 +315,7 @@ impl DdmRenderPipelines {
 pub struct GpuSceneBuffers {
     uniforms: wgpu::Buffer,
     storage: [wgpu::Buffer; SCENE_BUFFERS],
+    constants: TracePipelineConstants,
 }
 
 impl GpuSceneBuffers {
@@ -291,8 +353,13 @@ impl GpuSceneBuffers {
                     usage: wgpu::BufferUsages::STORAGE,
                 })
             });
-            Self { uniforms, storage }
+            Self { uniforms, storage, constants: scene.pipeline_constants }
         })?)
+    }
+
+    /// The pipeline constants of the scene (its renderers' pipelines are specialised for them).
+    pub fn pipeline_constants(&self) -> TracePipelineConstants {
+        self.constants
     }
 }
 
@@ -458,6 +525,7 @@ impl DdmTarget {
 #[derive(Clone, Debug)]
 pub struct DdmRenderer {
     pipelines: DdmRenderPipelines,
+    pixel_pipelines: Arc<PixelPipelines>,
     gbuffer: GBufferPass,
     params: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
@@ -466,8 +534,9 @@ pub struct DdmRenderer {
 
 impl DdmRenderer {
     /// The renderer of `scene` on `gbuffer`'s base mesh and size, with `pipelines` (the
-    /// ones `gbuffer` was built with). Errors name the device limit the size exceeds
-    /// (workgroups per dimension).
+    /// ones `gbuffer` was built with), compiling the per-pixel pipelines of the scene's
+    /// pipeline constants if no renderer has yet. Errors name the device limit the size
+    /// exceeds (workgroups per dimension) or the compilation's error.
     pub fn new(
         device: &wgpu::Device,
         pipelines: &DdmRenderPipelines,
@@ -481,6 +550,7 @@ impl DdmRenderer {
             workgroups.0.max(workgroups.1).into(),
             limits.max_compute_workgroups_per_dimension.into(),
         )?;
+        let pixel_pipelines = pipelines.pixel_pipelines(device, scene.constants)?;
         Ok(error_scoped(device, || {
             let params = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("ddm-render parameters"),
@@ -509,7 +579,14 @@ impl DdmRenderer {
                 layout: &pipelines.scene_layout,
                 entries: &entries,
             });
-            Self { pipelines: pipelines.clone(), gbuffer: gbuffer.clone(), params, bind_group, workgroups }
+            Self {
+                pipelines: pipelines.clone(),
+                pixel_pipelines,
+                gbuffer: gbuffer.clone(),
+                params,
+                bind_group,
+                workgroups,
+            }
         })?)
     }
 
@@ -712,9 +789,9 @@ impl DdmRenderer {
         self.gbuffer.encode(queue, encoder, frame.camera, frame.raster_timestamps)?;
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let pipeline = match target.kind {
-            TargetKind::Pixels => &self.pipelines.pixels,
-            TargetKind::Color => &self.pipelines.color,
-            TargetKind::ColorDepth => &self.pipelines.color_depth,
+            TargetKind::Pixels => &self.pixel_pipelines.pixels,
+            TargetKind::Color => &self.pixel_pipelines.color,
+            TargetKind::ColorDepth => &self.pixel_pipelines.color_depth,
         };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("ddm-render per-pixel trace"),

@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::base_mesh::plane_base_mesh;
-use ddm_tracer::{TraceConeMap, TracePatch, TraceUniforms};
+use ddm_tracer::{TraceConeMap, TracePatch, TracePipelineConstants, TraceUniforms};
 use glam::{UVec2, UVec3};
 
 /// A device on wgpu's noop backend with `limits`: wgpu validates every object and
@@ -34,9 +34,11 @@ fn scene() -> GpuScene {
     use bytemuck::Zeroable;
     GpuScene {
         uniforms: TraceUniforms::zeroed(),
+        pipeline_constants: TracePipelineConstants::default(),
         cone_maps: vec![TraceConeMap::zeroed()],
         grid: vec![0],
-        atlas: vec![0.0],
+        atlas: vec![0],
+        atlas_values: 0,
         patch_offsets: vec![0, 0],
         patches: vec![TracePatch::zeroed()],
         heights: vec![0.0],

@@ -23,6 +23,18 @@ const TRACE_STEPPING_BLOCK_CELLS: u32 = 2u;
 
 const TRACE_TAU: f32 = 0x1.921fb6p+2f; // 6.2831855e0
 
+const TRACE_BLOCK_DIVISIONS: u32 = 4294967295u;
+
+override TRACE_METHOD: u32 = 1u;
+
+override TRACE_STEPPING: u32 = 0u;
+
+override TRACE_PERIODIC: u32 = 1u;
+
+override TRACE_BLOCK_SHIFT: u32 = 4294967295u;
+
+override TRACE_ATLAS_F16: u32 = 0u;
+
 const RENDER_PIXEL_UNCOVERED: f32 = 0.0f; // 0e0
 
 const RENDER_PIXEL_MISS: f32 = 0x1.000000p+0f; // 1e0
@@ -42,13 +54,12 @@ struct TracePatch {
     corners: array<vec4<f32>, 4>, // offset 64
 }
 
-// Rust size 80 bytes.
+// Rust size 64 bytes.
 struct TraceUniforms {
     dims_max_steps: vec4<u32>, // offset 0
-    cones_method: vec4<u32>, // offset 16
+    cones_rays: vec4<u32>, // offset 16
     elevation_band: vec4<f32>, // offset 32
     relief: vec4<u32>, // offset 48
-    stepping_tiling: vec4<u32>, // offset 64
 }
 
 // Rust size 48 bytes.

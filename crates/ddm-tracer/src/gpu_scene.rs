@@ -14,22 +14,9 @@ use ddm_compress::DistanceMaps;
 use crate::maps::{CompressedMaps, ConeSelector};
 use crate::patch::TracePatch;
 use crate::patches::VoxelPatches;
-use crate::pipeline_constants::{AtlasStorage, TracePipelineConstants};
+use crate::pipeline_constants::{AtlasStorage, METHOD_RELIEF, TracePipelineConstants, method_code, stepping_code};
 use crate::relief::HeightMap;
-use crate::trace::{Method, Stepping, TraceSettings};
-
-/// [`TracePipelineConstants::method`] for [`crate::Method::SphereTracing`].
-pub const METHOD_SPHERE_TRACING: u32 = 0;
-/// [`TracePipelineConstants::method`] for [`crate::Method::Quadric`].
-pub const METHOD_QUADRIC: u32 = 1;
-/// [`TracePipelineConstants::method`] for relief mapping ([`crate::relief_trace`]).
-pub const METHOD_RELIEF: u32 = 2;
-/// [`TracePipelineConstants::stepping`] for [`crate::Stepping::Distance`].
-pub const STEPPING_DISTANCE: u32 = 0;
-/// [`TracePipelineConstants::stepping`] for [`crate::Stepping::VoxelExit`].
-pub const STEPPING_VOXEL_EXIT: u32 = 1;
-/// [`TracePipelineConstants::stepping`] for [`crate::Stepping::BlockCells`].
-pub const STEPPING_BLOCK_CELLS: u32 = 2;
+use crate::trace::TraceSettings;
 
 gpu_struct! {
     /// The tracer's uniforms: what may change without a new pipeline. The method, the
@@ -67,23 +54,6 @@ gpu_struct! {
         pub normal_hit: Vec4,
         /// `(steps, cone, exhausted, voxel index)`.
         pub counts: UVec4,
-    }
-}
-
-/// The code of `method` in [`TracePipelineConstants::method`].
-const fn method_code(method: Method) -> u32 {
-    match method {
-        Method::SphereTracing => METHOD_SPHERE_TRACING,
-        Method::Quadric => METHOD_QUADRIC,
-    }
-}
-
-/// The code of `stepping` in [`TracePipelineConstants::stepping`].
-const fn stepping_code(stepping: Stepping) -> u32 {
-    match stepping {
-        Stepping::Distance => STEPPING_DISTANCE,
-        Stepping::VoxelExit => STEPPING_VOXEL_EXIT,
-        Stepping::BlockCells => STEPPING_BLOCK_CELLS,
     }
 }
 
@@ -484,6 +454,8 @@ mod tests {
     use super::*;
     use crate::ground_truth::MeshRaycaster;
     use crate::patches::PatchSettings;
+    use crate::pipeline_constants::METHOD_QUADRIC;
+    use crate::trace::{Method, Stepping};
 
     const DIMS: UVec3 = UVec3::new(4, 4, 2);
     const SETTINGS: TraceSettings =

@@ -10,7 +10,37 @@
 
 use gpu_layout::{GpuConst, gpu_override};
 
-use crate::gpu_scene::{METHOD_QUADRIC, STEPPING_DISTANCE};
+use crate::trace::{Method, Stepping};
+
+/// [`TracePipelineConstants::method`] for [`crate::Method::SphereTracing`].
+pub const METHOD_SPHERE_TRACING: u32 = 0;
+/// [`TracePipelineConstants::method`] for [`crate::Method::Quadric`].
+pub const METHOD_QUADRIC: u32 = 1;
+/// [`TracePipelineConstants::method`] for relief mapping ([`crate::relief_trace`]).
+pub const METHOD_RELIEF: u32 = 2;
+/// [`TracePipelineConstants::stepping`] for [`crate::Stepping::Distance`].
+pub const STEPPING_DISTANCE: u32 = 0;
+/// [`TracePipelineConstants::stepping`] for [`crate::Stepping::VoxelExit`].
+pub const STEPPING_VOXEL_EXIT: u32 = 1;
+/// [`TracePipelineConstants::stepping`] for [`crate::Stepping::BlockCells`].
+pub const STEPPING_BLOCK_CELLS: u32 = 2;
+
+/// The code of `method` in [`TracePipelineConstants::method`].
+pub(crate) const fn method_code(method: Method) -> u32 {
+    match method {
+        Method::SphereTracing => METHOD_SPHERE_TRACING,
+        Method::Quadric => METHOD_QUADRIC,
+    }
+}
+
+/// The code of `stepping` in [`TracePipelineConstants::stepping`].
+pub(crate) const fn stepping_code(stepping: Stepping) -> u32 {
+    match stepping {
+        Stepping::Distance => STEPPING_DISTANCE,
+        Stepping::VoxelExit => STEPPING_VOXEL_EXIT,
+        Stepping::BlockCells => STEPPING_BLOCK_CELLS,
+    }
+}
 
 /// [`TracePipelineConstants::block_shift`] as the WGSL override holds `None`: index the
 /// maps with divisions.

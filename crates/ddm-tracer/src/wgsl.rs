@@ -7,13 +7,11 @@
 
 use gpu_layout::{StructDecl, WgslModule, gpu_const};
 
-use crate::gpu_scene::{
-    METHOD_QUADRIC, METHOD_RELIEF, METHOD_SPHERE_TRACING, STEPPING_BLOCK_CELLS, STEPPING_DISTANCE, STEPPING_VOXEL_EXIT,
-    TraceConeMap, TraceResult, TraceUniforms,
-};
+use crate::gpu_scene::{TraceConeMap, TraceResult, TraceUniforms};
 use crate::patch::{BOUNDED_PATCH, POLYGON_TOLERANCE, TracePatch};
 use crate::pipeline_constants::{
-    BLOCK_DIVISIONS, TRACE_ATLAS_F16, TRACE_BLOCK_SHIFT, TRACE_METHOD, TRACE_PERIODIC, TRACE_STEPPING,
+    BLOCK_DIVISIONS, METHOD_QUADRIC, METHOD_RELIEF, METHOD_SPHERE_TRACING, STEPPING_BLOCK_CELLS, STEPPING_DISTANCE,
+    STEPPING_VOXEL_EXIT, TRACE_ATLAS_F16, TRACE_BLOCK_SHIFT, TRACE_METHOD, TRACE_PERIODIC, TRACE_STEPPING,
 };
 use crate::tangent_space::{
     BaseGBufferTexel, BaseRenderParams, BaseRenderPixel, NO_EXIT, PIXEL_HIT, PIXEL_LEFT_SHELL, PIXEL_MISS,

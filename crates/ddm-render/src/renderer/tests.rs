@@ -1,7 +1,11 @@
 //! Unit tests of the renderer on wgpu's noop backend (no adapter needed).
 
+use ddm_tracer::GpuScene;
+use glam::{Vec3, Vec4};
+
 use super::*;
 use crate::base_mesh::plane_base_mesh;
+use crate::camera::Camera;
 use ddm_tracer::{TraceConeMap, TracePatch, TracePipelineConstants, TraceUniforms};
 use glam::{UVec2, UVec3};
 

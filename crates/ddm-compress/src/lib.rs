@@ -136,7 +136,7 @@ pub use cones::{Cone, ConeError, ConeRelation, DirectionCones, DirectionRange, E
 pub use ddm::{
     DistanceMapError, DistanceMapSettings, DistanceMaps, MAX_VALUES, MAX_VOXELS, MapKind, compute_distance_maps,
 };
-pub use f16_storage::{f16_bits_at_most, f16_bits_to_f32, pack_f16_pairs_at_most};
+pub use f16_storage::pack_f16_pairs_at_most;
 pub use geometry::{Aabb, Triangle, box_triangle_distance};
 pub use serialize::DecodeError;
 #[cfg(feature = "wgsl")]

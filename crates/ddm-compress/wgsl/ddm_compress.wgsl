@@ -40,10 +40,10 @@ fn ddm_entry_distance(entry: u32) -> f32 {
     return bitcast<f32>(entry);
 }
 
-// Rust: ddm_compress::f16_storage::f16_bits_to_f32 of value `index` of the words that
+// Rust: gpu_layout::binary16::half_to_f32 of value `index` of the words that
 // pack_f16_pairs_at_most packed (`word` is word index / 2): value 2k in the low half.
 // Decoded with integer operations (unpack2x16float needs a capability some backends
-// lack); exact for every value f16_bits_at_most stores, which are never subnormal.
+// lack); exact for every value half_at_most stores, which are never subnormal.
 fn ddm_f16_pair_value(word: u32, index: u32) -> f32 {
     let bits = select(word & 0xffffu, word >> 16u, (index & 1u) != 0u);
     let sign = (bits & 0x8000u) << 16u;

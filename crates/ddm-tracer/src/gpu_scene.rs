@@ -574,7 +574,7 @@ mod tests {
         for (k, (value, original)) in values.zip(&scene.atlas).enumerate() {
             let word = half.atlas[k / 2];
             let bits = if k % 2 == 0 { word & 0xffff } else { word >> 16 } as u16;
-            assert_eq!(ddm_compress::f16_bits_to_f32(bits), value, "value {k}");
+            assert_eq!(gpu_layout::binary16::half_to_f32(bits), value, "value {k}");
             assert!(value <= f32::from_bits(*original));
             lowered += usize::from(value < f32::from_bits(*original));
         }

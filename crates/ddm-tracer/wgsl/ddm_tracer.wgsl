@@ -183,22 +183,28 @@ fn trace_map_cell(cone: u32, voxel: vec3<u32>) -> TraceCell {
     // Masked so that the unused branch of the divisions' setting shifts by less than 32
     // bits (a constant shift of 32 or more is invalid WGSL).
     let shift = TRACE_BLOCK_SHIFT & 31u;
-    var grid_index = ddm_grid_index(voxel, map);
+    var grid_index: u32;
     if shifted {
         grid_index = ddm_grid_index_shifted(voxel, map, shift);
+    } else {
+        grid_index = ddm_grid_index(voxel, map);
     }
     let entry = trace_grid[entry_map.grid_base.x + grid_index];
     if ddm_entry_is_surface(entry) {
-        var atlas_index = ddm_atlas_index(entry, voxel, map.dims_block.w);
+        var atlas_index: u32;
         if shifted {
             atlas_index = ddm_atlas_index_shifted(entry, voxel, shift);
+        } else {
+            atlas_index = ddm_atlas_index(entry, voxel, map.dims_block.w);
         }
         return TraceCell(voxel, vec3<u32>(1u), trace_atlas_value(map.grid_atlas_base.w + atlas_index));
     }
     let block = map.dims_block.w;
-    var origin = voxel / block * block;
+    var origin: vec3<u32>;
     if shifted {
         origin = (voxel >> vec3<u32>(shift)) << vec3<u32>(shift);
+    } else {
+        origin = voxel / block * block;
     }
     return TraceCell(origin, min(vec3<u32>(block), map.dims_block.xyz - origin), ddm_entry_distance(entry));
 }

@@ -53,6 +53,7 @@
 #[cfg(feature = "alloc")]
 extern crate alloc;
 
+pub mod binary16;
 pub mod f32_bits;
 mod module;
 mod wgsl_type;

@@ -4,8 +4,8 @@
 
 use crate::cli::{self, Command, Positional, repeated, switch, value};
 use crate::{
-    abuffer_chart, bench_gpu, cargo_tasks, culling_chart, ddm_compression, ddm_input, ddm_render, ddm_resolution,
-    ddm_trace, fig9, gpu_report, impostor_accuracy, impostor_cloud, interpenetration, occlusion_check,
+    abuffer_chart, bench_gpu, cargo_tasks, culling_chart, ddm_build, ddm_compression, ddm_input, ddm_render,
+    ddm_resolution, ddm_trace, fig9, gpu_report, impostor_accuracy, impostor_cloud, interpenetration, occlusion_check,
     octahedral_error, select, showcase, stackings, svo, svo_stability,
 };
 
@@ -257,6 +257,26 @@ pub const COMMANDS: &[Command] = &[
         exclusive: &[("scene", "obj"), ("scene", "height-map"), ("obj", "height-map")],
         positional: Positional::OutDir("target/svo"),
         run: svo::run,
+    },
+    Command {
+        name: "ddm-build",
+        flags: &[
+            QUICK,
+            SIZE,
+            value("cones", "MxN"),
+            switch("plain"),
+            value("tolerance", "T"),
+            ddm_input::OBJ,
+            ddm_input::SCALE,
+            ddm_input::FIT_SLAB,
+            ddm_input::HEIGHT_MAP,
+            ddm_input::HEIGHT,
+            ddm_input::PERIODIC,
+            ddm_input::CLAMP,
+        ],
+        exclusive: &[("obj", "height-map"), ("scale", "fit-slab"), ("periodic", "clamp"), ("cones", "plain")],
+        positional: Positional::OutDir("target/ddm-build"),
+        run: ddm_build::run,
     },
     Command {
         name: "ddm-resolution",

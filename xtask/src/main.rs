@@ -18,6 +18,7 @@ mod chart;
 mod cli;
 mod commands;
 mod culling_chart;
+mod ddm_build;
 mod ddm_compression;
 mod ddm_input;
 mod ddm_render;

@@ -224,6 +224,12 @@ impl ConvexCone {
         Some(vertical && horizontal && d.is_finite())
     }
 
+    /// Whether the direction `d` lies in the convex cone itself (`n · d ≤ 0` for every
+    /// face normal `n`; closed, finite `d` only).
+    pub(crate) fn contains(&self, d: Vec3) -> bool {
+        d.is_finite() && self.faces[..self.face_count].iter().all(|n| n.dot(d) <= 0.0)
+    }
+
     /// A unit direction inside the cone (its centre of azimuth and elevation).
     pub(crate) fn center(&self) -> Vec3 {
         self.center
@@ -340,6 +346,15 @@ impl ConvexCone {
     /// The denominator `|P_K(w)| + δ` of [`ConvexCone::bound`] (see [`PROJECTION_SLACK`]).
     pub(crate) fn bound_denominator(&self, w: Vec3) -> f32 {
         self.project(w).length() + PROJECTION_SLACK
+    }
+
+    /// A lower bound, at most [`ConvexCone::bound`], for a unit `w` that the caller knows
+    /// lies in the cone (a projection onto it, normalised), without projecting: `|P_K(w)|
+    /// ≤ |w| = 1` for every unit `w` (a projection onto a convex cone does not lengthen),
+    /// so `h / (1 + δ)` never exceeds `h / (|P_K(w)| + δ)`, and equals it when `w` is in
+    /// the cone.
+    pub(crate) fn bound_within(h: f32) -> f32 {
+        Self::bound_over(h, 1.0 + PROJECTION_SLACK)
     }
 
     /// [`ConvexCone::bound`] from its denominator ([`ConvexCone::bound_denominator`]).

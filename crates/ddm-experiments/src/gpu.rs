@@ -79,14 +79,18 @@ impl<'g> GpuTracer<'g> {
         // once: every timed dispatch is a warm one over resident buffers.
         let storage =
             self.gpu.upload_storage(&scene.storage_bytes()).map_err(|e| ExperimentError::Gpu(e.to_string()))?;
+        // The pipeline specialised for the scene: the method, stepping, tiling, block
+        // shift and atlas storage are the kernel's overrides, not uniforms.
+        let constants = scene.pipeline_constants.constants();
         let mut best = f64::INFINITY;
         let mut differs = 0;
         for _ in 0..self.dispatches {
             let (results, timing): (Vec<TraceResult>, _) = self
                 .gpu
-                .compute_map_with_uploaded_storage(
+                .compute_map_specialized(
                     &self.source,
                     "trace_rays",
+                    &constants,
                     bytemuck::bytes_of(&uniforms),
                     &inputs,
                     &storage,

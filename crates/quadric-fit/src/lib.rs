@@ -39,6 +39,8 @@
 //!   representative points, face-ordered polygons and their triangle/bilinear patches.
 //! - [`watertight`]: the same polygons and patches from corner signs, edge points and face
 //!   decisions taken once for the grid, so that neighbours never disagree (beyond the paper).
+//! - [`feature`]: the feature vertex of a crease or corner voxel (dual contouring's QEF),
+//!   around which [`watertight`]'s polygon is fanned where it cuts a sharp edge off.
 //!
 //! # Using the WGSL twin
 //!
@@ -82,6 +84,7 @@
 extern crate alloc;
 
 pub mod eigen;
+pub mod feature;
 pub mod fit;
 pub mod gpu_quadric;
 pub mod intersect;
@@ -92,6 +95,7 @@ pub mod watertight;
 #[cfg(feature = "wgsl")]
 mod wgsl;
 
+pub use feature::{FeatureVertex, TangentPlane, feature_vertex};
 pub use fit::{FitError, FitKind, QuadricFit, fit_plane, fit_quadric};
 pub use gpu_quadric::GpuQuadric;
 pub use intersect::{first_hit, normal};

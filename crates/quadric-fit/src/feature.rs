@@ -99,7 +99,7 @@ pub fn feature_vertex(planes: &[TangentPlane], mass_point: DVec3) -> Option<Feat
         }
     }
     let point = mass_point + offset;
-    let squares: f64 = unit.iter().map(|(n, p)| n.dot(point - *p).powi(2)).sum();
+    let squares: f64 = unit.iter().map(|(n, p)| n.dot(point - *p)).map(|d| d * d).sum();
     Some(FeatureVertex { point, rank, rms_distance: libm::sqrt(squares / unit.len() as f64) })
 }
 

@@ -150,6 +150,7 @@ pub const COMMANDS: &[Command] = &[
             SIZE,
             value("resolution", "WxH"),
             value("timing-rounds", "N"),
+            value("watertight-subdivision", "N"),
             ddm_input::OBJ,
             ddm_input::SCALE,
             ddm_input::FIT_SLAB,
@@ -475,6 +476,14 @@ mod tests {
         let settings =
             TraceTablesSettings { dims: UVec3::new(4, 4, 2), ratio_rounds: 3, ..TraceTablesSettings::quick() };
         assert_eq!(options, ddm_trace::Options { out: PathBuf::from("target/x"), settings, tile: None });
+        let options =
+            ddm_trace::Options::from_args(&parse("ddm-trace", "--quick --watertight-subdivision 4").unwrap()).unwrap();
+        assert_eq!(options.settings.watertight_subdivision, 4);
+        for bad in ["0", "9", "two"] {
+            let args = parse("ddm-trace", &format!("--watertight-subdivision {bad}")).unwrap();
+            let error = ddm_trace::Options::from_args(&args).unwrap_err();
+            assert!(error.contains("--watertight-subdivision"), "{bad}: {error}");
+        }
         let options = ddm_compression::Options::from_args(&parse("ddm-compression", "--quick out").unwrap()).unwrap();
         assert_eq!(
             options,

@@ -1,4 +1,4 @@
-//! `cargo xtask ddm-trace [OUT_DIR] [--quick] [--size WxHxD] [--resolution WxH] [--timing-rounds N]
+//! `cargo xtask ddm-trace [OUT_DIR] [--quick] [--size WxHxD] [--resolution WxH] [--timing-rounds N] [--watertight-subdivision N]
 //! [--obj PATH | --height-map PNG] [--scale S | --fit-slab] [--height H] [--periodic | --clamp]`: Mehra & Kumar's
 //! Tables 1–3, measured by `ddm_experiments::trace_tables` (24×24×8 voxel tiles and 192×144
 //! rays by default, 12×12×6 and 96×72 with `--quick`, any grid with `--size`, any view with
@@ -78,10 +78,11 @@ pub struct Options {
 }
 
 impl Options {
-    /// `[OUT_DIR] [--quick] [--size WxHxD] [--resolution WxH] [--timing-rounds N]` (`--size`
-    /// replaces the tile, not the camera; `--resolution` the view's rays; `--timing-rounds`
-    /// the rounds of Table 3's interleaved time ratio) and the tile flags of
-    /// [`crate::ddm_input`].
+    /// `[OUT_DIR] [--quick] [--size WxHxD] [--resolution WxH] [--timing-rounds N]
+    /// [--watertight-subdivision N]` (`--size` replaces the tile, not the camera;
+    /// `--resolution` the view's rays; `--timing-rounds` the rounds of Table 3's interleaved
+    /// time ratio; `--watertight-subdivision` the watertight patches' cells per voxel and
+    /// axis, 1 to 8) and the tile flags of [`crate::ddm_input`].
     pub fn from_args(args: &Args<'_>) -> Result<Self, String> {
         let mut settings = if args.flag("quick") { TraceTablesSettings::quick() } else { TraceTablesSettings::full() };
         if let Some(dims) = args.parse_value("size", grid_size)? {
@@ -92,6 +93,15 @@ impl Options {
         }
         if let Some(rounds) = args.parse_value("timing-rounds", positive::<usize>)? {
             settings.ratio_rounds = rounds;
+        }
+        if let Some(cells) = args.parse_value("watertight-subdivision", positive::<u32>)? {
+            if cells > ddm_tracer::MAX_WATERTIGHT_SUBDIVISION {
+                return Err(format!(
+                    "--watertight-subdivision: {cells} is above the limit of {}",
+                    ddm_tracer::MAX_WATERTIGHT_SUBDIVISION
+                ));
+            }
+            settings.watertight_subdivision = cells;
         }
         let tile = TileSource::from_args(args)?;
         settings.map_settings.periodic_xy = ddm_input::periodic_from_args(args, tile.as_ref())?;

@@ -120,7 +120,9 @@ pub use gpu_scene::{GpuScene, GpuSceneError, TraceConeMap, TraceResult, TraceUni
 pub use ground_truth::{MeshCrossing, MeshHit, MeshRaycaster};
 pub use maps::{CompressMapsError, CompressedMaps, ConeDistances, ConeSelector, DistanceSource, RawConeMap};
 pub use patch::TracePatch;
-pub use patches::{MAX_PATCH_VOXELS, PatchError, PatchSettings, PatchSurface, VoxelPatches};
+pub use patches::{
+    MAX_PATCH_VOXELS, MAX_WATERTIGHT_SUBDIVISION, PatchError, PatchSettings, PatchSurface, VoxelPatches,
+};
 pub use pipeline_constants::{AtlasStorage, TracePipelineConstants};
 pub use relief::{HeightMap, HeightMapError, relief_trace};
 pub use trace::{Method, NO_LIMIT, Stepping, TraceHit, TraceOutcome, TraceSettings, trace, trace_within};

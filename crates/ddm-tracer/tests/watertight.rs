@@ -8,8 +8,8 @@
 //! wrong on (12 × 12 × 6 / 24 × 24 × 12) maze 4 / 1, bricks 0 / 0, beads 2 / 4, ball 0 / 0,
 //! chain mail 6 / 6 (pinned; a change that makes one worse fails, one that improves it
 //! should lower the pin). **None of them is a crack**, which the test asserts: each such
-//! segment is traced again with its ends moved by [`PERTURBATIONS`] offsets of up to
-//! 0.007 voxel, and at least one copy has the right parity (through a crack wider than
+//! segment is traced again with its ends moved by [`PERTURBATIONS`] random offsets of up
+//! to 0.007 voxel, and at least one copy has the right parity (through a crack wider than
 //! that, every copy would be wrong). They are counting ambiguities of `f32` crossings: a
 //! crossing within rounding of a voxel wall, where the segment also grazes a crease, and
 //! neighbouring triangles of a fan both accepting one crossing in their tolerance bands.
@@ -42,9 +42,11 @@ use mesostructure::Mesostructure;
 use quadric_fit::first_hit;
 use quadric_fit::watertight::SignedGrid;
 
-/// The grids: the tiles' features are 1–3 voxels wide at the first, and at the second
-/// their floors and heights fall on grid corners and faces.
-const GRIDS: [UVec3; 2] = [UVec3::new(12, 12, 6), UVec3::new(24, 24, 12)];
+/// The grids and watertight subdivisions: the tiles' features are 1–3 voxels wide at the
+/// first, at the second their floors and heights fall on grid corners and faces, and the
+/// third builds the first's surface on cells of half a voxel (chain mail's tubes, 0.9–1.2
+/// voxel thick, then cross cell edges).
+const GRIDS: [(UVec3, u32); 3] = [(UVec3::new(12, 12, 6), 1), (UVec3::new(24, 24, 12), 1), (UVec3::new(12, 12, 6), 2)];
 
 /// Segments per mesostructure.
 const SEGMENTS: usize = 100_000;
@@ -57,13 +59,13 @@ const SEGMENTS: usize = 100_000;
 const OVERLAP: f32 = 1e-2;
 
 /// Each segment with the wrong parity is traced again with its ends moved by these many
-/// offsets of up to `2 √3` [`PERTURBATION`] (ends moved apart differently, so the copies
-/// are neither parallel nor on one line).
+/// random offsets of up to `√3` [`PERTURBATION`] (the far end's with its components cycled,
+/// so that no point of the segment stays where it was).
 const PERTURBATIONS: usize = 12;
 
-/// The step (voxels) of those offsets: far above `f32` rounding and the polygon test's
+/// The size (voxels) of those offsets: far above `f32` rounding and the polygon test's
 /// tolerance, far below a feature.
-const PERTURBATION: f32 = 2e-3;
+const PERTURBATION: f32 = 4e-3;
 
 /// After a root at `t`, the second root of a quadric is searched from `t` + this.
 const NEXT_ROOT: f32 = 1e-6;
@@ -153,11 +155,15 @@ fn segment_crossings(patches: &VoxelPatches, a: Vec3, b: Vec3) -> usize {
 #[test]
 fn the_watertight_patches_have_the_meshs_crossing_parity_up_to_a_pinned_few_segments() {
     let (mut failures, mut robust) = (Vec::new(), Vec::new());
-    for (dims, which) in GRIDS.into_iter().flat_map(|d| Mesostructure::ALL.map(|m| (d, m))) {
+    for ((dims, subdivision), which) in GRIDS.into_iter().flat_map(|d| Mesostructure::ALL.map(|m| (d, m))) {
         let triangles = which.triangles(dims);
         let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
         let maps = compute_distance_maps(dims, &triangles, MapKind::Plain, settings).unwrap();
-        let surface = PatchSettings { surface: PatchSurface::Watertight, ..PatchSettings::default() };
+        let surface = PatchSettings {
+            surface: PatchSurface::Watertight,
+            watertight_subdivision: subdivision,
+            ..PatchSettings::default()
+        };
         let patches = VoxelPatches::build(dims, &triangles, &maps.surface, surface).unwrap();
         let mesh = MeshRaycaster::new(&triangles, Vec2::new(dims.x as f32, dims.y as f32));
         let mut sides = MeshSides::new(&mesh, dims);
@@ -169,7 +175,9 @@ fn the_watertight_patches_have_the_meshs_crossing_parity_up_to_a_pinned_few_segm
                     let corners: Vec<bool> =
                         (0..8).map(|c| sides.inside((x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2)))).collect();
                     let centre = glam::DVec3::new(f64::from(x), f64::from(y), f64::from(z)) + 0.5;
-                    if corners.iter().all(|&s| s == corners[0]) && sides.point_inside(centre) == corners[0] {
+                    let no_patch = patches.of_voxel(UVec3::new(x, y, z)).is_empty();
+                    if corners.iter().all(|&s| s == corners[0]) && sides.point_inside(centre) == corners[0] && no_patch
+                    {
                         ends.push((UVec3::new(x, y, z), corners[0]));
                     }
                 }
@@ -214,13 +222,18 @@ fn the_watertight_patches_have_the_meshs_crossing_parity_up_to_a_pinned_few_segm
                 // A crack keeps the parity wrong for segments near this one too; a counting
                 // ambiguity (a crossing within rounding or the polygon tolerance of a patch's
                 // border) does not.
-                let moved = (0..PERTURBATIONS).map(|k| {
-                    let e =
-                        Vec3::new(((k * 7) % 5) as f32 - 2.0, ((k * 3) % 5) as f32 - 2.0, ((k * 11) % 5) as f32 - 2.0);
-                    segment_crossings(&patches, a + e * PERTURBATION, b - e * (0.7 * PERTURBATION))
-                });
-                if moved.clone().all(|c| (c % 2 == 1) != (sa != sb)) {
-                    robust.push((which.name(), dims, a, b));
+                let mut offsets = Xorshift(0xface + mismatches as u64);
+                let moved: Vec<usize> = (0..PERTURBATIONS)
+                    .map(|_| {
+                        let mut offset = || Vec3::new(offsets.next(), offsets.next(), offsets.next()) * 2.0 - 1.0;
+                        let e = offset() * PERTURBATION;
+                        // The far end moves by `e` with its components cycled: the segment
+                        // moves by a non-zero offset at every point along it.
+                        segment_crossings(&patches, a + e, b + Vec3::new(e.y, e.z, e.x))
+                    })
+                    .collect();
+                if moved.iter().all(|c| (c % 2 == 1) != (sa != sb)) {
+                    robust.push((which.name(), dims, subdivision, a, b));
                 }
                 if mismatches <= 5 {
                     println!("{}: {a} -> {b}: {crossings} crossings, sides {sa} {sb}", which.name());
@@ -228,7 +241,7 @@ fn the_watertight_patches_have_the_meshs_crossing_parity_up_to_a_pinned_few_segm
             }
         }
         println!(
-            "{} at {dims}: {} voxels with patches ({} off the surface voxels), {} patches; {SEGMENTS} segments ({skipped} skipped: an end \
+            "{} at {dims} (subdivision {subdivision}): {} voxels with patches ({} off the surface voxels), {} patches; {SEGMENTS} segments ({skipped} skipped: an end \
              across a thin feature, or too short) between {} ends ({inside_ends} inside), {odd} with ends on different sides, {crossing_total} crossings; parity wrong on \
              {mismatches}; sides: {} points on the mesh, {} ambiguous, {} edges without a crossing",
             which.name(),
@@ -246,17 +259,125 @@ fn the_watertight_patches_have_the_meshs_crossing_parity_up_to_a_pinned_few_segm
         }
         assert!(crossing_total > SEGMENTS / 4, "{}: only {crossing_total} crossings", which.name());
         assert_eq!(patches.patch_voxels_off_surface, 0, "{}", which.name());
-        let fine = dims == GRIDS[1];
+        let case = GRIDS.iter().position(|&g| g == (dims, subdivision)).expect("a case of GRIDS");
         let pin = match which {
-            Mesostructure::Maze(_) => [4, 1][usize::from(fine)],
-            Mesostructure::Beads => [2, 4][usize::from(fine)],
-            Mesostructure::Bricks | Mesostructure::Ball => 0,
-            Mesostructure::ChainMail => 6,
+            Mesostructure::Maze(_) => [4, 1, 4][case],
+            Mesostructure::Beads => [2, 4, 4][case],
+            Mesostructure::Bricks => [0, 0, 1][case],
+            Mesostructure::Ball => 0,
+            Mesostructure::ChainMail => [6, 6, 17][case],
         };
         if mismatches > pin {
-            failures.push((which.name(), dims, mismatches, pin));
+            failures.push((which.name(), dims, subdivision, mismatches, pin));
         }
     }
-    assert!(failures.is_empty(), "segments with the wrong parity (tile, grid, count, pin): {failures:?}");
+    assert!(failures.is_empty(), "segments with the wrong parity (tile, grid, subdivision, count, pin): {failures:?}");
     assert!(robust.is_empty(), "wrong parity on every perturbed copy too (a crack): {robust:?}");
+}
+
+/// Points of the patches, snapped together: each point (tile coordinates) goes to the lattice
+/// of 10⁻⁵ voxel, reduced into the tile in x and y, and takes the key of a point already met
+/// within one lattice step (in any of the 27 neighbouring cells). The copies of one corner
+/// that two voxels store differ by `f32` rounding (under 10⁻⁶ voxel); distinct corners lie
+/// at least [`ddm_tracer::solid::EDGE_MARGIN`] / subdivision (5 · 10⁻⁵) apart.
+struct Snapped {
+    period: (i64, i64),
+    keys: std::collections::HashMap<(i64, i64, i64), (i64, i64, i64)>,
+}
+
+impl Snapped {
+    fn key(&mut self, p: glam::DVec3) -> (i64, i64, i64) {
+        let reduce = |k: (i64, i64, i64)| (k.0.rem_euclid(self.period.0), k.1.rem_euclid(self.period.1), k.2);
+        let q = p * 1e5;
+        let k = reduce((q.x.round() as i64, q.y.round() as i64, q.z.round() as i64));
+        for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    if let Some(&found) = self.keys.get(&reduce((k.0 + dx, k.1 + dy, k.2 + dz))) {
+                        return found;
+                    }
+                }
+            }
+        }
+        self.keys.insert(k, k);
+        k
+    }
+}
+
+/// With subdivision every patch is a bounded triangle, so watertightness can be checked
+/// exactly, without rays: over all voxels' lists (corners snapped by [`Snapped`]), every
+/// edge of a triangle is an edge of exactly one other triangle (a closed surface), and
+/// every voxel whose interior (10⁻³ voxel in) a triangle's box enters lists the triangle
+/// (the tracer meets it wherever it is). A degenerate triangle left out would show as
+/// edges of one triangle.
+#[test]
+fn the_subdivided_watertight_triangles_close_and_every_voxel_they_cross_lists_them() {
+    type Key = (i64, i64, i64);
+    let dims = UVec3::new(12, 12, 6);
+    for which in Mesostructure::ALL {
+        let triangles = which.triangles(dims);
+        let settings = DistanceMapSettings { tolerance: 0.25, periodic_xy: true };
+        let maps = compute_distance_maps(dims, &triangles, MapKind::Plain, settings).unwrap();
+        let settings =
+            PatchSettings { surface: PatchSurface::Watertight, watertight_subdivision: 2, ..PatchSettings::default() };
+        let patches = VoxelPatches::build(dims, &triangles, &maps.surface, settings).unwrap();
+        let mut snapped =
+            Snapped { period: (i64::from(dims.x) * 100_000, i64::from(dims.y) * 100_000), keys: Default::default() };
+        // Each voxel's triangles, as sorted snapped corners, and their bounding boxes.
+        let mut lists: std::collections::BTreeMap<[u32; 3], std::collections::BTreeSet<[Key; 3]>> = Default::default();
+        let mut boxes = Vec::new();
+        for z in 0..dims.z {
+            for y in 0..dims.y {
+                for x in 0..dims.x {
+                    let voxel = UVec3::new(x, y, z);
+                    for patch in patches.of_voxel(voxel) {
+                        assert_eq!(patch.ij_corners.w, ddm_tracer::patch::BOUNDED_PATCH);
+                        let points = [0, 1, 2].map(|i| patch.corners[i].truncate().as_dvec3() + voxel.as_dvec3());
+                        let mut corners = points.map(|p| snapped.key(p));
+                        corners.sort_unstable();
+                        lists.entry(voxel.to_array()).or_default().insert(corners);
+                        let (lo, hi) =
+                            (points[0].min(points[1]).min(points[2]), points[0].max(points[1]).max(points[2]));
+                        boxes.push((voxel, corners, lo, hi));
+                    }
+                }
+            }
+        }
+        let all: std::collections::BTreeSet<[Key; 3]> = lists.values().flatten().copied().collect();
+        let mut edges: std::collections::BTreeMap<[Key; 2], u32> = Default::default();
+        for t in &all {
+            for (i, j) in [(0, 1), (1, 2), (0, 2)] {
+                *edges.entry([t[i], t[j]]).or_default() += 1;
+            }
+        }
+        let open: Vec<_> = edges.iter().filter(|&(_, &n)| n != 2).take(5).collect();
+        assert!(all.len() > 1000, "{}: {} triangles", which.name(), all.len());
+        assert!(open.is_empty(), "{}: edges not of exactly two triangles: {open:?}", which.name());
+        let mut elsewhere = 0;
+        for (voxel, corners, lo, hi) in &boxes {
+            let (lo, hi) = ((*lo + 1e-3).floor().as_ivec3(), (*hi - 1e-3).floor().as_ivec3());
+            for vz in lo.z.max(0)..=hi.z.min(dims.z as i32 - 1) {
+                for vy in lo.y..=hi.y {
+                    for vx in lo.x..=hi.x {
+                        let wrapped =
+                            [vx.rem_euclid(dims.x as i32) as u32, vy.rem_euclid(dims.y as i32) as u32, vz as u32];
+                        if wrapped != voxel.to_array() {
+                            elsewhere += 1;
+                        }
+                        assert!(
+                            lists.get(&wrapped).is_some_and(|l| l.contains(corners)),
+                            "{}: a triangle of voxel {voxel} crosses voxel {wrapped:?}, which does not list it",
+                            which.name()
+                        );
+                    }
+                }
+            }
+        }
+        println!(
+            "{}: {} triangles, {} edges each of two triangles; {elsewhere} crossings of a triangle into another voxel, each listed",
+            which.name(),
+            all.len(),
+            edges.len()
+        );
+    }
 }

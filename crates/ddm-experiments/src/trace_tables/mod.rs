@@ -115,16 +115,18 @@ impl PatchSets {
     }
 }
 
-/// Builds the patches of `surface` with `surface_kind` (errors name `scene` and `what`).
+/// Builds the patches of `surface` with `surface_kind` and its watertight subdivision
+/// (errors name `scene` and `what`).
 fn build_patches(
     scene: &str,
     what: &str,
     (dims, periodic_xy): (UVec3, bool),
     triangles: &[Triangle],
     surface: &[bool],
-    surface_kind: PatchSurface,
+    (surface_kind, watertight_subdivision): (PatchSurface, u32),
 ) -> Result<VoxelPatches, ExperimentError> {
-    let settings = PatchSettings { surface: surface_kind, periodic_xy, ..PatchSettings::default() };
+    let settings =
+        PatchSettings { surface: surface_kind, periodic_xy, watertight_subdivision, ..PatchSettings::default() };
     VoxelPatches::build(dims, triangles, surface, settings)
         .map_err(|error| ExperimentError::scene(scene, format!("the {what} patch construction failed: {error}")))
 }
@@ -201,7 +203,8 @@ impl TraceScene {
         let start = Instant::now();
         let budget = settings.adaptive_budget;
         let build = |kind: PatchKind| {
-            build_patches(name, kind.name(), (dims, periodic), &triangles, surface, kind.surface(budget))
+            let surface_kind = (kind.surface(budget), settings.watertight_subdivision);
+            build_patches(name, kind.name(), (dims, periodic), &triangles, surface, surface_kind)
         };
         let c0 = build(PatchKind::C0)?;
         let fitted = build(PatchKind::Fitted)?;
@@ -282,7 +285,7 @@ impl TraceScene {
         for &budget in &settings.budgets {
             let surface_kind = PatchSurface::Adaptive { max_error: budget };
             let tiling = (self.dims, settings.map_settings.periodic_xy);
-            let set = build_patches(self.name, "adaptive", tiling, &self.triangles, surface, surface_kind)?;
+            let set = build_patches(self.name, "adaptive", tiling, &self.triangles, surface, (surface_kind, 1))?;
             let start = Instant::now();
             let outcomes: Vec<TraceOutcome> =
                 view.rays.iter().map(|&(o, d)| trace(ddm, Some(&set), o, d, quadric)).collect();

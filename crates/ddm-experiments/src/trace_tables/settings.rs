@@ -26,6 +26,9 @@ pub struct TraceTablesSettings {
     pub compression_block: u32,
     /// Error budget (voxels) of the `adaptive` patches: the accuracy goal.
     pub adaptive_budget: f32,
+    /// Cells per voxel and axis of the `watertight` patches
+    /// ([`ddm_tracer::PatchSettings::watertight_subdivision`]; 1: the voxels).
+    pub watertight_subdivision: u32,
     /// Error budgets (voxels) of [`super::TraceScene::budget_rows`].
     pub budgets: Vec<f32>,
     /// Timed CPU passes per method; its time is the fastest.
@@ -49,6 +52,7 @@ impl TraceTablesSettings {
             max_steps: 512,
             compression_block: 4,
             adaptive_budget: 1e-3,
+            watertight_subdivision: 1,
             budgets: BUDGETS.to_vec(),
             timed_passes: 5,
             ratio_rounds: RATIO_ROUNDS,
@@ -86,6 +90,12 @@ impl TraceTablesSettings {
             return Err(ExperimentError::settings(
                 "adaptive_budget",
                 format!("{} is not positive", self.adaptive_budget),
+            ));
+        }
+        if !(1..=ddm_tracer::MAX_WATERTIGHT_SUBDIVISION).contains(&self.watertight_subdivision) {
+            return Err(ExperimentError::settings(
+                "watertight_subdivision",
+                format!("must be 1 to {}, not {}", ddm_tracer::MAX_WATERTIGHT_SUBDIVISION, self.watertight_subdivision),
             ));
         }
         if let Some(budget) = self.budgets.iter().find(|&&b| !positive(b)) {

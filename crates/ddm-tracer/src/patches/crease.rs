@@ -60,28 +60,42 @@ struct FeatureVoxel {
     /// Flipped segments: segment `i` (points `i`, `i + 1`) and the neighbour's feature
     /// vertex across its face, moved into this voxel's tile frame.
     flips: BTreeMap<usize, DVec3>,
-    /// [`representation_error`] of [`FeatureVoxel::patches`].
+    /// [`representation_error`] of [`FeatureVoxel::triangles`] with its flips.
     error: f32,
 }
 
 impl FeatureVoxel {
-    /// The voxel's patches (voxel-local, `origin` its lowest corner): the fan around the
-    /// vertex, each flipped segment's fan triangle replaced by the two flipped triangles.
-    fn patches(&self, origin: DVec3, flips: &BTreeMap<usize, DVec3>) -> Vec<TracePatch> {
-        let mut out = Vec::new();
+    /// The voxel's triangles (tile coordinates): the fan around the vertex, each flipped
+    /// segment's fan triangle replaced by the two flipped triangles.
+    fn triangles(&self, flips: &BTreeMap<usize, DVec3>) -> Vec<[DVec3; 3]> {
         let n = self.points.len();
+        let mut out = Vec::with_capacity(n + flips.len());
         for i in 0..n {
             let (p, q) = (self.points[i], self.points[(i + 1) % n]);
             match flips.get(&i) {
-                Some(&other) => {
-                    bounded_triangle([self.vertex, p, other], origin, &mut out);
-                    bounded_triangle([self.vertex, other, q], origin, &mut out);
-                }
-                None => bounded_triangle([self.vertex, p, q], origin, &mut out),
+                Some(&other) => out.extend([[self.vertex, p, other], [self.vertex, other, q]]),
+                None => out.push([self.vertex, p, q]),
             }
         }
         out
     }
+
+    /// [`representation_error`] of the voxel's triangles with `flips` (its lowest corner
+    /// `origin`).
+    fn error(&self, origin: DVec3, flips: &BTreeMap<usize, DVec3>, directions: &[Vec3]) -> f32 {
+        let patches = bounded_triangles(&self.triangles(flips), origin);
+        representation_error(&patches, &self.exact, directions)
+    }
+}
+
+/// The bounded plane patches of `triangles` (tile coordinates) relative to `origin`;
+/// degenerate triangles are left out.
+pub(super) fn bounded_triangles(triangles: &[[DVec3; 3]], origin: DVec3) -> Vec<TracePatch> {
+    let mut out = Vec::with_capacity(triangles.len());
+    for &corners in triangles {
+        bounded_triangle(corners, origin, &mut out);
+    }
+    out
 }
 
 /// The bounded plane patch of `corners` (tile coordinates) relative to `origin`; nothing for
@@ -95,7 +109,7 @@ fn bounded_triangle(corners: [DVec3; 3], origin: DVec3, out: &mut Vec<TracePatch
 }
 
 /// The voxel's lowest corner, tile coordinates.
-fn corner_of(voxel: GridPoint) -> DVec3 {
+pub(super) fn corner_of(voxel: GridPoint) -> DVec3 {
     DVec3::new(f64::from(voxel.0), f64::from(voxel.1), f64::from(voxel.2))
 }
 
@@ -115,18 +129,39 @@ pub(super) fn polygon_patches(voxel: &VoxelSurface, origin: DVec3, out: &mut Vec
     }
 }
 
+/// The triangles (tile coordinates) of a watertight voxel without a feature vertex when
+/// every patch must be bounded: each polygon's fan around the mean of its points.
+pub(super) fn polygon_triangles(voxel: &VoxelSurface) -> Vec<[DVec3; 3]> {
+    let mut out = Vec::new();
+    for surface_loop in &voxel.loops {
+        let (points, centre) = (&surface_loop.points, mean(&surface_loop.points));
+        out.extend((0..points.len()).map(|i| [centre, points[i], points[(i + 1) % points.len()]]));
+    }
+    out
+}
+
+/// What a crease voxel's fan is measured against.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Fallback {
+    /// [`polygon_patches`]: the polygon's own triangle or bilinear patch, or mean fans.
+    PolygonPatches,
+    /// [`polygon_triangles`]: mean fans only (every patch bounded).
+    MeanFans,
+}
+
 /// The crease voxels of a watertight `surface` (tile of `dims` voxels, repeating in x and
-/// y when `periodic`) and their patches (voxel-local), keyed by voxel (see the module
-/// docs). `planes_and_exact(voxel)` gives the planes of the mesh's triangles crossing the
+/// y when `periodic`) and their triangles (tile coordinates; a flipped pair stands in the
+/// lists of both voxels), keyed by voxel (see the module docs); a fan is kept where it
+/// follows the mesh better than `fallback`. `planes_and_exact(voxel)` gives the planes of the mesh's triangles crossing the
 /// voxel and their bounded patches, both voxel-local; `directions` are
 /// [`crate::exact_patches::probe_directions`].
-pub(super) fn crease_patches(
+pub(super) fn crease_triangles(
     surface: &C0Surface,
-    dims: UVec3,
-    periodic: bool,
+    (dims, periodic): (UVec3, bool),
     mut planes_and_exact: impl FnMut(GridPoint) -> (Vec<TangentPlane>, Vec<TracePatch>),
     directions: &[Vec3],
-) -> BTreeMap<GridPoint, Vec<TracePatch>> {
+    fallback: Fallback,
+) -> BTreeMap<GridPoint, Vec<[DVec3; 3]>> {
     let mut features: BTreeMap<GridPoint, FeatureVoxel> = BTreeMap::new();
     let mut current = Vec::new();
     for (&voxel, voxel_surface) in &surface.voxels {
@@ -151,11 +186,13 @@ pub(super) fn crease_patches(
             flips: BTreeMap::new(),
             error: 0.0,
         };
-        let fan = feature.patches(origin, &BTreeMap::new());
+        let fan_error = feature.error(origin, &BTreeMap::new(), directions);
         current.clear();
-        polygon_patches(voxel_surface, origin, &mut current);
-        let fan_error = representation_error(&fan, &feature.exact, directions);
-        if !fan.is_empty() && fan_error < representation_error(&current, &feature.exact, directions) {
+        match fallback {
+            Fallback::PolygonPatches => polygon_patches(voxel_surface, origin, &mut current),
+            Fallback::MeanFans => current.extend(bounded_triangles(&polygon_triangles(voxel_surface), origin)),
+        }
+        if fan_error < representation_error(&current, &feature.exact, directions) {
             feature.error = fan_error;
             features.insert(voxel, feature);
         }
@@ -173,10 +210,8 @@ pub(super) fn crease_patches(
             flips_a.insert(i, vb);
             let mut flips_b = features[&b].flips.clone();
             flips_b.insert(j, va - shift);
-            let error_a =
-                representation_error(&features[&a].patches(corner_of(a), &flips_a), &features[&a].exact, directions);
-            let error_b =
-                representation_error(&features[&b].patches(corner_of(b), &flips_b), &features[&b].exact, directions);
+            let error_a = features[&a].error(corner_of(a), &flips_a, directions);
+            let error_b = features[&b].error(corner_of(b), &flips_b, directions);
             if error_a <= features[&a].error && error_b <= features[&b].error {
                 let fa = features.get_mut(&a).expect("a key of the map");
                 (fa.flips, fa.error) = (flips_a, error_a);
@@ -185,7 +220,7 @@ pub(super) fn crease_patches(
             }
         }
     }
-    features.iter().map(|(&voxel, f)| (voxel, f.patches(corner_of(voxel), &f.flips))).collect()
+    features.iter().map(|(&voxel, f)| (voxel, f.triangles(&f.flips))).collect()
 }
 
 /// The feature voxel across the face that holds segment `i` of voxel `a`'s polygon, the

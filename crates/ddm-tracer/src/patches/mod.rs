@@ -29,6 +29,7 @@
 //! of the fitted quadric and the triangles that meets an error budget.
 
 mod crease;
+mod subdivided;
 
 use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
@@ -44,6 +45,7 @@ use crate::exact_patches::{probe_directions, representation_error, voxel_triangl
 use crate::ground_truth::MeshRaycaster;
 use crate::patch::{BOUNDED_PATCH, TracePatch};
 use crate::solid::MeshSides;
+use crease::Fallback;
 
 /// What replaces the mesostructure inside a zero-distance voxel.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,7 +62,10 @@ pub enum PatchSurface {
     /// flat pieces crosses a voxel, its polygon is fanned around the mesh's feature vertex
     /// and the fans of neighbours are joined across their faces (extended marching cubes'
     /// feature vertices and edge flips), each only where it follows the mesh better: see
-    /// [`VoxelPatches::feature_vertex_voxels`] and the `patches::crease` module notes.
+    /// [`VoxelPatches::feature_vertex_voxels`] and the `patches::crease` module notes. With
+    /// [`PatchSettings::watertight_subdivision`] above 1 the surface is built on cells finer
+    /// than the voxels and stored as bounded triangles, so that features thinner than a
+    /// voxel are represented too (the `patches::subdivided` module notes).
     Watertight,
     /// Each voxel keeps its fitted quadric of step a as its only patch, intersected
     /// anywhere inside the voxel (Algorithm 3.2 on `Q_V` itself; not C⁰ across voxels, but
@@ -94,17 +99,31 @@ pub struct PatchSettings {
     /// outside the tile. Must be the maps' [`ddm_compress::DistanceMapSettings::periodic_xy`]
     /// (the GPU scene refuses patches built otherwise).
     pub periodic_xy: bool,
+    /// [`PatchSurface::Watertight`] on a grid of `n × n × n` cells per voxel (1, the
+    /// default: the voxels themselves; at most [`MAX_WATERTIGHT_SUBDIVISION`]): features
+    /// thinner than a voxel get a surface, at the price of about `n²` times the triangles
+    /// per voxel (see the `patches::subdivided` module notes). Other surfaces ignore it.
+    pub watertight_subdivision: u32,
 }
 
 impl Default for PatchSettings {
     fn default() -> Self {
-        Self { margin: 0.0, samples_per_edge: 16, surface: PatchSurface::C0, periodic_xy: true }
+        Self {
+            margin: 0.0,
+            samples_per_edge: 16,
+            surface: PatchSurface::C0,
+            periodic_xy: true,
+            watertight_subdivision: 1,
+        }
     }
 }
 
 /// The most voxels [`VoxelPatches::build`] accepts: 2²⁴ (as
 /// [`ddm_compress::compute_distance_maps`]).
 pub const MAX_PATCH_VOXELS: u64 = 1 << 24;
+
+/// The finest [`PatchSettings::watertight_subdivision`]: 8 cells per voxel and axis.
+pub const MAX_WATERTIGHT_SUBDIVISION: u32 = 8;
 
 /// Why [`VoxelPatches::build`] refused its inputs. The checks run in the order of the
 /// variants; the first that fails is returned.
@@ -134,6 +153,11 @@ pub enum PatchError {
         /// The triangle's index.
         index: usize,
     },
+    /// [`PatchSettings::watertight_subdivision`] is 0 or above [`MAX_WATERTIGHT_SUBDIVISION`].
+    WatertightSubdivision {
+        /// The subdivision given.
+        subdivision: u32,
+    },
 }
 
 impl fmt::Display for PatchError {
@@ -147,6 +171,9 @@ impl fmt::Display for PatchError {
                 write!(f, "patches: {found} surface flags for {expected} voxels")
             }
             Self::NonFiniteTriangle { index } => write!(f, "patches: triangle {index} has a non-finite vertex"),
+            Self::WatertightSubdivision { subdivision } => {
+                write!(f, "patches: watertight_subdivision {subdivision} is not in 1..={MAX_WATERTIGHT_SUBDIVISION}")
+            }
         }
     }
 }
@@ -175,7 +202,8 @@ pub struct VoxelPatches {
     pub patch_voxels_off_surface: u32,
     /// Voxels of [`PatchSurface::Watertight`] whose polygon is fanned around its feature
     /// vertex (a crease or a corner of the mesh crosses them; see
-    /// [`PatchSurface::Watertight`]).
+    /// [`PatchSurface::Watertight`]); cells of voxels with
+    /// [`PatchSettings::watertight_subdivision`] above 1.
     pub feature_vertex_voxels: u32,
     /// Whether they were built for a tile repeating in x and y ([`PatchSettings::periodic_xy`]).
     pub periodic_xy: bool,
@@ -190,7 +218,8 @@ impl VoxelPatches {
     /// # Errors
     ///
     /// A [`PatchError`]: an empty grid or one of more than [`MAX_PATCH_VOXELS`] voxels,
-    /// `surface` without one entry per voxel, or a non-finite triangle (with its index).
+    /// `surface` without one entry per voxel, a non-finite triangle (with its index), or a
+    /// watertight subdivision out of range.
     pub fn build(
         dims: UVec3,
         triangles: &[Triangle],
@@ -210,6 +239,10 @@ impl VoxelPatches {
         }
         if let Some(index) = triangles.iter().position(|t| !t.is_finite()) {
             return Err(PatchError::NonFiniteTriangle { index });
+        }
+        let subdivision = settings.watertight_subdivision;
+        if !(1..=MAX_WATERTIGHT_SUBDIVISION).contains(&subdivision) {
+            return Err(PatchError::WatertightSubdivision { subdivision });
         }
         // The mesh around the padded grid: the tile and its 8 neighbours, moved by +1 voxel
         // in x and y (padded voxel (i, j, k) is tile voxel (i - 1, j - 1, k) mod dims); a
@@ -278,15 +311,17 @@ impl VoxelPatches {
         } else {
             None
         };
-        let watertight = (settings.surface == PatchSurface::Watertight).then(|| {
+        let watertight_kind = settings.surface == PatchSurface::Watertight;
+        let watertight = (watertight_kind && subdivision == 1).then(|| {
             let mesh = MeshRaycaster::new(triangles, if periodic { Vec2::new(sx, sy) } else { Vec2::ZERO });
             let mut sides = MeshSides::new(&mesh, dims);
             let voxels = (0..dims.z).flat_map(|z| (0..dims.y).flat_map(move |y| (0..dims.x).map(move |x| (x, y, z))));
             build_watertight(voxels, &mut sides)
         });
         let directions = probe_directions();
-        // The crease and corner voxels' fans and flips (tile voxels).
-        let creases = watertight.as_ref().map_or_else(BTreeMap::new, |surface| {
+        // The watertight voxels whose patches are built apart (voxel-local): the crease and
+        // corner voxels' fans and flips, or with subdivision every voxel's cells.
+        let (watertight_patches, feature_vertex_voxels) = if let Some(surface) = &watertight {
             let planes_and_exact = |(x, y, z): (u32, u32, u32)| {
                 let key = (x + 1, y + 1, z);
                 let origin = DVec3::new(f64::from(key.0), f64::from(key.1), f64::from(key.2));
@@ -296,9 +331,25 @@ impl VoxelPatches {
                 voxel_triangle_patches(list.iter().map(|&t| &tiled[t as usize]), origin.as_vec3(), &mut exact);
                 (planes, exact)
             };
-            crease::crease_patches(surface, dims, periodic, planes_and_exact, &directions)
-        });
-        let feature_vertex_voxels = creases.len() as u32;
+            let creases = crease::crease_triangles(
+                surface,
+                (dims, periodic),
+                planes_and_exact,
+                &directions,
+                Fallback::PolygonPatches,
+            );
+            let count = creases.len() as u32;
+            let patches = creases
+                .into_iter()
+                .map(|(voxel, list)| (voxel, crease::bounded_triangles(&list, crease::corner_of(voxel))))
+                .collect();
+            (patches, count)
+        } else if watertight_kind {
+            let tile = subdivided::Tile { dims, periodic, triangles, tiled: &tiled, bins: &bins, surface };
+            subdivided::subdivided_watertight(&tile, subdivision, &directions)
+        } else {
+            (BTreeMap::new(), 0)
+        };
         let mut offsets = Vec::with_capacity(voxels + 1);
         let mut patches = Vec::new();
         let (mut voxels_without_patch, mut quadric_voxels, mut triangle_voxels) = (0, 0, 0);
@@ -331,8 +382,8 @@ impl VoxelPatches {
                         }
                         PatchSurface::Watertight => {
                             let tile_origin = DVec3::new(f64::from(x), f64::from(y), f64::from(z));
-                            if let Some(crease) = creases.get(&(x, y, z)) {
-                                patches.extend_from_slice(crease);
+                            if let Some(built) = watertight_patches.get(&(x, y, z)) {
+                                patches.extend_from_slice(built);
                             } else if let Some(voxel) = watertight.as_ref().and_then(|b| b.voxels.get(&(x, y, z))) {
                                 crease::polygon_patches(voxel, tile_origin, &mut patches);
                             }
@@ -558,6 +609,12 @@ mod tests {
         assert_eq!(error, NonFiniteTriangle { index: 1 });
         assert!(error.to_string().contains("triangle 1"), "{error}");
         assert!(VoxelPatches::build(dims, &floor, &[true; 32], settings).is_ok());
+        for subdivision in [0, MAX_WATERTIGHT_SUBDIVISION + 1] {
+            let settings = PatchSettings { watertight_subdivision: subdivision, ..settings };
+            let error = VoxelPatches::build(dims, &floor, &[true; 32], settings).unwrap_err();
+            assert_eq!(error, WatertightSubdivision { subdivision });
+            assert!(error.to_string().contains("watertight_subdivision"), "{error}");
+        }
     }
 
     /// A box standing alone: the voxels its vertical edges cross get feature vertices,

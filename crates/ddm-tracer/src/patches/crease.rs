@@ -34,7 +34,7 @@ use glam::{DVec3, IVec3, UVec3, Vec3};
 use quadric_fit::surface::{C0Surface, GridEdge, GridPoint, SurfaceLoop, VoxelSurface};
 use quadric_fit::{TangentPlane, feature_vertex};
 
-use super::{mean, trace_patch, triangle_fan};
+use super::{mean, trace_patch};
 use crate::exact_patches::representation_error;
 use crate::patch::{BOUNDED_PATCH, TracePatch};
 
@@ -124,7 +124,7 @@ pub(super) fn polygon_patches(voxel: &VoxelSurface, origin: DVec3, out: &mut Vec
                 out.extend(trace_patch(&patch.quadric, &patch.polygon, origin));
             }
         } else {
-            triangle_fan(&surface_loop.points, mean(&surface_loop.points), origin, out);
+            out.extend(bounded_triangles(&mean_fan(&surface_loop.points), origin));
         }
     }
 }
@@ -134,10 +134,17 @@ pub(super) fn polygon_patches(voxel: &VoxelSurface, origin: DVec3, out: &mut Vec
 pub(super) fn polygon_triangles(voxel: &VoxelSurface) -> Vec<[DVec3; 3]> {
     let mut out = Vec::new();
     for surface_loop in &voxel.loops {
-        let (points, centre) = (&surface_loop.points, mean(&surface_loop.points));
-        out.extend((0..points.len()).map(|i| [centre, points[i], points[(i + 1) % points.len()]]));
+        out.extend(mean_fan(&surface_loop.points));
     }
     out
+}
+
+/// The polygon `points` (tile coordinates) as the fan of triangles `C, Pi, Pi+1` around the
+/// mean `C` of its points (inside the voxel, which is convex and holds the points on its
+/// border). The fan folds over where the polygon is not convex seen from `C`.
+fn mean_fan(points: &[DVec3]) -> Vec<[DVec3; 3]> {
+    let centre = mean(points);
+    (0..points.len()).map(|i| [centre, points[i], points[(i + 1) % points.len()]]).collect()
 }
 
 /// What a crease voxel's fan is measured against.

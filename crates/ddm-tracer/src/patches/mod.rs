@@ -530,22 +530,6 @@ fn mean(points: &[DVec3]) -> DVec3 {
     points.iter().sum::<DVec3>() / points.len() as f64
 }
 
-/// The polygon `points` (grid coordinates) as the fan of bounded triangles
-/// `C, Pi, Pi+1` around `centre` (inside the voxel, which is convex and holds the points on
-/// its border), relative to the voxel corner `origin`; degenerate triangles are left out.
-/// Around the mean of the points a fan folds over where the polygon is not convex seen
-/// from it.
-fn triangle_fan(points: &[DVec3], centre: DVec3, origin: DVec3, out: &mut Vec<TracePatch>) {
-    for i in 0..points.len() {
-        let corners = [centre, points[i], points[(i + 1) % points.len()]];
-        let Ok(quadric) = quadric_fit::triangle_quadric(corners[0], corners[1], corners[2]) else { continue };
-        if let Some(mut patch) = trace_patch(&quadric, &corners, origin) {
-            patch.ij_corners.w = BOUNDED_PATCH;
-            out.push(patch);
-        }
-    }
-}
-
 /// The planes of the `triangles` (grid coordinates) that cross the unit voxel with lowest
 /// corner `origin`, relative to `origin`.
 fn voxel_planes<'a>(triangles: impl IntoIterator<Item = &'a [Vec3; 3]>, origin: DVec3) -> Vec<TangentPlane> {

@@ -236,7 +236,8 @@ pub(super) fn cone_bound(
 }
 
 /// The largest [`ConvexCone::bound`] of the pair (`aabb`, `triangle`) found by a pattern
-/// search over unit `w` around `start` (whose bound is `start_bound`), and its `w`.
+/// search over unit `w` around `start` (whose bound is `start_bound`), and its `w`; the
+/// search stops as soon as a bound reaches `enough` (where the caller needs no more).
 /// Every `w` gives a valid lower bound, so the search only has to be good, not exact.
 pub(super) fn improve_bound(
     convex: &ConvexCone,
@@ -245,6 +246,7 @@ pub(super) fn improve_bound(
     margin: f32,
     start: Vec3,
     start_bound: f32,
+    enough: f32,
 ) -> (f32, Vec3) {
     let (center, half) = (aabb.center(), (aabb.max - aabb.min) * 0.5);
     let value = |w: Vec3| convex.bound(w, triangle_box_support(triangle, center, half, w) - margin);
@@ -260,6 +262,9 @@ pub(super) fn improve_bound(
                 let bound = value(candidate);
                 if bound > best {
                     (best, w, improved) = (bound, candidate, true);
+                    if best >= enough {
+                        return (best, w);
+                    }
                 }
             }
             if !improved {

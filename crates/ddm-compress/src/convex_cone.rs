@@ -59,6 +59,17 @@ enum Vertical {
 /// rad; `|p| ≥ h / (|P_K(w)| + δ)` still holds for such a `p` when `δ` exceeds that angle.
 const PROJECTION_SLACK: f32 = 1e-5;
 
+/// How far outside the faces (relative to `|d|`, about an angle in radians) a witness's
+/// direction may lie ([`ConvexCone::contains_nearly`]). Integer geometry meets a cone
+/// often only on its boundary: from a voxel inside a maze wall, the steep band `[−90°,
+/// −45°]` reaches the wall's foot exactly along `−45°` and nowhere else, and the rounding
+/// of the band's tangent planes puts that direction a hair outside, so that no witness
+/// exists and every pair is split down to the tolerance's size. The search then computes
+/// the distance over the cone widened by this angle, which is still at most the cone's
+/// (a value stays a lower bound), and its lower bounds hold there, since they hold for
+/// every direction within [`PROJECTION_SLACK`], ten times this, of the cone.
+pub(crate) const WITNESS_SLACK: f32 = 1e-6;
+
 /// A convex cone `W × Z` holding a [`Cone`]: `W` the azimuth wedge (the whole plane when
 /// wider than `π`), `Z` the sign of `z` when all elevations share it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -224,10 +235,11 @@ impl ConvexCone {
         Some(vertical && horizontal && d.is_finite())
     }
 
-    /// Whether the direction `d` lies in the convex cone itself (`n · d ≤ 0` for every
-    /// face normal `n`; closed, finite `d` only).
-    pub(crate) fn contains(&self, d: Vec3) -> bool {
-        d.is_finite() && self.faces[..self.face_count].iter().all(|n| n.dot(d) <= 0.0)
+    /// Whether the direction `d` lies in the convex cone widened by [`WITNESS_SLACK`]
+    /// (`n · d ≤ WITNESS_SLACK |d|` for every face normal `n`; finite `d` only).
+    pub(crate) fn contains_nearly(&self, d: Vec3) -> bool {
+        let slack = WITNESS_SLACK * d.length();
+        d.is_finite() && self.faces[..self.face_count].iter().all(|n| n.dot(d) <= slack)
     }
 
     /// A unit direction inside the cone (its centre of azimuth and elevation).

@@ -15,7 +15,12 @@
 //! with `m − v` in the cone: the triangle point nearest the box centre with its nearest
 //! box point when that direction is in the cone, a ray from the box along the projection
 //! of the best axis onto the cone to the triangle, and rays from two triangle points back
-//! along a cone direction into the box. A pair about to be split also casts that ray
+//! along a cone direction into the box (or touching it). A pair about to be split also
+//! casts rays back from the triangle's three corners, where integer geometry often meets a
+//! cone only on its boundary (from a voxel inside a maze wall, the steep band `[−90°,
+//! −45°]` sees the wall's foot exactly along `−45°`, so that no interior witness exists:
+//! before these, 6.5 % of the maze's voxels at 64 × 64 × 16 ended with a finite value and
+//! no witness, 0.5 % after), and casts that ray
 //! against the whole mesh (a few times per cone and voxel): the cone's nearest mesh point
 //! often lies on another triangle than the pair's (a floor seen along the band's steepest
 //! direction is met beyond the triangle under the box), and without a witness the upper
@@ -25,7 +30,8 @@
 //!
 //! Where the convex cone `K` is larger than `C` (a band of elevations short of the pole or
 //! the horizon), the search computes the distance along `K`'s directions instead: its
-//! witnesses need `m − v ∈ K` only. That distance is at most `C`'s, so the values stay
+//! witnesses need `m − v ∈ K` only (up to [`crate::convex_cone::WITNESS_SLACK`], within
+//! which the lower bounds hold too). That distance is at most `C`'s, so the values stay
 //! lower bounds of `C`'s distance, and the lower bounds, which are `K`'s anyway, can meet
 //! the upper bounds: each value ends within about `2 tolerance` of `K`'s distance, as for a
 //! convex cone. With witnesses in `C` (as before), `K`'s bounds stayed below them wherever
@@ -364,6 +370,17 @@ impl<'a> VoxelSearch<'a> {
                         }
                         if let Some((distance, m)) = ray_witness(convex, aabb, triangle, axis, nearest) {
                             self.offer(c, distance, m);
+                        }
+                        // Still to be split: lines from the triangle's corners back into
+                        // the box, where a cone that meets the mesh only on its boundary
+                        // touches it (a wall's foot seen from inside the wall exactly along
+                        // the band's −45°).
+                        if g < self.upper[c] - self.tolerance {
+                            for m in triangle.0 {
+                                if let Some(distance) = box_witness(convex, aabb, m) {
+                                    self.offer(c, distance, m);
+                                }
+                            }
                         }
                         // Still to be split: the pairs' witnesses may have missed a nearer
                         // mesh point on another triangle, which a ray finds.

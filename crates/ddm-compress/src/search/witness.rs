@@ -9,10 +9,10 @@ use crate::geometry::{Aabb, Triangle};
 
 /// Whether the direction `d` may join a witness pair: in the cone, by
 /// [`ConvexCone::contains_within`], when the convex cone is the cone itself; else in the
-/// convex cone ([`ConvexCone::contains`]), whose distance the search computes then (see the
-/// module documentation).
+/// convex cone up to [`crate::convex_cone::WITNESS_SLACK`] ([`ConvexCone::contains_nearly`]),
+/// whose distance the search computes then (see the module documentation).
 pub(super) fn contains(convex: &ConvexCone, d: Vec3) -> bool {
-    convex.contains_within(d).unwrap_or_else(|| convex.contains(d))
+    convex.contains_within(d).unwrap_or_else(|| convex.contains_nearly(d))
 }
 
 /// The unit direction of `projected` (a projection onto the cone), nudged towards the
@@ -58,7 +58,10 @@ pub(super) fn ray_witness(
 
 /// A witness (as [`ray_witness`]'s) for a box and a point `m` of the mesh: the distance from `m` back
 /// along a direction of the cone (the projection of `m − c_B` onto it, `c_B` the box
-/// centre) to where that line enters the box, or `None` when it misses the box.
+/// centre) to where that line enters the box, or `None` when it misses the box. A line
+/// that only touches the box (along an edge: the only contact of a cone that meets the
+/// mesh on its boundary) counts: the box point is the entry point clamped into the box,
+/// and the pair's own direction must pass [`contains`].
 pub(super) fn box_witness(convex: &ConvexCone, aabb: &Aabb, m: Vec3) -> Option<f32> {
     let direction = witness_direction(convex, convex.project(m - aabb.center()))?;
     // The points m − t d, t ≥ 0, inside the box: the slab intervals of t.
@@ -75,9 +78,16 @@ pub(super) fn box_witness(convex: &ConvexCone, aabb: &Aabb, m: Vec3) -> Option<f
         enter = enter.max(t1.min(t2));
         leave = leave.min(t1.max(t2));
     }
-    // Rounding can put the entry point a hair outside the box: step a little further in.
-    let t = enter + 1e-5 * (1.0 + enter);
-    (t <= leave && t.is_finite()).then_some(t)
+    // A little past the entry point where the line crosses the box; the entry point where
+    // it only touches it (rounding can put `leave` a hair before `enter`).
+    let step = 1e-5 * (1.0 + enter);
+    if !(enter <= leave + step && enter.is_finite()) {
+        return None;
+    }
+    let t = if enter + step <= leave { enter + step } else { enter };
+    let v = (m - direction * t).clamp(aabb.min, aabb.max);
+    let offset = m - v;
+    contains(convex, offset).then(|| offset.length())
 }
 
 /// The distance along the unit `direction` from `origin` to `triangle` (Möller–Trumbore),

@@ -526,4 +526,55 @@ mod tests {
         // elevation bands' convex cones were cut), pinned at 0.16.
         assert!(mean_gap < 0.16, "regression pin: mean gap {mean_gap}");
     }
+
+    /// A wall on a floor at `z = 2`, its top at `z = 12`, its side a slope over `x ∈ [15, 16]`
+    /// rising from the foot line `x = 15`: the wall's foot (two floor triangles and two slope
+    /// triangles per unit of `y`, for `y ∈ [48, 56]`).
+    fn wall_foot() -> Vec<Triangle> {
+        let mut triangles = Vec::new();
+        for y in 48..56 {
+            let (y0, y1) = (y as f32, y as f32 + 1.0);
+            let floor = |x: f32, y: f32| Vec3::new(x, y, 2.0);
+            let top = |y: f32| Vec3::new(16.0, y, 12.0);
+            triangles.push(Triangle([floor(14.0, y0), floor(15.0, y0), floor(15.0, y1)]));
+            triangles.push(Triangle([floor(14.0, y0), floor(15.0, y1), floor(14.0, y1)]));
+            triangles.push(Triangle([floor(15.0, y0), top(y0), top(y1)]));
+            triangles.push(Triangle([floor(15.0, y0), top(y1), floor(15.0, y1)]));
+        }
+        triangles
+    }
+
+    #[test]
+    fn a_cone_that_meets_the_mesh_only_on_its_boundary_finds_a_witness() {
+        // From the voxel [19, 20] × [51, 52] × [5, 6] inside the wall, the steep band
+        // [−90°, −45°] towards −x meets the mesh only along −45°: the offset (−4, 0, −4)
+        // from the box's edge (19, y, 6) to the foot (15, y, 2) (a slope point
+        // (15 + s, y, 2 + 10 s) needs 4 − 10 s ≥ 4 − s, so s = 0; the floor beyond the foot
+        // is farther than it is deep). Its distance is 4√2 exactly; the search must end
+        // within the tolerance of it, with a witness, not at the cap with every pair split
+        // down to the tolerance's size.
+        let cones = DirectionCones::downward(4, 2).unwrap();
+        let list: Vec<Option<Cone>> = (0..cones.count()).map(|i| cones.cone(i)).collect();
+        let voxel = Aabb { min: Vec3::new(19.0, 51.0, 5.0), max: Vec3::new(20.0, 52.0, 6.0) };
+        let (tolerance, cap) = (0.25, 100.0);
+        let mut search = VoxelSearch::new(&list, tolerance, cap);
+        search.run_over_every_triangle(&wall_foot(), &voxel);
+        let truth = 4.0 * core::f32::consts::SQRT_2;
+        let mut compared = 0;
+        for (c, cone) in list.iter().enumerate() {
+            let cone = cone.unwrap();
+            // The steep cones whose azimuths reach −x (180°): [90°, 180°] and [180°, 270°].
+            let towards_foot = cone.elevation_max < -0.7
+                && cone.azimuth_min <= core::f32::consts::PI + 1e-6
+                && cone.azimuth_max >= core::f32::consts::PI - 1e-6;
+            if !towards_foot {
+                continue;
+            }
+            compared += 1;
+            let (value, upper) = (search.value(c), search.upper[c]);
+            assert!(value <= truth + 1e-4 && value >= truth - tolerance, "cone {c}: value {value}, truth {truth}");
+            assert!(upper <= truth + tolerance, "cone {c}: no witness (upper bound {upper})");
+        }
+        assert_eq!(compared, 2);
+    }
 }

@@ -20,8 +20,8 @@
 //! cone only on its boundary (from a voxel inside a maze wall, the steep band `[−90°,
 //! −45°]` sees the wall's foot exactly along `−45°`, so that no interior witness exists:
 //! before these, 6.5 % of the maze's voxels at 64 × 64 × 16 ended with a finite value and
-//! no witness, 0.5 % after), and casts that ray
-//! against the whole mesh (a few times per cone and voxel): the cone's nearest mesh point
+//! no witness, 0.5 % after), and casts the best-axis ray (the second witness above)
+//! against the whole mesh, a few times per cone and voxel: the cone's nearest mesh point
 //! often lies on another triangle than the pair's (a floor seen along the band's steepest
 //! direction is met beyond the triangle under the box), and without a witness the upper
 //! bound stays at the cap, so that no pair can be final and every pair is split down to
@@ -149,6 +149,16 @@ impl<'a> VoxelSearch<'a> {
         if distance < self.upper[c] {
             self.upper[c] = distance;
             self.witness_points[c] = Some(m);
+        }
+    }
+
+    /// Offers cone `c` the witnesses from the mesh points `points` back along a direction
+    /// of `convex` into `aabb` ([`box_witness`]).
+    fn offer_box_witnesses(&mut self, c: usize, convex: &ConvexCone, aabb: &Aabb, points: impl IntoIterator<Item = Vec3>) {
+        for m in points {
+            if let Some(distance) = box_witness(convex, aabb, m) {
+                self.offer(c, distance, m);
+            }
         }
     }
 
@@ -347,11 +357,7 @@ impl<'a> VoxelSearch<'a> {
                     {
                         self.offer(c, distance, m);
                     }
-                    for m in [nearest, ct] {
-                        if let Some(distance) = box_witness(convex, aabb, m) {
-                            self.offer(c, distance, m);
-                        }
-                    }
+                    self.offer_box_witnesses(c, convex, aabb, [nearest, ct]);
                     // About to be split: a local search over `w` first tightens the bound
                     // (towards the exact pair distance, by duality) and aims a witness.
                     if !small
@@ -376,11 +382,7 @@ impl<'a> VoxelSearch<'a> {
                         // touches it (a wall's foot seen from inside the wall exactly along
                         // the band's −45°).
                         if g < self.upper[c] - self.tolerance {
-                            for m in triangle.0 {
-                                if let Some(distance) = box_witness(convex, aabb, m) {
-                                    self.offer(c, distance, m);
-                                }
-                            }
+                            self.offer_box_witnesses(c, convex, aabb, triangle.0);
                         }
                         // Still to be split: the pairs' witnesses may have missed a nearer
                         // mesh point on another triangle, which a ray finds.
@@ -525,5 +527,56 @@ mod tests {
         // bound) 0.108 voxel over 3128 pairs, 4266 witnesses (0.131 and 3941 before the
         // elevation bands' convex cones were cut), pinned at 0.16.
         assert!(mean_gap < 0.16, "regression pin: mean gap {mean_gap}");
+    }
+
+    /// A wall on a floor at `z = 2`, its top at `z = 12`, its side a slope over `x ∈ [15, 16]`
+    /// rising from the foot line `x = 15`: the wall's foot (two floor triangles and two slope
+    /// triangles per unit of `y`, for `y ∈ [48, 56]`).
+    fn wall_foot() -> Vec<Triangle> {
+        let mut triangles = Vec::new();
+        for y in 48..56 {
+            let (y0, y1) = (y as f32, y as f32 + 1.0);
+            let floor = |x: f32, y: f32| Vec3::new(x, y, 2.0);
+            let top = |y: f32| Vec3::new(16.0, y, 12.0);
+            triangles.push(Triangle([floor(14.0, y0), floor(15.0, y0), floor(15.0, y1)]));
+            triangles.push(Triangle([floor(14.0, y0), floor(15.0, y1), floor(14.0, y1)]));
+            triangles.push(Triangle([floor(15.0, y0), top(y0), top(y1)]));
+            triangles.push(Triangle([floor(15.0, y0), top(y1), floor(15.0, y1)]));
+        }
+        triangles
+    }
+
+    #[test]
+    fn a_cone_that_meets_the_mesh_only_on_its_boundary_finds_a_witness() {
+        // From the voxel [19, 20] × [51, 52] × [5, 6] inside the wall, the steep band
+        // [−90°, −45°] towards −x meets the mesh only along −45°: the offset (−4, 0, −4)
+        // from the box's edge (19, y, 6) to the foot (15, y, 2) (a slope point
+        // (15 + s, y, 2 + 10 s) needs 4 − 10 s ≥ 4 − s, so s = 0; the floor beyond the foot
+        // is farther than it is deep). Its distance is 4√2 exactly; the search must end
+        // within the tolerance of it, with a witness, not at the cap with every pair split
+        // down to the tolerance's size.
+        let cones = DirectionCones::downward(4, 2).unwrap();
+        let list: Vec<Option<Cone>> = (0..cones.count()).map(|i| cones.cone(i)).collect();
+        let voxel = Aabb { min: Vec3::new(19.0, 51.0, 5.0), max: Vec3::new(20.0, 52.0, 6.0) };
+        let (tolerance, cap) = (0.25, 100.0);
+        let mut search = VoxelSearch::new(&list, tolerance, cap);
+        search.run_over_every_triangle(&wall_foot(), &voxel);
+        let truth = 4.0 * core::f32::consts::SQRT_2;
+        let mut compared = 0;
+        for (c, cone) in list.iter().enumerate() {
+            let cone = cone.unwrap();
+            // The steep cones whose azimuths reach −x (180°): [90°, 180°] and [180°, 270°].
+            let towards_foot = cone.elevation_max < -0.7
+                && cone.azimuth_min <= core::f32::consts::PI + 1e-6
+                && cone.azimuth_max >= core::f32::consts::PI - 1e-6;
+            if !towards_foot {
+                continue;
+            }
+            compared += 1;
+            let (value, upper) = (search.value(c), search.upper[c]);
+            assert!(value <= truth + 1e-4 && value >= truth - tolerance, "cone {c}: value {value}, truth {truth}");
+            assert!(upper <= truth + tolerance, "cone {c}: no witness (upper bound {upper})");
+        }
+        assert_eq!(compared, 2);
     }
 }

@@ -266,6 +266,7 @@ pub const COMMANDS: &[Command] = &[
             SIZE,
             value("cones", "MxN"),
             switch("plain"),
+            switch("gpu"),
             value("tolerance", "T"),
             ddm_input::OBJ,
             ddm_input::SCALE,

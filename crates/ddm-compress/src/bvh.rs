@@ -20,6 +20,11 @@ use crate::geometry::{Aabb, Triangle, directional_distance_bound, triangle_overl
 /// Triangles per leaf at most.
 const LEAF_SIZE: usize = 4;
 
+/// The relative margin by which [`TriangleBvh::any_overlaps`] widens the box before its
+/// node tests: it keeps them from rejecting what the exact test, computed relative to the
+/// box centre, would accept after rounding.
+pub(crate) const OVERLAP_BOX_MARGIN: f32 = 1e-4;
+
 /// A node of [`TriangleBvh`].
 #[derive(Clone, Copy, Debug)]
 struct Node {
@@ -132,11 +137,10 @@ impl TriangleBvh {
         (node.count == 0).then_some([index + 1, node.first_or_child])
     }
 
-    /// Whether any triangle intersects `aabb` ([`triangle_overlaps_box`]).
+    /// Whether any triangle intersects `aabb` ([`triangle_overlaps_box`]): the nodes whose
+    /// boxes reach `aabb` widened by [`OVERLAP_BOX_MARGIN`] (relative) are searched.
     pub fn any_overlaps(&self, aabb: &Aabb, stack: &mut Vec<u32>) -> bool {
-        // A margin keeps the box test from rejecting what the exact test, computed
-        // relative to the box centre, would accept after rounding.
-        let margin = 1e-4 * (1.0 + aabb.max.abs().max_element());
+        let margin = OVERLAP_BOX_MARGIN * (1.0 + aabb.max.abs().max_element());
         let wide = Aabb { min: aabb.min - margin, max: aabb.max + margin };
         stack.clear();
         if !self.nodes.is_empty() {

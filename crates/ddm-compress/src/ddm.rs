@@ -229,7 +229,7 @@ pub(crate) struct Scene {
     /// Per group of [`CONES_PER_SEARCH`] cones, the bound denominators of the axes.
     denominators: Vec<AxisDenominators>,
     /// The plain map's hierarchy (for [`MapKind::Plain`] only).
-    plain: Option<PlainHierarchy>,
+    pub(crate) plain: Option<PlainHierarchy>,
     /// Each map's cone (`None`: every direction).
     pub(crate) cone_list: Vec<Option<Cone>>,
     tolerance: f32,

@@ -83,12 +83,13 @@ impl Triangle {
 /// Whether `triangle` intersects `aabb` (separating-axis test, Akenine-Möller 2001): the
 /// 3 box normals, the triangle normal and the 9 edge cross products. Touching counts.
 pub fn triangle_overlaps_box(triangle: &Triangle, aabb: &Aabb) -> bool {
+    // The same test as the WGSL twin's `ddm_triangle_overlaps_box`.
     let center = aabb.center();
     let half = (aabb.max - aabb.min) * 0.5;
     let [a, b, c] = triangle.0.map(|v| v - center);
     let edges = [b - a, c - b, a - c];
     let separated = |axis: Vec3| {
-        if axis.length_squared() < 1e-20 {
+        if axis.length_squared() < DEGENERATE_AXIS_SQUARED {
             return false;
         }
         let (pa, pb, pc) = (a.dot(axis), b.dot(axis), c.dot(axis));
@@ -242,8 +243,20 @@ pub fn box_triangle_distance(aabb: &Aabb, triangle: &Triangle) -> f32 {
         }
     }
     let scale = 1.0 + center.abs().max_element() + a.abs().max(b.abs()).max(c.abs()).max_element() + half.max_element();
-    (libm::sqrtf(best) - 2e-6 * scale).max(0.0)
+    (libm::sqrtf(best) - BOX_TRIANGLE_MARGIN * scale).max(0.0)
 }
+
+/// The squared length below which a cross product is no separating axis (parallel edges)
+/// in [`triangle_overlaps_box`].
+pub(crate) const DEGENERATE_AXIS_SQUARED: f32 = 1e-20;
+
+/// The relative rounding margin of [`box_triangle_distance`] (its distance less this times
+/// the coordinates' scale stays below the exact distance).
+pub(crate) const BOX_TRIANGLE_MARGIN: f32 = 2e-6;
+
+/// The squared segment length below which [`segment_distance_squared`] treats a segment as
+/// a point.
+pub(crate) const DEGENERATE_SEGMENT_SQUARED: f32 = 1e-12;
 
 /// The squared distance between segments `p1 q1` and `p2 q2`: that of the pair of points
 /// Ericson's closest-point method (*Real-Time Collision Detection*, §5.1.9) finds, clamped
@@ -251,7 +264,7 @@ pub fn box_triangle_distance(aabb: &Aabb, triangle: &Triangle) -> f32 {
 fn segment_distance_squared(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3) -> f32 {
     let (d1, d2, r) = (q1 - p1, q2 - p2, p1 - p2);
     let (a, e, f) = (d1.length_squared(), d2.length_squared(), d2.dot(r));
-    const DEGENERATE: f32 = 1e-12;
+    const DEGENERATE: f32 = DEGENERATE_SEGMENT_SQUARED;
     let (s, t) = if a <= DEGENERATE && e <= DEGENERATE {
         (0.0, 0.0)
     } else if a <= DEGENERATE {

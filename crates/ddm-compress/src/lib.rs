@@ -56,6 +56,8 @@
 //!   search over all cones at once lives in the private `search` module, its cone-aware
 //!   duality bounds in the private `convex_cone` module, the plain map's box–mesh
 //!   distance by alternating projections in the private `plain` module).
+//! - [`plain_gpu`]: the plain map's hierarchy laid out for a build on the GPU
+//!   ([`PlainGpuScene`]; the kernel and its pipeline are `ddm-render`'s).
 //! - [`compress`]: the lookup grid and atlas (Algorithm A.1) and access (Algorithm A.2);
 //!   [`CompressError`] says why a map cannot be compressed.
 //! - [`f16_storage`]: distances as binary16 rounded down (still conservative), half the
@@ -70,6 +72,10 @@
 //! `ddm_grid_index_shifted` and `ddm_atlas_index_shifted` for power-of-two blocks
 //! ([`CompressedMap::block_shift`]), and `ddm_f16_pair_value` for an atlas packed by
 //! [`pack_f16_pairs_at_most`].
+//! It also holds the plain map's per-pair bounds for a build on the GPU
+//! (`ddm_plain_pair_lower_bound`, `ddm_box_triangle_distance`, `ddm_triangle_overlaps_box`,
+//! `ddm_box_gap_squared`) over the generated [`PlainGpuNode`], [`PlainGpuTriangle`] and
+//! [`PlainGpuUniforms`] ([`plain_gpu`]).
 //! A shader binds a map's [`CompressedMap::grid`] and [`CompressedMap::atlas`] as storage
 //! buffers and its [`CompressedMapUniforms::new`] as uniforms:
 //!
@@ -121,6 +127,7 @@ pub mod ddm;
 pub mod f16_storage;
 pub mod geometry;
 mod plain;
+pub mod plain_gpu;
 mod search;
 pub mod serialize;
 #[cfg(test)]
@@ -138,6 +145,10 @@ pub use ddm::{
 };
 pub use f16_storage::pack_f16_pairs_at_most;
 pub use geometry::{Aabb, Triangle, box_triangle_distance};
+pub use plain_gpu::{
+    PLAIN_GPU_FIRST_BITS, PLAIN_GPU_LEAF, PLAIN_GPU_STACK, PlainGpuError, PlainGpuNode, PlainGpuScene,
+    PlainGpuTriangle, PlainGpuUniforms,
+};
 pub use serialize::DecodeError;
 #[cfg(feature = "wgsl")]
 pub use wgsl::WGSL;

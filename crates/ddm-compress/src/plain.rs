@@ -41,11 +41,15 @@ use crate::geometry::{Aabb, Triangle, box_triangle_distance, closest_point_on_tr
 pub(crate) const MAX_PROJECTIONS: u32 = 6;
 
 /// The most triangles of a [`PlainHierarchy`] leaf.
-const LEAF_TRIANGLES: u32 = 12;
+pub(crate) const LEAF_TRIANGLES: u32 = 12;
 
 /// The relative rounding margin of the certified lower bounds (a few float ulps of the
 /// coordinates, as in [`crate::geometry::separation_lower_bound`]).
-const MARGIN: f32 = 2e-6;
+pub(crate) const MARGIN: f32 = 2e-6;
+
+/// The relative rounding slack of the squared box gaps that the hierarchy's search compares
+/// with the current minimum ([`PlainHierarchy::voxel_distance`]).
+pub(crate) const GAP_SLACK: f32 = 4e-7;
 
 /// A certified lower bound of `D(aabb, triangle)` within `tolerance` of it, or at least
 /// `best` (then possibly looser): see the module documentation. `true` in the second place
@@ -128,9 +132,9 @@ pub(crate) enum Child {
 /// An inner node of [`PlainHierarchy`]: both children's boxes side by side, so that one
 /// visit reads one node.
 #[derive(Clone, Copy, Debug)]
-struct PlainNode {
-    bounds: [Aabb; 2],
-    children: [Child; 2],
+pub(crate) struct PlainNode {
+    pub(crate) bounds: [Aabb; 2],
+    pub(crate) children: [Child; 2],
 }
 
 /// The triangle hierarchy laid out for the plain map's search: a [`TriangleBvh`]'s
@@ -138,13 +142,13 @@ struct PlainNode {
 /// order, so that a leaf's triangles lie side by side.
 #[derive(Clone, Debug)]
 pub(crate) struct PlainHierarchy {
-    nodes: Vec<PlainNode>,
+    pub(crate) nodes: Vec<PlainNode>,
     /// A root that is a leaf (at most a leaf's worth of triangles), or the first node.
-    root: Option<(Aabb, Child)>,
-    triangles: Vec<Triangle>,
-    triangle_bounds: Vec<Aabb>,
+    pub(crate) root: Option<(Aabb, Child)>,
+    pub(crate) triangles: Vec<Triangle>,
+    pub(crate) triangle_bounds: Vec<Aabb>,
     /// The largest vertex coordinate magnitude (for the rounding margins).
-    magnitude: f32,
+    pub(crate) magnitude: f32,
 }
 
 impl PlainHierarchy {
@@ -225,7 +229,7 @@ impl PlainHierarchy {
         // Boxes are compared by their squared gap to the voxel: a box is skipped once its
         // gap reaches the current minimum plus the gap's rounding slack (a few ulps of the
         // coordinates), so that no box that could lower it is skipped.
-        let slack = 4e-7 * (1.0 + voxel.min.abs().max(voxel.max.abs()).max_element().max(self.magnitude));
+        let slack = GAP_SLACK * (1.0 + voxel.min.abs().max(voxel.max.abs()).max_element().max(self.magnitude));
         let reach = |value: f32| (value + slack) * (value + slack);
         let offer = |index: u32, found: &mut PlainValue| {
             if gap_squared(voxel, &self.triangle_bounds[index as usize]) >= reach(found.value) {

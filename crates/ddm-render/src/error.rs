@@ -61,6 +61,9 @@ pub enum DdmRenderError {
     InvalidTimestamps(String),
     /// wgpu reported an error, or a readback failed.
     Gpu(HarnessError),
+    /// A plain distance map built on the GPU could not be laid out or read back (the
+    /// error names the input or buffer).
+    PlainMap(ddm_compress::PlainGpuError),
 }
 
 impl fmt::Display for DdmRenderError {
@@ -83,6 +86,7 @@ impl fmt::Display for DdmRenderError {
             Self::InvalidTarget { what, problem } => write!(f, "ddm-render: {what}: {problem}"),
             Self::InvalidTimestamps(why) => write!(f, "ddm-render: timestamps: {why}"),
             Self::Gpu(e) => write!(f, "ddm-render: {e}"),
+            Self::PlainMap(e) => write!(f, "ddm-render: {e}"),
         }
     }
 }
@@ -91,8 +95,15 @@ impl std::error::Error for DdmRenderError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             Self::Gpu(e) => Some(e),
+            Self::PlainMap(e) => Some(e),
             _ => None,
         }
+    }
+}
+
+impl From<ddm_compress::PlainGpuError> for DdmRenderError {
+    fn from(e: ddm_compress::PlainGpuError) -> Self {
+        Self::PlainMap(e)
     }
 }
 

@@ -39,6 +39,8 @@
 //! - [`gbuffer`]: the raster pass ([`GBufferPipeline`], [`GBufferPass`]) and G-buffer readback.
 //! - [`renderer`]: the pipelines, the uploaded scene, the renderer and its targets.
 //! - [`readback`]: frames read back for tests and tools, and as images.
+//! - [`plain_map_build`]: the plain distance map built on the GPU in compute
+//!   ([`PlainMapPipeline`], [`PlainMapBuild`]).
 //! - [`shaders`]: the composed WGSL of both passes (`crates/ddm-render/shaders/`).
 //! - [`timing`]: frames timed by timestamps or wall clock (`cargo xtask bench-gpu ddm`).
 //! - [`error`]: the error type, [`DdmRenderError`].
@@ -47,6 +49,7 @@ pub mod base_mesh;
 pub mod camera;
 pub mod error;
 pub mod gbuffer;
+pub mod plain_map_build;
 pub mod readback;
 pub mod renderer;
 pub mod shaders;
@@ -63,6 +66,7 @@ pub use gbuffer::{
     GBUFFER_FORMAT, GBUFFER_TEXTURES, GBuffer, GBufferPass, GBufferPipeline, PassTimestamps, rasterize_gbuffer,
     read_gbuffer, read_texture,
 };
+pub use plain_map_build::{PLAIN_BUILD_TILE, PlainMapBuild, PlainMapPipeline, build_plain_map};
 pub use readback::{PixelReadback, pixels_to_image, render_to_pixels};
 pub use renderer::{
     COLOR_TARGET_FORMAT, DEFAULT_ALBEDO, DEFAULT_NORMAL_TINT, DEPTH_TARGET_FORMAT, DdmFrame, DdmRenderPipelines,

@@ -17,6 +17,41 @@ use crate::renderer::{DdmFrame, DdmRenderer, DdmTarget};
 /// Timestamps per frame: the raster pass's two, then the per-pixel pass's two.
 const QUERIES_PER_FRAME: u32 = 4;
 
+/// A timestamp query set and the buffer its queries resolve into.
+pub(crate) struct TimestampQueries {
+    pub(crate) set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    count: u32,
+}
+
+impl TimestampQueries {
+    /// `count` timestamp queries labelled `label`.
+    pub(crate) fn new(gpu: &Gpu, label: &'static str, count: u32) -> Result<Self, DdmRenderError> {
+        Ok(gpu.scoped(|| {
+            let set = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some(label),
+                ty: wgpu::QueryType::Timestamp,
+                count,
+            });
+            let resolve = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 8 * u64::from(count),
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            Self { set, resolve, count }
+        })?)
+    }
+
+    /// Resolves every query (after the submissions that wrote them) and reads the ticks.
+    pub(crate) fn read(&self, gpu: &Gpu) -> Result<Vec<u64>, DdmRenderError> {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        encoder.resolve_query_set(&self.set, 0..self.count, &self.resolve, 0);
+        gpu.scoped(|| gpu.queue.submit([encoder.finish()]))?;
+        Ok(bytemuck::pod_collect_to_vec(&gpu.read_buffer(&self.resolve, 8 * u64::from(self.count))?))
+    }
+}
+
 /// The times of a renderer's frames.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RendererTimes {
@@ -55,32 +90,17 @@ pub fn time_frames(
         let count = QUERIES_PER_FRAME
             .checked_mul(frames)
             .ok_or(DdmRenderError::InvalidSettings("timed frames overflow the timestamp queries"))?;
-        let (set, resolve) = gpu.scoped(|| {
-            let set = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("ddm-render frame timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count,
-            });
-            let resolve = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("ddm-render frame timestamps"),
-                size: 8 * u64::from(count),
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            (set, resolve)
-        })?;
+        let queries = TimestampQueries::new(gpu, "ddm-render frame timestamps", count)?;
+        let set = &queries.set;
         for k in 0..frames {
             let first = QUERIES_PER_FRAME * k;
             submit(&DdmFrame {
-                raster_timestamps: Some(PassTimestamps { query_set: &set, first }),
-                trace_timestamps: Some(PassTimestamps { query_set: &set, first: first + 2 }),
+                raster_timestamps: Some(PassTimestamps { query_set: set, first }),
+                trace_timestamps: Some(PassTimestamps { query_set: set, first: first + 2 }),
                 ..plain
             })?;
         }
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        encoder.resolve_query_set(&set, 0..count, &resolve, 0);
-        gpu.scoped(|| gpu.queue.submit([encoder.finish()]))?;
-        let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&gpu.read_buffer(&resolve, 8 * u64::from(count))?);
+        let ticks = queries.read(gpu)?;
         let ms_per_tick = f64::from(gpu.queue.get_timestamp_period()) * 1e-6;
         let span = |t: &[u64], from: usize| t[3].saturating_sub(t[from]) as f64 * ms_per_tick;
         let per_frame = || ticks.chunks_exact(QUERIES_PER_FRAME as usize);

@@ -62,7 +62,7 @@ static MODULES: &[CrateModule] = &[
     CrateModule {
         module: &ddm_compress::WGSL,
         crate_dir: "crates/ddm-compress",
-        library_files: &["wgsl/ddm_compress.wgsl"],
+        library_files: &["wgsl/ddm_compress.wgsl", "wgsl/plain_map.wgsl"],
     },
     CrateModule {
         module: &abuffer_mask::WGSL,

@@ -154,7 +154,13 @@ impl<'a> VoxelSearch<'a> {
 
     /// Offers cone `c` the witnesses from the mesh points `points` back along a direction
     /// of `convex` into `aabb` ([`box_witness`]).
-    fn offer_box_witnesses(&mut self, c: usize, convex: &ConvexCone, aabb: &Aabb, points: impl IntoIterator<Item = Vec3>) {
+    fn offer_box_witnesses(
+        &mut self,
+        c: usize,
+        convex: &ConvexCone,
+        aabb: &Aabb,
+        points: impl IntoIterator<Item = Vec3>,
+    ) {
         for m in points {
             if let Some(distance) = box_witness(convex, aabb, m) {
                 self.offer(c, distance, m);

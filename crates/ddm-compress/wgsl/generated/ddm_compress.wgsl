@@ -3,8 +3,54 @@
 
 const DDM_SURFACE_FLAG: u32 = 2147483648u;
 
+const DDM_PLAIN_GPU_LEAF: u32 = 2147483648u;
+
+const DDM_PLAIN_GPU_FIRST_BITS: u32 = 24u;
+
+const DDM_PLAIN_GPU_STACK: u32 = 48u;
+
+const DDM_PLAIN_MAX_PROJECTIONS: u32 = 6u;
+
+const DDM_PLAIN_MARGIN: f32 = 0x1.0c6f7ap-19f; // 2e-6
+
+const DDM_PLAIN_GAP_SLACK: f32 = 0x1.ad7f2ap-22f; // 4e-7
+
+const DDM_OVERLAP_BOX_MARGIN: f32 = 0x1.a36e2ep-14f; // 1e-4
+
+const DDM_BOX_TRIANGLE_MARGIN: f32 = 0x1.0c6f7ap-19f; // 2e-6
+
+const DDM_DEGENERATE_AXIS_SQUARED: f32 = 0x1.79ca10p-67f; // 1e-20
+
+const DDM_DEGENERATE_SEGMENT_SQUARED: f32 = 0x1.197998p-40f; // 1e-12
+
 // Rust size 32 bytes.
 struct CompressedMapUniforms {
     dims_block: vec4<u32>, // offset 0
     grid_atlas_base: vec4<u32>, // offset 16
+}
+
+// Rust size 80 bytes.
+struct PlainGpuNode {
+    first_min: vec4<f32>, // offset 0
+    first_max: vec4<f32>, // offset 16
+    second_min: vec4<f32>, // offset 32
+    second_max: vec4<f32>, // offset 48
+    children: vec4<u32>, // offset 64
+}
+
+// Rust size 80 bytes.
+struct PlainGpuTriangle {
+    a: vec4<f32>, // offset 0
+    b: vec4<f32>, // offset 16
+    c: vec4<f32>, // offset 32
+    min: vec4<f32>, // offset 48
+    max: vec4<f32>, // offset 64
+}
+
+// Rust size 64 bytes.
+struct PlainGpuUniforms {
+    dims_root: vec4<u32>, // offset 0
+    root_min_tolerance: vec4<f32>, // offset 16
+    root_max_cap: vec4<f32>, // offset 32
+    magnitude: vec4<f32>, // offset 48
 }

@@ -11,13 +11,21 @@
 //! value is also checked against the exact distance (the minimum of
 //! `box_triangle_distance` over every triangle and periodic copy): at most it, and within
 //! the tolerance of it.
+//!
+//! The per-pair functions of the twin (`shaders/ddm-compress/plain_map.wgsl`) are also
+//! compared one by one with their Rust on random, integer-aligned (touching) and degenerate
+//! box–triangle pairs (the kernel `shaders/test-kernels/ddm_plain_pairs_differential.wgsl`).
 
+use ddm_compress::geometry::{closest_point_on_triangle, segment_distance_squared, triangle_overlaps_box};
 use ddm_compress::{
-    Aabb, DistanceMapSettings, MapKind, PlainGpuScene, Triangle, box_triangle_distance, compute_distance_maps,
+    Aabb, DistanceMapSettings, MapKind, PlainGpuScene, PlainGpuTriangle, Triangle, box_triangle_distance,
+    compute_distance_maps,
 };
-use glam::{UVec3, Vec3};
+use glam::{UVec3, Vec3, Vec4};
 use integration_tests::gpu;
 use mesostructure::Mesostructure;
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
 
 /// The bounds' rounding margins at coordinates below 100 (`plain::MARGIN` and
 /// `geometry::BOX_TRIANGLE_MARGIN`, 2e-6 relative, times the scale), with room for the
@@ -125,4 +133,95 @@ fn an_empty_scene_builds_the_cap_everywhere_and_a_grid_not_a_multiple_of_the_til
         assert!((g - c).abs() <= 0.05 + ROUNDING, "voxel {index}: GPU {g}, CPU {c}");
     }
     assert_eq!(maps.values[0].len(), 105);
+}
+
+/// Random pairs (boxes of sides 0.25–2 and triangles spread around them), pairs of a unit
+/// voxel and an integer triangle (which often touch exactly, as the maze's walls do), and
+/// degenerate triangles (a repeated corner, three collinear corners).
+fn pairs() -> Vec<(Aabb, Triangle, f32)> {
+    let mut rng = SmallRng::seed_from_u64(0x5eed_91a7_3c2d_0e14);
+    let mut pairs = Vec::new();
+    let tolerances = [0.01, 0.05, 0.25];
+    for k in 0..3000 {
+        let min = Vec3::new(rng.random_range(-3.0..3.0), rng.random_range(-3.0..3.0), rng.random_range(-3.0..3.0));
+        let size = Vec3::new(rng.random_range(0.25..2.0), rng.random_range(0.25..2.0), rng.random_range(0.25..2.0));
+        let anchor =
+            min + Vec3::new(rng.random_range(-3.0..5.0), rng.random_range(-3.0..5.0), rng.random_range(-3.0..5.0));
+        let mut vertex = || {
+            anchor + Vec3::new(rng.random_range(-1.5..1.5), rng.random_range(-1.5..1.5), rng.random_range(-1.5..1.5))
+        };
+        let triangle = Triangle([vertex(), vertex(), vertex()]);
+        pairs.push((Aabb { min, max: min + size }, triangle, tolerances[k % 3]));
+    }
+    for k in 0..1000 {
+        let mut corner = || {
+            Vec3::new(rng.random_range(-2..4) as f32, rng.random_range(-2..4) as f32, rng.random_range(-2..4) as f32)
+        };
+        let triangle = Triangle([corner(), corner(), corner()]);
+        pairs.push((Aabb::voxel(0, 0, 0), triangle, tolerances[k % 3]));
+    }
+    for k in 0..300 {
+        let a = Vec3::new(rng.random_range(-2.0..3.0), rng.random_range(-2.0..3.0), rng.random_range(-2.0..3.0));
+        let b = Vec3::new(rng.random_range(-2.0..3.0), rng.random_range(-2.0..3.0), rng.random_range(-2.0..3.0));
+        let triangle = if k % 2 == 0 { Triangle([a, a, b]) } else { Triangle([a, (a + b) * 0.5, b]) };
+        pairs.push((Aabb::voxel(0, 0, 0), triangle, tolerances[k % 3]));
+    }
+    pairs
+}
+
+#[test]
+fn the_per_pair_functions_equal_their_rust() {
+    let pairs = pairs();
+    let queries: Vec<PlainGpuTriangle> = pairs
+        .iter()
+        .map(|(aabb, t, tolerance)| PlainGpuTriangle {
+            a: t.0[0].extend(0.0),
+            b: t.0[1].extend(0.0),
+            c: t.0[2].extend(0.0),
+            min: aabb.min.extend(*tolerance),
+            max: aabb.max.extend(0.0),
+        })
+        .collect();
+    let source = shader_registry::test_kernel_source("ddm_plain_pairs_differential").unwrap_or_else(|e| panic!("{e}"));
+    let results: Vec<Vec4> = gpu().compute_map(&source, "pair_bounds", &[], &queries).unwrap();
+    let points: Vec<Vec4> = gpu().compute_map(&source, "closest_points", &[], &queries).unwrap();
+    let (mut compared, mut overlapping) = (0, 0);
+    let (mut distance_gap, mut segment_gap, mut point_gap) = (0.0_f32, 0.0_f32, 0.0_f32);
+    for (k, ((aabb, triangle, tolerance), (result, point))) in pairs.iter().zip(results.iter().zip(&points)).enumerate()
+    {
+        // Overlap: the same separating-axis test, decided the same way even where the
+        // triangle touches the box exactly (integer pairs).
+        let overlaps = triangle_overlaps_box(triangle, aabb);
+        assert_eq!(result.x == 1.0, overlaps, "pair {k}: overlap, {triangle:?} {aabb:?}");
+        overlapping += usize::from(overlaps);
+        // The exact distance: the same minimum over the same candidates, rounded apart by
+        // a few ulps of the coordinates (below 10): well within 1e-4.
+        let exact = box_triangle_distance(aabb, triangle);
+        assert!((result.y - exact).abs() <= 1e-4, "pair {k}: exact distance GPU {} CPU {exact}", result.y);
+        distance_gap = distance_gap.max((result.y - exact).abs());
+        // The pair bound: a lower bound of the exact distance within the tolerance of it
+        // (plus the margins, 1e-4 here).
+        assert!(result.z <= exact + 1e-4, "pair {k}: bound {} above the exact {exact}", result.z);
+        assert!(result.z >= exact - tolerance - 1e-4, "pair {k}: bound {} ≪ the exact {exact}: {triangle:?}", result.z);
+        // The segment distance (squared, up to about 200): relative rounding.
+        let box_edge_end = Vec3::new(aabb.max.x, aabb.min.y, aabb.min.z);
+        let segments = segment_distance_squared(triangle.0[0], triangle.0[1], aabb.min, box_edge_end);
+        assert!(
+            (result.w - segments).abs() <= 1e-5 * (1.0 + segments),
+            "pair {k}: segments GPU {} CPU {segments}",
+            result.w
+        );
+        segment_gap = segment_gap.max((result.w - segments).abs() / (1.0 + segments));
+        // The closest point of the triangle to the box's centre.
+        let nearest = closest_point_on_triangle((aabb.min + aabb.max) * 0.5, triangle);
+        assert!(point.truncate().distance(nearest) <= 1e-4, "pair {k}: closest point GPU {point} CPU {nearest}");
+        point_gap = point_gap.max(point.truncate().distance(nearest));
+        compared += 1;
+    }
+    println!(
+        "{compared} pairs ({overlapping} overlapping): largest |GPU − CPU| exact distance {distance_gap:e}, \
+         segments (relative) {segment_gap:e}, closest point {point_gap:e}"
+    );
+    assert_eq!(compared, 4300);
+    assert!(overlapping > 100 && overlapping < compared - 100, "{overlapping} overlapping pairs");
 }

@@ -161,9 +161,29 @@ pub fn box_distance(a: &Aabb, b: &Aabb) -> f32 {
 
 /// The point of `triangle` nearest to `point` (Ericson, *Real-Time Collision Detection*,
 /// §5.1.5: Voronoi regions of the vertices, edges and face).
+///
+/// A degenerate triangle (a repeated corner, collinear corners, or corners within an angle
+/// of about 1e-6 of a line: [`DEGENERATE_TRIANGLE_SINE_SQUARED`]) is a segment, for which
+/// Ericson's regions divide by zero: the nearest of the points nearest `point` on its three
+/// edges is returned instead, the projection onto the segment (the plain map's bounds need
+/// a true projection onto the convex triangle).
 pub fn closest_point_on_triangle(point: Vec3, triangle: &Triangle) -> Vec3 {
     let [a, b, c] = triangle.0;
     let (ab, ac, ap) = (b - a, c - a, point - a);
+    if ab.cross(ac).length_squared() <= DEGENERATE_TRIANGLE_SINE_SQUARED * ab.length_squared() * ac.length_squared() {
+        let on_edges = [
+            closest_point_on_segment(point, a, b),
+            closest_point_on_segment(point, b, c),
+            closest_point_on_segment(point, c, a),
+        ];
+        let mut nearest = on_edges[0];
+        for candidate in &on_edges[1..] {
+            if candidate.distance_squared(point) < nearest.distance_squared(point) {
+                nearest = *candidate;
+            }
+        }
+        return nearest;
+    }
     let (d1, d2) = (ab.dot(ap), ac.dot(ap));
     if d1 <= 0.0 && d2 <= 0.0 {
         return a;
@@ -258,10 +278,24 @@ pub(crate) const BOX_TRIANGLE_MARGIN: f32 = 2e-6;
 /// a point.
 pub(crate) const DEGENERATE_SEGMENT_SQUARED: f32 = 1e-12;
 
+/// The squared sine of the angle at a triangle's first corner at or below which
+/// [`closest_point_on_triangle`] treats it as a segment (about 1e-6 radians).
+pub(crate) const DEGENERATE_TRIANGLE_SINE_SQUARED: f32 = 1e-12;
+
+/// The point of the segment `a b` nearest to `point` (`a` when the segment is a point).
+pub fn closest_point_on_segment(point: Vec3, a: Vec3, b: Vec3) -> Vec3 {
+    let ab = b - a;
+    let length_squared = ab.length_squared();
+    if length_squared <= 0.0 {
+        return a;
+    }
+    a + ab * ((point - a).dot(ab) / length_squared).clamp(0.0, 1.0)
+}
+
 /// The squared distance between segments `p1 q1` and `p2 q2`: that of the pair of points
 /// Ericson's closest-point method (*Real-Time Collision Detection*, §5.1.9) finds, clamped
 /// to the segments (so always that of a real pair).
-fn segment_distance_squared(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3) -> f32 {
+pub fn segment_distance_squared(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3) -> f32 {
     let (d1, d2, r) = (q1 - p1, q2 - p2, p1 - p2);
     let (a, e, f) = (d1.length_squared(), d2.length_squared(), d2.dot(r));
     const DEGENERATE: f32 = DEGENERATE_SEGMENT_SQUARED;

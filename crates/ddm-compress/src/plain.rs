@@ -368,6 +368,30 @@ mod tests {
     }
 
     #[test]
+    fn degenerate_triangles_are_bounded_within_tolerance_too() {
+        // A repeated corner and three collinear corners: segments, whose closest points
+        // must not come out as NaN (which the search would take for a touching pair).
+        let voxel = Aabb::voxel(0, 0, 0);
+        let (a, b) = (Vec3::new(2.0, 0.0, 3.0), Vec3::new(-1.0, -2.0, -1.0));
+        let mut compared = 0;
+        for triangle in [
+            Triangle([a, a, b]),
+            Triangle([a, b, b]),
+            Triangle([b, a, a]),
+            Triangle([a, (a + b) * 0.5, b]),
+            Triangle([a, a, a]),
+        ] {
+            let exact = box_triangle_distance(&voxel, &triangle);
+            for tolerance in [0.01, 0.25] {
+                let (bound, _) = pair_lower_bound(&voxel, &triangle, tolerance, f32::INFINITY, magnitude(&triangle));
+                assert!(bound <= exact + 1e-4 && bound >= exact - tolerance - 1e-4, "{triangle:?}: {bound} vs {exact}");
+                compared += 1;
+            }
+        }
+        assert_eq!(compared, 10);
+    }
+
+    #[test]
     fn a_box_touching_a_triangle_is_at_distance_zero() {
         let voxel = Aabb::voxel(0, 0, 0);
         let touching = Triangle([Vec3::new(1.0, 1.0, 1.0), Vec3::new(3.0, 1.0, 1.0), Vec3::new(1.0, 3.0, 2.0)]);

@@ -9,7 +9,9 @@ use gpu_layout::{StructDecl, WgslModule, gpu_const};
 
 use crate::bvh::OVERLAP_BOX_MARGIN;
 use crate::compress::{CompressedMapUniforms, SURFACE_FLAG};
-use crate::geometry::{BOX_TRIANGLE_MARGIN, DEGENERATE_AXIS_SQUARED, DEGENERATE_SEGMENT_SQUARED};
+use crate::geometry::{
+    BOX_TRIANGLE_MARGIN, DEGENERATE_AXIS_SQUARED, DEGENERATE_SEGMENT_SQUARED, DEGENERATE_TRIANGLE_SINE_SQUARED,
+};
 use crate::plain::{GAP_SLACK, MARGIN, MAX_PROJECTIONS};
 use crate::plain_gpu::{
     PLAIN_GPU_FIRST_BITS, PLAIN_GPU_LEAF, PLAIN_GPU_STACK, PlainGpuNode, PlainGpuTriangle, PlainGpuUniforms,
@@ -49,5 +51,6 @@ pub const WGSL: WgslModule = WgslModule {
         gpu_const!(BOX_TRIANGLE_MARGIN: f32 as "DDM_BOX_TRIANGLE_MARGIN"),
         gpu_const!(DEGENERATE_AXIS_SQUARED: f32 as "DDM_DEGENERATE_AXIS_SQUARED"),
         gpu_const!(DEGENERATE_SEGMENT_SQUARED: f32 as "DDM_DEGENERATE_SEGMENT_SQUARED"),
+        gpu_const!(DEGENERATE_TRIANGLE_SINE_SQUARED: f32 as "DDM_DEGENERATE_TRIANGLE_SINE_SQUARED"),
     ],
 };

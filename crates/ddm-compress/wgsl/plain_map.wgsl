@@ -6,11 +6,36 @@
 // (ddm-render's plain_map_build.wgsl). tests/ddm_plain_map_gpu.rs proves the maps equal
 // within the tolerance, and each value at most the exact distance.
 
-// Rust: ddm_compress::geometry::closest_point_on_triangle (Ericson §5.1.5).
+// Rust: ddm_compress::geometry::closest_point_on_segment.
+fn ddm_closest_point_on_segment(p: vec3<f32>, a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    let ab = b - a;
+    let length_squared = dot(ab, ab);
+    if length_squared <= 0.0 {
+        return a;
+    }
+    return a + ab * clamp(dot(p - a, ab) / length_squared, 0.0, 1.0);
+}
+
+// Rust: ddm_compress::geometry::closest_point_on_triangle (Ericson §5.1.5; a degenerate
+// triangle as the segment it is).
 fn ddm_closest_point_on_triangle(p: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec3<f32> {
     let ab = b - a;
     let ac = c - a;
     let ap = p - a;
+    let normal = cross(ab, ac);
+    if dot(normal, normal) <= DDM_DEGENERATE_TRIANGLE_SINE_SQUARED * dot(ab, ab) * dot(ac, ac) {
+        let on_ab = ddm_closest_point_on_segment(p, a, b);
+        let on_bc = ddm_closest_point_on_segment(p, b, c);
+        let on_ca = ddm_closest_point_on_segment(p, c, a);
+        var nearest = on_ab;
+        if dot(on_bc - p, on_bc - p) < dot(nearest - p, nearest - p) {
+            nearest = on_bc;
+        }
+        if dot(on_ca - p, on_ca - p) < dot(nearest - p, nearest - p) {
+            nearest = on_ca;
+        }
+        return nearest;
+    }
     let d1 = dot(ab, ap);
     let d2 = dot(ac, ap);
     if d1 <= 0.0 && d2 <= 0.0 {

@@ -42,6 +42,7 @@ static KERNELS: &[TestKernel] = &[
     test_kernel!("occlusion_cone_differential", &occlusion_cone::WGSL, &[]),
     test_kernel!("quadric_fit_differential", &quadric_fit::WGSL, kernel_io::quadric_fit::STRUCTS),
     test_kernel!("ddm_compress_differential", &ddm_compress::WGSL, &[]),
+    test_kernel!("ddm_plain_pairs_differential", &ddm_compress::WGSL, &[]),
     test_kernel!("abuffer_mask_differential", &abuffer_mask::WGSL, &[]),
     test_kernel!("smith_micro_differential", &smith_micro::WGSL, kernel_io::smith_micro::STRUCTS),
     test_kernel!("smith_micro_corrected_differential", &smith_micro::WGSL, kernel_io::smith_micro::STRUCTS),

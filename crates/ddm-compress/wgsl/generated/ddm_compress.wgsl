@@ -23,6 +23,8 @@ const DDM_DEGENERATE_AXIS_SQUARED: f32 = 0x1.79ca10p-67f; // 1e-20
 
 const DDM_DEGENERATE_SEGMENT_SQUARED: f32 = 0x1.197998p-40f; // 1e-12
 
+const DDM_DEGENERATE_TRIANGLE_SINE_SQUARED: f32 = 0x1.197998p-40f; // 1e-12
+
 // Rust size 32 bytes.
 struct CompressedMapUniforms {
     dims_block: vec4<u32>, // offset 0

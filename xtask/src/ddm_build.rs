@@ -14,7 +14,7 @@
 //! it lives in this command, not in a test.
 //!
 //! `--plain --gpu` also builds the plain map on the adapter (`ddm_render::PlainMapBuild`,
-//! one thread per voxel) and writes, per tile, the GPU's median build time over
+//! one thread per column of voxels) and writes, per tile, the GPU's median build time over
 //! [`GPU_BUILDS`] builds after one warm-up (timestamps on a hardware adapter, wall clock
 //! on a software one: the `gpu_timing` column), the layout and upload time, the adapter,
 //! and the largest difference from the CPU's map (at most the tolerance: both are lower

@@ -1,8 +1,8 @@
 //! The plain distance map laid out for a build on the GPU: the search of
 //! [`compute_distance_maps`] with [`MapKind::Plain`] (the private `plain` module: per voxel,
 //! the triangle hierarchy visited nearest first, each box–triangle pair bounded by
-//! alternating projections, the exact distance where they stall), one voxel per GPU
-//! thread.
+//! alternating projections, the exact distance where they stall), run by a GPU kernel
+//! over many voxels at once.
 //!
 //! [`PlainGpuScene`] validates the inputs as [`compute_distance_maps`] does, builds the same
 //! hierarchy (with the neighbouring tiles' copies when periodic) and flattens it into the
@@ -14,9 +14,9 @@
 //! binds them (`ddm-render`'s `PlainMapBuilder`). [`PlainGpuScene::distance_maps`] turns
 //! what the kernel wrote back into [`DistanceMaps`].
 //!
-//! The GPU visits each voxel's triangles without the CPU's seed (the previous voxel's
-//! nearest triangle), so its values may differ from the CPU's, each within the tolerance
-//! of the exact box-to-mesh distance and never above it.
+//! A kernel visits the triangles in another order than the CPU (which tries the previous
+//! voxel's nearest triangle first along x), so its values may differ from the CPU's, each
+//! within the tolerance of the exact box-to-mesh distance and never above it.
 
 use alloc::vec::Vec;
 use core::fmt;

@@ -1,11 +1,13 @@
-// The plain distance map built on the GPU, one voxel per thread: the search of
+// The plain distance map built on the GPU, a column of voxels per thread: the search of
 // ddm_compress::compute_distance_maps with MapKind::Plain (crates/ddm-compress/src/ddm.rs's
 // compute_row, src/bvh.rs's any_overlaps, src/plain.rs's voxel_distance) over the buffers
 // of a ddm_compress::PlainGpuScene. Composed after ddm-compress's WGSL twin (the per-pair
-// functions and the generated PlainGpu* declarations) and the generated PLAIN_BUILD_TILE.
-// Unlike the CPU, no voxel starts from its neighbour's nearest triangle: the values may
-// differ from the CPU's, each within the tolerance of the exact distance and never above
-// it (tests/ddm_plain_map_gpu.rs).
+// functions and the generated PlainGpu* declarations) and the generated PLAIN_BUILD_TILE
+// and PLAIN_BUILD_COLUMN. Each thread walks a column of PLAIN_BUILD_COLUMN voxels up z, and
+// each voxel first tries the triangle nearest the one below (the CPU seeds along x the same
+// way): a close minimum at once, so that the traversal skips most of the hierarchy. The
+// visiting order differs from the CPU's, so the values may too, each within the tolerance
+// of the exact distance and never above it (tests/ddm_plain_map_gpu.rs).
 
 @group(0) @binding(0) var<uniform> scene: PlainGpuUniforms;
 @group(0) @binding(1) var<storage, read> nodes: array<PlainGpuNode>;
@@ -73,14 +75,39 @@ fn overlaps_any(voxel_min: vec3<f32>, voxel_max: vec3<f32>) -> bool {
     return false;
 }
 
-// Rust: ddm_compress::plain::PlainHierarchy::voxel_distance without a seed: the minimum of
-// ddm_plain_pair_lower_bound over the triangles, capped, the nodes visited nearest first
-// and skipped (as are triangles) once their squared gap reaches the current minimum plus
-// its rounding slack.
-fn voxel_distance(voxel_min: vec3<f32>, voxel_max: vec3<f32>) -> f32 {
+// What voxel_distance found: the value, and the triangle that gave it (NO_TRIANGLE if none).
+struct Found {
+    value: f32,
+    nearest: u32,
+}
+
+const NO_TRIANGLE: u32 = 0xffffffffu;
+
+// Rust: ddm_compress::plain::PlainHierarchy::voxel_distance: the minimum of
+// ddm_plain_pair_lower_bound over the triangles, capped, `seed` (a triangle, or
+// NO_TRIANGLE) tried first, the nodes visited nearest first and skipped (as are triangles)
+// once their squared gap reaches the current minimum plus its rounding slack.
+fn voxel_distance(voxel_min: vec3<f32>, voxel_max: vec3<f32>, seed: u32) -> Found {
     let tolerance = scene.root_min_tolerance.w;
     let magnitude = scene.magnitude.x;
     var found = scene.root_max_cap.w;
+    var nearest = NO_TRIANGLE;
+    if seed != NO_TRIANGLE {
+        let triangle = triangles[seed];
+        found = min(found, ddm_plain_pair_lower_bound(
+            voxel_min,
+            voxel_max,
+            triangle.a.xyz,
+            triangle.b.xyz,
+            triangle.c.xyz,
+            tolerance,
+            found,
+            magnitude,
+        ));
+        if found < scene.root_max_cap.w {
+            nearest = seed;
+        }
+    }
     let slack = DDM_PLAIN_GAP_SLACK * (1.0 + max(max_component(max(abs(voxel_min), abs(voxel_max))), magnitude));
     var words: array<u32, DDM_PLAIN_GPU_STACK>;
     var gaps: array<f32, DDM_PLAIN_GPU_STACK>;
@@ -112,7 +139,10 @@ fn voxel_distance(voxel_min: vec3<f32>, voxel_max: vec3<f32>) -> f32 {
                     found,
                     magnitude,
                 );
-                found = min(found, bound);
+                if bound < found {
+                    found = bound;
+                    nearest = t;
+                }
             }
         } else {
             let node = nodes[word];
@@ -141,23 +171,32 @@ fn voxel_distance(voxel_min: vec3<f32>, voxel_max: vec3<f32>) -> f32 {
             }
         }
     }
-    return found;
+    return Found(found, nearest);
 }
 
-@compute @workgroup_size(PLAIN_BUILD_TILE, PLAIN_BUILD_TILE, PLAIN_BUILD_TILE)
+@compute @workgroup_size(PLAIN_BUILD_TILE, PLAIN_BUILD_TILE, 1)
 fn build_plain_map(@builtin(global_invocation_id) id: vec3<u32>) {
     let dims = scene.dims_root.xyz;
-    if any(id >= dims) {
+    if id.x >= dims.x || id.y >= dims.y {
         return;
     }
-    let index = id.x + dims.x * (id.y + dims.y * id.z);
-    let voxel_min = vec3<f32>(id);
-    let voxel_max = voxel_min + vec3<f32>(1.0);
-    if overlaps_any(voxel_min, voxel_max) {
-        values[index] = 0.0;
-        surface[index] = 1u;
-        return;
+    var seed = NO_TRIANGLE;
+    let first = id.z * PLAIN_BUILD_COLUMN;
+    for (var z = first; z < min(first + PLAIN_BUILD_COLUMN, dims.z); z++) {
+        let voxel = vec3<u32>(id.xy, z);
+        let index = voxel.x + dims.x * (voxel.y + dims.y * voxel.z);
+        let voxel_min = vec3<f32>(voxel);
+        let voxel_max = voxel_min + vec3<f32>(1.0);
+        if overlaps_any(voxel_min, voxel_max) {
+            values[index] = 0.0;
+            surface[index] = 1u;
+            continue;
+        }
+        let found = voxel_distance(voxel_min, voxel_max, seed);
+        values[index] = found.value;
+        surface[index] = 0u;
+        if found.nearest != NO_TRIANGLE {
+            seed = found.nearest;
+        }
     }
-    values[index] = voxel_distance(voxel_min, voxel_max);
-    surface[index] = 0u;
 }

@@ -66,7 +66,7 @@ pub use gbuffer::{
     GBUFFER_FORMAT, GBUFFER_TEXTURES, GBuffer, GBufferPass, GBufferPipeline, PassTimestamps, rasterize_gbuffer,
     read_gbuffer, read_texture,
 };
-pub use plain_map_build::{PLAIN_BUILD_TILE, PlainMapBuild, PlainMapPipeline, build_plain_map};
+pub use plain_map_build::{PLAIN_BUILD_COLUMN, PLAIN_BUILD_TILE, PlainMapBuild, PlainMapPipeline, build_plain_map};
 pub use readback::{PixelReadback, pixels_to_image, render_to_pixels};
 pub use renderer::{
     COLOR_TARGET_FORMAT, DEFAULT_ALBEDO, DEFAULT_NORMAL_TINT, DEPTH_TARGET_FORMAT, DdmFrame, DdmRenderPipelines,

@@ -1,8 +1,8 @@
 //! The plain distance map built on the GPU in compute (the option Mehra & Kumar point to
-//! when they cite GPU distance-field methods, §3.1): one thread per voxel runs the CPU's
+//! when they cite GPU distance-field methods, §3.1): one thread per column of voxels runs the CPU's
 //! search of `ddm_compress::compute_distance_maps` with `MapKind::Plain` over a
 //! [`PlainGpuScene`] (`shaders/plain_map_build.wgsl`, composed after `ddm-compress`'s WGSL
-//! twin).
+//! twin), each thread a column of [`PLAIN_BUILD_COLUMN`] voxels seeded like the CPU's.
 //!
 //! [`PlainMapPipeline`] is built once per device; [`PlainMapBuild`] uploads one scene and
 //! owns its output buffers, and [`PlainMapBuild::encode`] records the dispatch into the
@@ -20,10 +20,14 @@ use crate::error::{DdmRenderError, check_limit};
 use crate::gbuffer::PassTimestamps;
 use crate::timing::TimestampQueries;
 
-/// Side of the build kernel's cubic workgroups, in voxels (`@workgroup_size(PLAIN_BUILD_TILE,
-/// PLAIN_BUILD_TILE, PLAIN_BUILD_TILE)`; the WGSL constant is generated from this one):
-/// neighbouring voxels visit nearly the same nodes.
-pub const PLAIN_BUILD_TILE: u32 = 4;
+/// Side of the build kernel's square workgroups, in columns of voxels
+/// (`@workgroup_size(PLAIN_BUILD_TILE, PLAIN_BUILD_TILE, 1)`; the WGSL constant is generated
+/// from this one): neighbouring columns visit nearly the same nodes.
+pub const PLAIN_BUILD_TILE: u32 = 8;
+
+/// Voxels per thread, a column along z: each voxel tries the triangle nearest the one
+/// below first, as the CPU's search tries the previous voxel's along x.
+pub const PLAIN_BUILD_COLUMN: u32 = 8;
 
 /// Path of the build kernel, relative to the workspace root.
 pub const PLAIN_BUILD_WGSL_PATH: &str = "crates/ddm-render/shaders/plain_map_build.wgsl";
@@ -36,7 +40,7 @@ pub(crate) const PLAIN_BUILD_SHADER: &str = "ddm_render_plain_map_build";
 const ENTRY_POINT: &str = "build_plain_map";
 
 /// The constants of the build kernel that its WGSL declares from Rust.
-const PLAIN_BUILD_CONSTANTS: &[GpuConst] = &[gpu_const!(PLAIN_BUILD_TILE: u32)];
+const PLAIN_BUILD_CONSTANTS: &[GpuConst] = &[gpu_const!(PLAIN_BUILD_TILE: u32), gpu_const!(PLAIN_BUILD_COLUMN: u32)];
 
 /// The Rust structs that the build kernel binds, declared by `ddm-compress`'s twin
 /// (checked against the composed shader by this crate's tests).
@@ -49,12 +53,12 @@ pub fn plain_build_structs() -> Vec<StructDecl> {
 }
 
 /// The composed build shader: `ddm-compress`'s WGSL twin, the generated
-/// [`PLAIN_BUILD_TILE`], then [`PLAIN_BUILD_WGSL`].
+/// [`PLAIN_BUILD_TILE`] and [`PLAIN_BUILD_COLUMN`], then [`PLAIN_BUILD_WGSL`].
 pub fn plain_build_shader() -> Result<ComposedShader, DdmRenderError> {
     let constants = generate_declarations(PLAIN_BUILD_SHADER, &[], PLAIN_BUILD_CONSTANTS)
         .map_err(|e| DdmRenderError::InvalidShader { shader: PLAIN_BUILD_SHADER, message: e.to_string() })?;
     Ok(ComposedShader::of_module(&ddm_compress::WGSL)
-        .with_part("generated: PLAIN_BUILD_TILE", &constants)
+        .with_part("generated: PLAIN_BUILD_TILE, PLAIN_BUILD_COLUMN", &constants)
         .with_part(PLAIN_BUILD_WGSL_PATH, PLAIN_BUILD_WGSL))
 }
 
@@ -151,7 +155,8 @@ impl PlainMapBuild {
         )?;
         check_limit("plain map values in bytes (max_storage_buffer_binding_size)", output_bytes, binding_limit)?;
         let dims = scene.dims();
-        let workgroups = [dims.x, dims.y, dims.z].map(|d| d.div_ceil(PLAIN_BUILD_TILE));
+        let workgroups =
+            [dims.x.div_ceil(PLAIN_BUILD_TILE), dims.y.div_ceil(PLAIN_BUILD_TILE), dims.z.div_ceil(PLAIN_BUILD_COLUMN)];
         for groups in workgroups {
             check_limit(
                 "plain map workgroups per dimension (max_compute_workgroups_per_dimension)",
@@ -324,6 +329,6 @@ mod tests {
         let validated = plain_build_shader().unwrap().validate().unwrap_or_else(|e| panic!("{e}"));
         check_layout(&validated.module, &plain_build_structs()).unwrap_or_else(|e| panic!("{e:?}"));
         let point = validated.module.entry_points.iter().find(|e| e.name == ENTRY_POINT).expect("the entry point");
-        assert_eq!(point.workgroup_size, [PLAIN_BUILD_TILE; 3]);
+        assert_eq!(point.workgroup_size, [PLAIN_BUILD_TILE, PLAIN_BUILD_TILE, 1]);
     }
 }

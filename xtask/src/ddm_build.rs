@@ -213,6 +213,15 @@ mod tests {
     use super::*;
 
     #[test]
+    fn gpu_without_plain_is_refused_before_any_work() {
+        let command = crate::commands::command("ddm-build").expect("the ddm-build command");
+        let words: Vec<String> = ["--gpu", "--quick"].map(String::from).to_vec();
+        let Ok(crate::cli::Parsed::Run(args)) = command.parse(&words) else { panic!("--gpu --quick should parse") };
+        let error = run(&args).unwrap_err();
+        assert!(error.contains("--gpu") && error.contains("add --plain"), "{error}");
+    }
+
+    #[test]
     fn cone_counts_and_tolerances_are_checked() {
         assert_eq!(cones("4x2"), Ok((4, 2)));
         for bad in ["4", "4x0", "x2", "4x2x1", "ax2"] {

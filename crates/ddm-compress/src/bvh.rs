@@ -138,7 +138,7 @@ impl TriangleBvh {
     }
 
     /// Whether any triangle intersects `aabb` ([`triangle_overlaps_box`]): the nodes whose
-    /// boxes reach `aabb` widened by [`OVERLAP_BOX_MARGIN`] (relative) are searched.
+    /// boxes reach `aabb` widened by a relative margin of 1e-4 are searched.
     pub fn any_overlaps(&self, aabb: &Aabb, stack: &mut Vec<u32>) -> bool {
         let margin = OVERLAP_BOX_MARGIN * (1.0 + aabb.max.abs().max_element());
         let wide = Aabb { min: aabb.min - margin, max: aabb.max + margin };

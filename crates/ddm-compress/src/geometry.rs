@@ -163,7 +163,7 @@ pub fn box_distance(a: &Aabb, b: &Aabb) -> f32 {
 /// §5.1.5: Voronoi regions of the vertices, edges and face).
 ///
 /// A degenerate triangle (a repeated corner, collinear corners, or corners within an angle
-/// of about 1e-6 of a line: [`DEGENERATE_TRIANGLE_SINE_SQUARED`]) is a segment, for which
+/// of about 1e-6 radians of a line) is a segment, for which
 /// Ericson's regions divide by zero: the nearest of the points nearest `point` on its three
 /// edges is returned instead, the projection onto the segment (the plain map's bounds need
 /// a true projection onto the convex triangle).

@@ -1,10 +1,10 @@
 //! The plain distance map laid out for a build on the GPU: the search of
-//! [`compute_distance_maps`] with [`MapKind::Plain`] (the private `plain` module: per voxel,
+//! [`compute_distance_maps`](crate::compute_distance_maps) with [`MapKind::Plain`] (the private `plain` module: per voxel,
 //! the triangle hierarchy visited nearest first, each box–triangle pair bounded by
 //! alternating projections, the exact distance where they stall), run by a GPU kernel
 //! over many voxels at once.
 //!
-//! [`PlainGpuScene`] validates the inputs as [`compute_distance_maps`] does, builds the same
+//! [`PlainGpuScene`] validates the inputs as [`compute_distance_maps`](crate::compute_distance_maps) does, builds the same
 //! hierarchy (with the neighbouring tiles' copies when periodic) and flattens it into the
 //! storage buffers a kernel reads: [`PlainGpuNode`]s (both children's boxes per inner node,
 //! as on the CPU) and [`PlainGpuTriangle`]s in leaf order, with [`PlainGpuUniforms`]. The
@@ -96,7 +96,7 @@ gpu_struct! {
 /// Why a [`PlainGpuScene`] could not be built or its output read.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PlainGpuError {
-    /// The inputs are refused as [`compute_distance_maps`] refuses them.
+    /// The inputs are refused as [`compute_distance_maps`](crate::compute_distance_maps) refuses them.
     Inputs(DistanceMapError),
     /// More triangles (with the periodic copies) than a leaf word can address.
     TooManyTriangles {
@@ -190,13 +190,13 @@ fn depth(hierarchy: &PlainHierarchy, child: Child) -> u32 {
 }
 
 impl PlainGpuScene {
-    /// Validates the inputs (as [`compute_distance_maps`] with [`MapKind::Plain`]) and lays
+    /// Validates the inputs (as [`compute_distance_maps`](crate::compute_distance_maps) with [`MapKind::Plain`]) and lays
     /// out the hierarchy of `triangles` (in voxel coordinates) on a `dims` grid.
     ///
     /// # Errors
     ///
     /// [`PlainGpuError::Inputs`] with the [`DistanceMapError`] that
-    /// [`compute_distance_maps`] would return; [`PlainGpuError::TooManyTriangles`] or
+    /// [`compute_distance_maps`](crate::compute_distance_maps) would return; [`PlainGpuError::TooManyTriangles`] or
     /// [`PlainGpuError::TooDeep`] when the hierarchy does not fit the kernel's words or
     /// stack.
     pub fn new(dims: UVec3, triangles: &[Triangle], settings: DistanceMapSettings) -> Result<Self, PlainGpuError> {

@@ -18,6 +18,7 @@ use wgsl_gen::{ComposedShader, StructDecl, generate_declarations};
 
 use crate::error::{DdmRenderError, check_limit};
 use crate::gbuffer::PassTimestamps;
+use crate::renderer::{buffer_type, compute_entry};
 use crate::timing::TimestampQueries;
 
 /// Side of the build kernel's square workgroups, in columns of voxels
@@ -82,12 +83,7 @@ impl PlainMapPipeline {
                 label: Some(PLAIN_BUILD_SHADER),
                 source: wgpu::ShaderSource::Wgsl(shader.source().into()),
             });
-            let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
-                binding,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
-                count: None,
-            };
+            let entry = |binding: u32, ty: wgpu::BufferBindingType| compute_entry(binding, buffer_type(ty));
             let read = wgpu::BufferBindingType::Storage { read_only: true };
             let write = wgpu::BufferBindingType::Storage { read_only: false };
             let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

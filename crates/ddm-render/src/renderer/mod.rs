@@ -57,6 +57,7 @@
 
 mod frame;
 mod pipelines;
+pub(crate) use pipelines::{buffer_type, compute_entry};
 mod scene_buffers;
 mod target;
 

@@ -32,11 +32,13 @@ pub(super) const DEPTH_BINDING: u32 = 2;
 /// The per-pixel pass's entry points, one per target kind: pixels, colour, colour and depth.
 pub(super) const PIXEL_ENTRY_POINTS: [&str; 3] = ["render_pixels", "render_color", "render_color_depth"];
 
-fn compute_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+/// A compute-stage bind group layout entry of binding `binding`.
+pub(crate) fn compute_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None }
 }
 
-fn buffer_type(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
+/// A buffer binding of type `ty` (no dynamic offset, no minimum size).
+pub(crate) fn buffer_type(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
     wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None }
 }
 
